@@ -1,0 +1,1 @@
+"""PPO training, evaluation and clip cleaning — built in the PPO issue."""

@@ -1,0 +1,1 @@
+"""Contacts, vGRF and gait perception — built in the perception issues."""
