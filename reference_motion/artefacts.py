@@ -96,10 +96,15 @@ class ArtefactRecipe:
 
 
 def _smooth_noise(rng: np.random.Generator, shape: tuple[int, ...], sigma_frames: float) -> np.ndarray:
-    """Gaussian-smoothed white noise along axis 0, rescaled to unit standard deviation."""
-    raw = rng.standard_normal(shape)
-    smooth = gaussian_filter1d(raw, sigma=max(sigma_frames, 1e-3), axis=0, mode="reflect")
-    return smooth / max(float(smooth.std()), 1e-9)
+    """Gaussian-smoothed white noise along axis 0 with unit standard deviation *in expectation*.
+
+    Scaled by the filter's known gain (std of unit white noise through a Gaussian of ``σ`` frames
+    is ``1/sqrt(2·sqrt(π)·σ)``), not by the sample std, which on a clip shorter than the smoothing
+    timescale would be tiny and blow the signal up.
+    """
+    sigma = max(sigma_frames, 1e-3)
+    smooth = gaussian_filter1d(rng.standard_normal(shape), sigma=sigma, axis=0, mode="reflect")
+    return smooth * np.sqrt(2.0 * np.sqrt(np.pi) * sigma) if sigma >= 0.5 else smooth
 
 
 def _limb_hinges(motion: Motion) -> np.ndarray:

@@ -182,10 +182,12 @@ class HumanoidModel:
                 continue
             mujoco.mj_contactForce(self.model, data, i, force)
             foot, _ = self._sole_cell[other]
-            out[foot, self._cell_of_point(data, other, c.pos)] += force[0]
+            out[foot, self.cell_of_point(data, other, c.pos)] += force[0]
         return out / weight
 
-    def _cell_of_point(self, data: mujoco.MjData, geom: int, point: np.ndarray) -> int:
+    def cell_of_point(self, data: mujoco.MjData, geom: int, point: np.ndarray) -> int:
+        """Insole cell (0–15) of a world ``point`` (3,) touching sole geom ``geom``: the cell whose
+        site rectangle on that geom's body contains it, else the nearest such cell."""
         body = self.model.geom_bodyid[geom]
         side = "l" if self._sole_cell[geom][0] == 0 else "r"
         best, best_d = 0, np.inf

@@ -1,0 +1,114 @@
+import numpy as np
+import pytest
+
+from reference_motion import deepmimic
+from reference_motion import rotations as rot
+from reference_motion.humanoid.model import load_model
+from reference_motion.library import load_motion, named_set
+from reference_motion.motion import Motion
+from reference_motion.quality import motion_quality
+from reference_motion.retarget import bone_directions, model_joint_positions, retarget
+from reference_motion.transforms import loop, mirror, resample
+
+CLIPS = deepmimic.clip_names()
+
+
+def test_twenty_clips_totalling_39_7_seconds():
+    assert len(CLIPS) == 20
+    total = sum(deepmimic.load(n).n_frames / deepmimic.load(n).fps for n in CLIPS)
+    assert 38.0 < total < 41.0
+
+
+@pytest.mark.parametrize("model", ["humanoid_1seg", "humanoid_2seg"])
+def test_all_clips_retarget_with_matching_bone_directions(model):
+    hm = load_model(model)
+    for name in CLIPS:
+        clip = deepmimic.load(name)
+        motion = retarget(clip, model)
+        assert motion.qpos.shape == (clip.n_frames, hm.nq)
+        ours = bone_directions(model_joint_positions(hm, hm.forward_kinematics(motion.qpos)))
+        src_pos, _ = clip.global_pose()
+        turn = rot.from_axis_angle(np.array([0, 0, 1.0]), motion.source["heading_offset_rad"])
+        theirs = rot.rotate(turn, bone_directions(src_pos))
+        err = np.degrees(np.arccos(np.clip(np.sum(ours * theirs, -1), -1, 1)))
+        assert err.mean() < 5.0, f"{name}: mean bone direction error {err.mean():.2f} deg"
+
+
+def test_retargeted_clip_starts_at_origin_facing_plus_x():
+    m = load_motion("deepmimic:walker/turn_left0")
+    assert np.allclose(m.qpos[0, :2], 0.0, atol=1e-9)
+    assert abs(rot.yaw(m.qpos[0, 3:7])) < 1e-6
+    assert np.ptp(m.qpos[:, 0]) > 0.5  # and it walks forward
+
+
+LOCOMOTION = named_set("locomotion")
+
+
+@pytest.mark.parametrize("source", LOCOMOTION)
+def test_locomotion_replay_quality(source):
+    for model in ("humanoid_1seg", "humanoid_2seg"):
+        q = motion_quality(load_motion(source, model))
+        assert q.penetration_max_m <= 0.02, f"{source}/{model}: penetration {q.penetration_max_m:.3f} m"
+        assert q.floating_m <= 0.02
+        assert min(q.contact_frac) > 0.0 or source == "deepmimic:run"
+        if source != "deepmimic:run":  # run: see README, the source's stance feet slide ~0.2 m/s
+            assert q.foot_skate_mps <= 0.15, f"{source}/{model}: skate {q.foot_skate_mps:.3f} m/s"
+
+
+def test_resample_to_60hz_keeps_duration_and_endpoints():
+    m30 = retarget(deepmimic.load("walk"))
+    assert m30.fps == pytest.approx(30.0, rel=1e-3)
+    m60 = resample(m30, 60.0)
+    assert m60.fps == 60.0
+    assert m60.duration == pytest.approx(m30.duration, abs=1 / 60)
+    assert np.allclose(m60.qpos[0], m30.qpos[0])
+    # the source rate is 1/0.033332 s = 30.0012 Hz, so 60 Hz frame 2 sits a hair before source frame 1
+    assert np.allclose(m60.qpos[2], m30.qpos[1], atol=1e-4)
+    mid = m60.qpos[1, 7:]
+    assert np.allclose(mid, 0.5 * (m30.qpos[0, 7:] + m30.qpos[1, 7:]), atol=1e-4)
+
+
+def test_loop_carries_root_offset_over_cycles():
+    m = retarget(deepmimic.load("walk"))
+    cycle = np.linalg.norm(m.qpos[-1, :2] - m.qpos[0, :2])
+    n = m.n_frames - 1
+    long = loop(m, 3 * n + 1)
+    assert long.n_frames == 3 * n + 1
+    # each cycle moves the root as far as the first did (turned by the cycle's small heading change)
+    assert np.linalg.norm(long.qpos[2 * n, :2] - long.qpos[n, :2]) == pytest.approx(cycle, abs=1e-6)
+    assert long.qpos[3 * n, 0] > 3 * 0.9 * cycle
+    assert np.allclose(long.qpos[n + 5, 7:], long.qpos[5, 7:])
+    seams = np.abs(np.diff(long.hinges[n - 2:n + 3], axis=0)).max()
+    raw_seam = np.abs(m.hinges[0] - m.hinges[-1]).max()  # what a plain wrap would jump by (0.46 rad)
+    assert seams < 0.5 * raw_seam, "the seam blend removes the pose jump between cycles"
+    with pytest.raises(ValueError, match="not cyclic"):
+        loop(retarget(deepmimic.load("kick")), 500)
+
+
+def test_mirror_swaps_sides():
+    m = load_motion("deepmimic:walker/turn_left0")
+    mm = mirror(m)
+    hm = load_model(m.model)
+    k, km = hm.forward_kinematics(m.qpos), hm.forward_kinematics(mm.qpos)
+    left_foot, right_foot = hm.body_names.index("l_foot"), hm.body_names.index("r_foot")
+    expected = k.body_pos[:, right_foot] * [1, -1, 1]
+    assert np.allclose(km.body_pos[:, left_foot], expected, atol=1e-9)
+    assert np.allclose(mirror(mm).qpos, m.qpos)
+    assert rot.yaw(mm.qpos[-1, 3:7]) == pytest.approx(-rot.yaw(m.qpos[-1, 3:7]))  # turns right
+
+
+def test_motion_npz_round_trip(tmp_path, walk):
+    path = walk.save(tmp_path / "walk.npz")
+    back = Motion.load(path)
+    assert np.array_equal(back.qpos, walk.qpos) and back.fps == walk.fps and back.model == walk.model
+    assert back.source == walk.source and back.loop
+    assert back.qvel.shape == (walk.n_frames, walk.qpos.shape[1] - 1)
+
+
+def test_qvel_matches_mujoco_differentiation(walk):
+    import mujoco
+
+    hm = load_model(walk.model)
+    v = np.zeros(hm.nv)
+    mujoco.mj_differentiatePos(hm.model, v, 2 / walk.fps, walk.qpos[9], walk.qpos[11])
+    assert np.allclose(walk.qvel[10], v, atol=1e-6)
