@@ -1,0 +1,100 @@
+import json
+import subprocess
+import sys
+
+import numpy as np
+
+from reference_motion import deepmimic
+from reference_motion import rotations as rot
+from reference_motion.bvh import CMU_NAME_MAP, load as load_bvh
+from reference_motion.retarget import retarget
+from reference_motion.source import CANONICAL_JOINTS, CANONICAL_PARENTS
+
+Z_UP_TO_Y_UP = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])
+
+
+def _to_bvh(clip, scale_to_cm=100.0):
+    """Write a SourceClip as a CMU-named BVH (y up, centimetres, ZXY Euler degrees)."""
+    children = {j: [c for c, p in CANONICAL_PARENTS.items() if p == j] for j in CANONICAL_JOINTS}
+    idx = CANONICAL_JOINTS.index
+    order = []
+    lines = ["HIERARCHY"]
+
+    def emit(joint, depth):
+        pad = "  " * depth
+        off = Z_UP_TO_Y_UP @ clip.offsets[idx(joint)] * scale_to_cm
+        if joint.endswith(("_end", "_wrist")):
+            lines.extend([f"{pad}JOINT {CMU_NAME_MAP[joint]}", f"{pad}{{", f"{pad}  OFFSET {off[0]} {off[1]} {off[2]}",
+                      f"{pad}  CHANNELS 3 Zrotation Xrotation Yrotation", f"{pad}  End Site", f"{pad}  {{",
+                          f"{pad}    OFFSET 0 -5 0", f"{pad}  }}", f"{pad}}}"])
+            order.append(joint)
+            return
+        head = "ROOT" if joint == "root" else "JOINT"
+        chans = "CHANNELS 6 Xposition Yposition Zposition Zrotation Xrotation Yrotation" if joint == "root" \
+            else "CHANNELS 3 Zrotation Xrotation Yrotation"
+        lines.extend([f"{pad}{head} {CMU_NAME_MAP[joint]}", f"{pad}{{", f"{pad}  OFFSET {off[0]} {off[1]} {off[2]}",
+                      f"{pad}  {chans}"])
+        order.append(joint)
+        for c in children[joint]:
+            emit(c, depth + 1)
+        lines.append(f"{pad}}}")
+
+    emit("root", 0)
+    rows = []
+    for t in range(clip.n_frames):
+        row = list(Z_UP_TO_Y_UP @ clip.root_pos[t] * scale_to_cm)
+        for joint in order:
+            q = clip.local_quats[t, idx(joint)]
+            q_y = np.concatenate([q[:1], Z_UP_TO_Y_UP @ q[1:]])
+            row += list(np.degrees(rot.to_hinges(q_y, "zxy")))
+        rows.append(" ".join(f"{v:.6f}" for v in row))
+    lines += ["MOTION", f"Frames: {clip.n_frames}", f"Frame Time: {1.0 / clip.fps:.8f}"] + rows
+    return "\n".join(lines) + "\n"
+
+
+def test_bvh_round_trip_reproduces_direct_retarget(tmp_path):
+    clip = deepmimic.load("walk")
+    path = tmp_path / "walk.bvh"
+    path.write_text(_to_bvh(clip))
+    via_bvh = retarget(load_bvh(path))
+    direct = retarget(clip)
+    assert via_bvh.fps == direct.fps and via_bvh.n_frames == direct.n_frames
+    assert np.abs(via_bvh.hinges - direct.hinges).max() < 1e-3
+    assert np.abs(via_bvh.root_pos - direct.root_pos).max() < 1e-3
+
+
+def _cli(*args):
+    out = subprocess.run([sys.executable, "-m", "reference_motion", *args], capture_output=True, text=True, timeout=300)
+    return out.returncode, out.stdout, out.stderr
+
+
+def test_cli_quality_json_keys_and_corruption():
+    rc, out, _ = _cli("quality", "deepmimic:walk", "--json")
+    clean = json.loads(out)
+    for key in ("frames", "fps", "foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter",
+                "self_penetration_frac"):
+        assert key in clean
+    assert rc == 0 and clean["fps"] == 60.0 and clean["frames"] == 76
+    rc, out, _ = _cli("quality", "deepmimic:walk", "--model", "humanoid_2seg", "--corrupt", "imu", "--strength", "1",
+                      "--seed", "3", "--json")
+    bad = json.loads(out)
+    assert bad["jitter"] > 5 * clean["jitter"] and bad["seed"] == 3
+
+
+def test_cli_info_and_clear_errors(tmp_path):
+    rc, out, _ = _cli("info", "deepmimic:walker/turn_left0", "--json")
+    assert rc == 0 and json.loads(out)["loop"] is True
+    rc, _, err = _cli("info", "deepmimic:wlak")
+    assert rc == 2 and "unknown DeepMimic clip 'wlak'" in err and "Traceback" not in err
+    rc, _, err = _cli("quality", str(tmp_path / "missing.bvh"))
+    assert rc == 2 and "missing.bvh: no such BVH file" in err
+
+
+def test_cli_render_png(tmp_path):
+    out = tmp_path / "walk.png"
+    rc, _, err = _cli("render", "deepmimic:walk", "--out", str(out))
+    assert rc == 0, err
+    import imageio.v2 as imageio
+
+    img = imageio.imread(out)
+    assert img.shape == (360, 480, 3) and img.std() > 10
