@@ -29,13 +29,14 @@ def _add_source(p: argparse.ArgumentParser) -> None:
     p.add_argument("--seed", type=int, default=0, help="artefact random seed (default 0)")
 
 
-def _motion(args: argparse.Namespace) -> Motion:
-    motion = load_motion(args.source, args.model)
-    if args.corrupt:
-        recipe = (ArtefactRecipe.imu(args.strength) if args.corrupt == "imu"
-                  else ArtefactRecipe.only(args.corrupt, args.strength))
-        motion = corrupt(motion, recipe, args.seed)
-    return motion
+def _motions(args: argparse.Namespace) -> tuple[Motion, Motion]:
+    """The clip as loaded, and as it should be measured/shown (corrupted when ``--corrupt``)."""
+    clean = load_motion(args.source, args.model)
+    if not args.corrupt:
+        return clean, clean
+    recipe = (ArtefactRecipe.imu(args.strength) if args.corrupt == "imu"
+              else ArtefactRecipe.only(args.corrupt, args.strength))
+    return clean, corrupt(clean, recipe, args.seed)
 
 
 def _info(motion: Motion) -> dict:
@@ -66,7 +67,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.command == "list":
             print("\n".join(named_set(args.set)))
             return 0
-        motion = _motion(args)
+        clean, motion = _motions(args)
         if args.command == "info":
             info = _info(motion)
             print(json.dumps(info, indent=2) if args.json else
@@ -83,7 +84,7 @@ def main(argv: list[str] | None = None) -> int:
         elif args.command == "render":
             from reference_motion.render import render
 
-            motions = [load_motion(args.source, args.model), motion] if (args.with_clean and args.corrupt) else motion
+            motions = [clean, motion] if (args.with_clean and args.corrupt) else motion
             print(f"wrote {render(motions, args.out, fps=args.fps)}")
     except (ValueError, KeyError, FileNotFoundError) as err:
         message = err.args[0] if isinstance(err, KeyError) and err.args else str(err)

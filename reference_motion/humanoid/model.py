@@ -66,6 +66,7 @@ class HumanoidModel:
         self._floor_geom = m.geom("floor").id
         self._body_geoms = np.array([g for g in range(m.ngeom) if g != self._floor_geom and m.geom_contype[g] != A.SOLE_BIT])
         self._sole_cell = self._sole_geom_cells()
+        self._body_cell_sites = self._cell_sites_by_body()
         self._collision_group = self._geom_groups()
 
     # ------------------------------------------------------------------ layout
@@ -154,6 +155,15 @@ class HumanoidModel:
         return out
 
     # ---------------------------------------------------------------- insole
+    def _cell_sites_by_body(self) -> dict[int, list[tuple[int, int]]]:
+        """Map of foot/toe body id → [(cell index, cell site id), ...] for the cells on that body."""
+        out: dict[int, list[tuple[int, int]]] = {}
+        for side in ("l", "r"):
+            for cell in range(16):
+                sid = self.model.site(f"{side}_cell{cell:02d}").id
+                out.setdefault(int(self.model.site_bodyid[sid]), []).append((cell, sid))
+        return out
+
     def _sole_geom_cells(self) -> dict[int, tuple[int, int]]:
         """Map of sole geom id → (foot index 0 left / 1 right, cell index)."""
         out = {}
@@ -188,13 +198,8 @@ class HumanoidModel:
     def cell_of_point(self, data: mujoco.MjData, geom: int, point: np.ndarray) -> int:
         """Insole cell (0–15) of a world ``point`` (3,) touching sole geom ``geom``: the cell whose
         site rectangle on that geom's body contains it, else the nearest such cell."""
-        body = self.model.geom_bodyid[geom]
-        side = "l" if self._sole_cell[geom][0] == 0 else "r"
         best, best_d = 0, np.inf
-        for cell in range(16):
-            sid = self.model.site(f"{side}_cell{cell:02d}").id
-            if self.model.site_bodyid[sid] != body:
-                continue
+        for cell, sid in self._body_cell_sites[int(self.model.geom_bodyid[geom])]:
             local = data.site_xmat[sid].reshape(3, 3).T @ (point - data.site_xpos[sid])
             excess = np.maximum(np.abs(local[:2]) - self.model.site_size[sid][:2], 0.0)
             dist = float(np.linalg.norm(excess))
