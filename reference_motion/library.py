@@ -7,6 +7,10 @@ SOURCE forms:
 * ``PATH.npz`` — a saved Motion (must have been saved for the requested model).
 * ``PATH.bvh`` — a BVH file (CMU-style joint names unless a name map is given).
 * ``PATH.txt`` — a DeepMimic-format JSON file.
+
+Mocap sources are retargeted, looped if asked, resampled and then footskate-cleaned
+(:func:`reference_motion.footskate.pin_contacts`) at the output rate; a saved ``.npz`` Motion is
+returned as saved (resampled only if asked).
 """
 
 from __future__ import annotations
@@ -14,6 +18,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from reference_motion import bvh, deepmimic
+from reference_motion.footskate import pin_contacts
 from reference_motion.motion import Motion
 from reference_motion.retarget import retarget
 from reference_motion.transforms import ENV_FPS, loop, resample
@@ -34,7 +39,8 @@ def named_set(name: str) -> list[str]:
 
 
 def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | None = ENV_FPS,
-                min_frames: int | None = None, bvh_name_map: dict[str, str] | None = None) -> Motion:
+                min_frames: int | None = None, bvh_name_map: dict[str, str] | None = None,
+                pin_feet: bool = True) -> Motion:
     """Load, retarget and resample SOURCE for ``model``.
 
     Args:
@@ -43,6 +49,7 @@ def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | N
         fps: output rate (default 60 Hz, the environments' rate); ``None`` keeps the source rate.
         min_frames: loop cyclic clips until they have at least this many frames at ``fps``.
         bvh_name_map: canonical → BVH joint names for ``.bvh`` sources.
+        pin_feet: remove the foot sliding of mocap sources (not applied to ``.npz`` Motions).
     """
     text = str(source)
     path = Path(text)
@@ -66,4 +73,6 @@ def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | N
             motion = loop(motion, needed)
     if fps is not None:
         motion = resample(motion, fps)
+    if pin_feet and path.suffix != ".npz":
+        motion = pin_contacts(motion)
     return motion

@@ -50,9 +50,8 @@ def test_locomotion_replay_quality(source):
         q = motion_quality(load_motion(source, model))
         assert q.penetration_max_m <= 0.02, f"{source}/{model}: penetration {q.penetration_max_m:.3f} m"
         assert q.floating_m <= 0.02
-        assert min(q.contact_frac) > 0.0 or source == "deepmimic:run"
-        if source != "deepmimic:run":  # run: see README, the source's stance feet slide ~0.2 m/s
-            assert q.foot_skate_mps <= 0.15, f"{source}/{model}: skate {q.foot_skate_mps:.3f} m/s"
+        assert min(q.contact_frac) > 0.0
+        assert q.foot_skate_mps <= 0.15, f"{source}/{model}: skate {q.foot_skate_mps:.3f} m/s"
 
 
 def test_resample_to_60hz_keeps_duration_and_endpoints():
