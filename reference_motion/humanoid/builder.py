@@ -161,7 +161,7 @@ def build(model_name: str) -> str:
     ET.SubElement(size, "quality", {"shadowsize": "2048"})
 
     default = ET.SubElement(root, "default")
-    ET.SubElement(default, "joint", {"damping": "0", "armature": "0.01", "limited": "true"})
+    ET.SubElement(default, "joint", {"damping": "0", "armature": _f(A.JOINT_ARMATURE), "limited": "true"})
     ET.SubElement(default, "geom", {"friction": "1.0 0.005 0.0001", "solref": "0.01 1"})
     body_geom = ET.SubElement(default, "default", {"class": "body_geom"})
     ET.SubElement(body_geom, "geom", {"rgba": "0.55 0.6 0.7 1", "mass": "0"})
