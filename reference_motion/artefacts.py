@@ -91,6 +91,10 @@ class ArtefactRecipe:
             raise ValueError(f"unknown artefact kind {kind!r}; expected 'imu' or one of {', '.join(ARTEFACT_KINDS)}")
         return cls(**{kind: strength})
 
+    def scaled(self, factor: float) -> "ArtefactRecipe":
+        """Every strength multiplied by ``factor``."""
+        return ArtefactRecipe(**{k: v * factor for k, v in self.as_dict().items()})
+
     def as_dict(self) -> dict:
         return asdict(self)
 

@@ -29,21 +29,45 @@ def normalize(q: np.ndarray) -> np.ndarray:
     return q / n
 
 
+def _hamilton_table() -> np.ndarray:
+    """``(16, 4)`` table H with ``a * b = vec(a ⊗ b) @ H`` (outer product flattened row-major)."""
+    table = np.zeros((4, 4, 4))
+    w, x, y, z = range(4)
+    for i, j, k, sign in [(w, w, w, 1), (x, x, w, -1), (y, y, w, -1), (z, z, w, -1),
+                          (w, x, x, 1), (x, w, x, 1), (y, z, x, 1), (z, y, x, -1),
+                          (w, y, y, 1), (x, z, y, -1), (y, w, y, 1), (z, x, y, 1),
+                          (w, z, z, 1), (x, y, z, 1), (y, x, z, -1), (z, w, z, 1)]:
+        table[i, j, k] = sign
+    return table.reshape(16, 4)
+
+
+_HAMILTON = _hamilton_table()
+
+_LEVI_CIVITA = np.zeros((3, 3, 3))
+_LEVI_CIVITA[0, 1, 2] = _LEVI_CIVITA[1, 2, 0] = _LEVI_CIVITA[2, 0, 1] = 1.0
+_LEVI_CIVITA[0, 2, 1] = _LEVI_CIVITA[2, 1, 0] = _LEVI_CIVITA[1, 0, 2] = -1.0
+_LEVI_CIVITA = _LEVI_CIVITA.reshape(9, 3)
+
+
 def multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product ``a * b`` (apply ``b`` first, then ``a``); shapes broadcast, ``(..., 4)``."""
+    """Hamilton product ``a * b`` (apply ``b`` first, then ``a``); shapes broadcast, ``(..., 4)``.
+
+    Computed as one matrix product of the flattened outer product with a constant sign table,
+    which is several times faster than component arithmetic for the small batches of a
+    per-step reward.
+    """
     a = np.asarray(a, dtype=float)
     b = np.asarray(b, dtype=float)
-    aw, ax, ay, az = np.moveaxis(a, -1, 0)
-    bw, bx, by, bz = np.moveaxis(b, -1, 0)
-    return np.stack(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ],
-        axis=-1,
-    )
+    outer = a[..., :, None] * b[..., None, :]
+    return outer.reshape(*outer.shape[:-2], 16) @ _HAMILTON
+
+
+def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Cross product of 3-vectors ``a × b``; shapes broadcast, ``(..., 3)`` (as ``np.cross``, faster)."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    outer = a[..., :, None] * b[..., None, :]
+    return outer.reshape(*outer.shape[:-2], 9) @ _LEVI_CIVITA
 
 
 def conjugate(q: np.ndarray) -> np.ndarray:
@@ -58,8 +82,8 @@ def rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
     v = np.asarray(v, dtype=float)
     w = q[..., :1]
     u = q[..., 1:]
-    t = 2.0 * np.cross(u, v)
-    return v + w * t + np.cross(u, t)
+    t = 2.0 * cross(u, v)
+    return v + w * t + cross(u, t)
 
 
 def from_axis_angle(axis: np.ndarray, angle: np.ndarray) -> np.ndarray:

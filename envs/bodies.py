@@ -1,0 +1,67 @@
+"""Per-body kinematic state read from MuJoCo, the same way for the simulation and the reference.
+
+The environments need, for every body, its origin position and velocity, orientation and angular
+velocity, plus the whole-body centre of mass (CoM) and its velocity. :func:`read_body_state`
+reads them from an ``MjData`` whose position- and velocity-dependent quantities are current
+(``mj_kinematics``, ``mj_comPos``, ``mj_comVel``, ``mj_subtreeVel``; :func:`update_kinematics`
+calls exactly these, which is far cheaper than ``mj_forward``). The reference track is precomputed with the same two
+functions, so simulated and reference quantities are defined identically.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from reference_motion import rotations as rot
+
+
+@dataclass(frozen=True)
+class BodyState:
+    """Kinematic state of all ``B`` bodies (world frame, SI).
+
+    Attributes:
+        pos: ``(B, 3)`` body origins (m).
+        quat: ``(B, 4)`` orientations (w, x, y, z).
+        axes: ``(B, 3, 3)`` row ``i`` is the body's ``i``-th axis in world coordinates.
+        linvel: ``(B, 3)`` velocity of each body origin (m/s).
+        angvel: ``(B, 3)`` angular velocity (rad/s).
+        com: ``(3,)`` whole-body centre of mass (m).
+        com_vel: ``(3,)`` its velocity (m/s).
+    """
+
+    pos: np.ndarray
+    quat: np.ndarray
+    axes: np.ndarray
+    linvel: np.ndarray
+    angvel: np.ndarray
+    com: np.ndarray
+    com_vel: np.ndarray
+
+
+def update_kinematics(model: mujoco.MjModel, data: mujoco.MjData) -> None:
+    """Bring positions, orientations and com-based velocities of ``data`` up to date with its
+    ``qpos``/``qvel`` (after ``mj_step`` they lag one substep behind)."""
+    mujoco.mj_kinematics(model, data)
+    mujoco.mj_comPos(model, data)
+    mujoco.mj_comVel(model, data)
+    mujoco.mj_subtreeVel(model, data)
+
+
+def read_body_state(model: mujoco.MjModel, data: mujoco.MjData) -> BodyState:
+    """:class:`BodyState` of every body but the world, from an up-to-date ``data``.
+
+    MuJoCo's ``cvel`` is each body's spatial velocity (angular; linear of the point at the
+    tree's CoM ``c``), so the velocity of a point ``p`` on the body is ``v_c + ω × (p − c)``. The
+    humanoid is one kinematic tree rooted at the pelvis, so ``c`` (``subtree_com`` of the pelvis)
+    is the whole-body CoM and the pelvis ``subtree_linvel`` its velocity.
+    """
+    com = data.subtree_com[1].copy()
+    omega = data.cvel[1:, :3].copy()
+    pos = data.xpos[1:].copy()
+    linvel = data.cvel[1:, 3:] + rot.cross(omega, pos - com)
+    n = pos.shape[0]
+    return BodyState(pos=pos, quat=data.xquat[1:].copy(), axes=data.xmat[1:].reshape(n, 3, 3).transpose(0, 2, 1).copy(),
+                     linvel=linvel, angvel=omega, com=com, com_vel=data.subtree_linvel[1].copy())

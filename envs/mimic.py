@@ -1,0 +1,332 @@
+"""The ADAPT mimic environment (adapt §3.2): a PD-driven humanoid re-performs reference clips.
+
+Per policy step (30 Hz) the environment advances two 60 Hz reference frames. In each frame every
+actuated hinge gets the reference angle of that frame as its PD target, and the driven hinges
+(the 8 key joints, or all) add the smoothed action. Rewards, terminations and the observation are
+the pure functions of :mod:`envs.rewards` and :mod:`envs.observations`; the reference quantities
+they need are precomputed per clip (:class:`envs.reference.ReferenceTrack`).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import replace
+from pathlib import Path
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+
+from envs.bodies import read_body_state, update_kinematics
+from envs.config import (ACTION_MODES, DRECON_BODIES, FOOT_MODELS, KEY_JOINT_BODIES, OBS_MODES, SPINAL_BODIES,
+                         ArtefactMix, MimicConfig)
+from envs.observations import mimic_observation, observation_size, observation_slices
+from envs.reference import ReferenceTrack
+from envs.rendering import GhostRenderer
+from envs.rewards import (cube_face_points, cube_face_velocities, fallen, lagging, local_rotations, mimic_reward,
+                          unstable)
+from reference_motion.artefacts import corrupt
+from reference_motion.humanoid.builder import HEEL_CELLS, TOE_CELLS
+from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
+from reference_motion.library import load_motion, named_set
+from reference_motion.motion import Motion
+from reference_motion.transforms import resample
+
+ClipSpec = str | Path | Motion
+
+
+class MimicEnv(gym.Env):
+    """Mimic reference clips with a PD-driven MuJoCo humanoid (``MimicIMU-v0`` and its siblings).
+
+    Args:
+        clips: the motion set: a named set (``"locomotion"``, ``"deepmimic"``), or a sequence of
+            SOURCE strings / paths (see :func:`reference_motion.library.load_motion`) and
+            :class:`Motion` objects. Cyclic clips are looped to two episodes; every clip must be at
+            least one episode long.
+        artefacts: which episodes get an IMU-corrupted reference (:class:`ArtefactMix`); ``None``
+            mimics the clips as given.
+        foot: ``"one"`` (``humanoid_1seg``) or ``"two"`` (``humanoid_2seg``, toe joint open loop).
+        episode_frames: longest episode in reference frames (default 300 = 5 s at 60 Hz).
+        obs_mode: ``"adapt"`` (all bodies, adapt Table 1) or ``"drecon"`` (key bodies only).
+        action_mode: ``"key"`` (20 hinges of the 8 key joints) or ``"full"`` (every actuated hinge).
+        config: the remaining constants (:class:`MimicConfig`); ``episode_frames`` overrides its field.
+        render_mode: ``None`` or ``"rgb_array"`` (character with the reference translucent beside it).
+        width, height: rendered image size (pixels).
+
+    Observation: ``Box(13 + 12·B + A,)`` float32 — layout in :mod:`envs.observations`,
+    named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
+    added to the reference PD targets of the driven hinges.
+
+    ``reset(options=...)`` accepts ``clip`` (index or name), ``start_frame`` and ``corrupted``
+    (bool) to pin down an episode, e.g. for evaluation.
+
+    ``info``: ``r_local``, ``r_p``, ``r_v``, ``e_discount``, ``reward``; ``contacts`` (4 bools,
+    order LT, RT, LH, RH: a sole region touching the floor); ``frame`` (reference frame index)
+    and ``episode_frame`` (frames since the start); ``clip``, ``corrupted``, ``artefact_seed``;
+    ``unstable`` (the simulation blew up); ``ended_by``: ``""`` while running, else one of
+    ``"lagging"``, ``"fallen"``, ``"unstable"``, ``"time_limit"``.
+    """
+
+    metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
+
+    def __init__(self, clips: str | Sequence[ClipSpec] = "locomotion", artefacts: ArtefactMix | None = None,
+                 foot: str = "one", episode_frames: int | None = None, obs_mode: str = "adapt",
+                 action_mode: str = "key", config: MimicConfig | None = None, render_mode: str | None = None,
+                 width: int = 480, height: int = 360):
+        _check_choice("foot", foot, tuple(FOOT_MODELS))
+        _check_choice("obs_mode", obs_mode, OBS_MODES)
+        _check_choice("action_mode", action_mode, ACTION_MODES)
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
+        if artefacts is not None and not isinstance(artefacts, ArtefactMix):
+            raise TypeError(f"artefacts must be an envs.ArtefactMix or None, got {type(artefacts).__name__}")
+        config = config or MimicConfig()
+        if episode_frames is not None:
+            config = replace(config, episode_frames=int(episode_frames))
+        self.config = config
+        self.artefacts = artefacts
+        self.render_mode = render_mode
+        self._size = (width, height)
+
+        self.humanoid = load_model(FOOT_MODELS[foot])
+        self.model = self.humanoid.model
+        self.data = mujoco.MjData(self.model)
+        m = self.model
+        frame_dt = 1.0 / config.frame_rate_hz
+        self.substeps = round(frame_dt / m.opt.timestep)
+        if self.substeps < 1 or abs(self.substeps * m.opt.timestep - frame_dt) > 1e-4 * frame_dt:
+            raise ValueError(f"frame_rate_hz {config.frame_rate_hz} is not a whole number of "
+                             f"{m.opt.timestep:.5f} s physics steps")
+        self.actuator_qpos = m.jnt_qposadr[m.actuator_trnid[:, 0]]
+        """qpos index of each actuator's hinge."""
+        actuator_of_qpos = {int(q): a for a, q in enumerate(self.actuator_qpos)}
+
+        names = self.humanoid.body_names
+        self.parent = m.body_parentid[1:] - 1
+        self.jointed = np.flatnonzero(m.body_jntnum[1:] > 0)
+        self.head = names.index("head")
+        if action_mode == "key":
+            self.driven = np.array([actuator_of_qpos[int(q)] for b in KEY_JOINT_BODIES
+                                    for q in self.humanoid.body_joints[b].qpos_index])
+        else:
+            self.driven = np.arange(m.nu)
+        """Actuator index of each action component."""
+        self.observed = (slice(None) if obs_mode == "adapt"
+                         else np.array([names.index(b) for b in DRECON_BODIES]))
+        """Bodies in the observation (all, or DReCon's key bodies)."""
+        n_obs_bodies = len(names) if obs_mode == "adapt" else len(DRECON_BODIES)
+        n_act = len(self.driven)
+        self.obs_slices = observation_slices(n_obs_bodies, n_act)
+        lim = config.action_limit_rad
+        self.action_space = gym.spaces.Box(-lim, lim, (n_act,), dtype=np.float32)
+        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (observation_size(n_obs_bodies, n_act),),
+                                                dtype=np.float32)
+
+        self._floor = m.geom("floor").id
+        spinal = {names.index(b) + 1 for b in SPINAL_BODIES}
+        self._geom_spinal_body = np.where(np.isin(m.geom_bodyid, list(spinal)), m.geom_bodyid, -1)
+        self._geom_channel = self._sole_channels()
+
+        self.clips = self._load_clips(clips)
+        self._tracks: dict[tuple[int, int], ReferenceTrack] = {}
+        self._variant_seeds: dict[tuple[int, int], int] = {}
+        self._variant_base: int | None = None
+        self._renderer: GhostRenderer | None = None
+        self._track: ReferenceTrack | None = None
+        self._action = np.zeros(n_act)
+        self._obs = np.zeros(self.observation_space.shape, dtype=np.float32)
+
+    # ------------------------------------------------------------------ setup
+    def _load_clips(self, clips: str | Sequence[ClipSpec]) -> list[Motion]:
+        sources = named_set(clips) if isinstance(clips, str) else list(clips)
+        if not sources:
+            raise ValueError("clips is empty: give a named set or at least one motion source")
+        need = self.config.episode_frames + 1
+        fps = self.config.frame_rate_hz
+        out = []
+        for src in sources:
+            if isinstance(src, Motion):
+                if src.model != self.humanoid.name:
+                    raise ValueError(f"clip {src.name!r} is a Motion for {src.model}, but this env simulates "
+                                     f"{self.humanoid.name}; retarget it or pass foot= to match")
+                motion = src if abs(src.fps - fps) < 1e-9 else resample(src, fps)
+            else:
+                motion = load_motion(src, self.humanoid.name, fps=fps, min_frames=2 * need)
+            if motion.n_frames < need:
+                raise ValueError(f"clip {motion.name!r} has {motion.n_frames} frames at {fps:g} Hz, fewer than one "
+                                 f"episode ({need}); use a longer clip or episode_frames <= {motion.n_frames - 1}")
+            out.append(motion)
+        return out
+
+    def _sole_channels(self) -> np.ndarray:
+        """Per geom: the contact channel (index into CONTACT_CHANNELS) of a heel/toe sole sphere, else -1."""
+        out = np.full(self.model.ngeom, -1)
+        for g in range(self.model.ngeom):
+            name = self.model.geom(g).name
+            if "_sole" not in name:
+                continue
+            side, cell = ("left" if name[0] == "l" else "right"), int(name[-2:])
+            region = "heel" if cell in HEEL_CELLS else "toe" if cell in TOE_CELLS else None
+            if region:
+                out[g] = CONTACT_CHANNELS.index(f"{side}_{region}")
+        return out
+
+    def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
+        """The reference track of clip ``clip``: as given (``variant=-1``) or its corrupted variant
+        ``variant``, built on first use. A variant's artefact seed and strength depend only on
+        (the last seed given to :meth:`reset`, clip, variant), so the same seed always gives the
+        same references whatever order episodes come in."""
+        key = (clip, variant)
+        if key not in self._tracks:
+            motion = self.clips[clip]
+            if variant >= 0:
+                if self._variant_base is None:
+                    self._variant_base = int(self.np_random.integers(2**31))
+                rng = np.random.default_rng([self._variant_base, clip, variant])
+                seed = int(rng.integers(2**31))
+                strength = float(rng.uniform(*self.artefacts.strength))
+                motion = corrupt(motion, self.artefacts.recipe.scaled(strength), seed)
+                self._variant_seeds[key] = seed
+            self._tracks[key] = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed,
+                                                     self.parent, self.config.cube_size_m)
+        return self._tracks[key]
+
+    # --------------------------------------------------------------- episode
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        if seed is not None and seed != self._variant_base:  # corrupted variants follow the new seed
+            self._variant_base = seed
+            self._tracks = {k: t for k, t in self._tracks.items() if k[1] < 0}
+            self._variant_seeds.clear()
+        options = dict(options or {})
+        clip = self._clip_index(options.pop("clip", None))
+        corrupted = options.pop("corrupted", None)
+        if corrupted is None:
+            corrupted = self.artefacts is not None and self.np_random.random() < self.artefacts.fraction
+        if corrupted and self.artefacts is None:
+            raise ValueError("reset(options={'corrupted': True}) needs an env made with artefacts=ArtefactMix(...)")
+        variant = int(self.np_random.integers(self.artefacts.variants_per_clip)) if corrupted else -1
+        track = self.track(clip, variant)
+        last_start = track.n_frames - 1 - self.config.episode_frames
+        start = options.pop("start_frame", None)
+        start = int(self.np_random.integers(last_start + 1)) if start is None else int(start)
+        if not 0 <= start <= last_start:
+            raise ValueError(f"start_frame {start} out of range for clip {track.motion.name!r}: 0..{last_start}")
+        if options:
+            raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted")
+
+        self._track, self._clip, self._variant = track, clip, variant
+        self._start = self._frame = start
+        m, d = self.model, self.data
+        mujoco.mj_resetData(m, d)
+        d.qpos[:] = track.motion.qpos[start]
+        d.qvel[:] = track.qvel[start]
+        d.ctrl[:] = track.ctrl[start]
+        mujoco.mj_forward(m, d)
+        depth = -d.contact.dist[(d.contact.geom == self._floor).any(axis=1)].min(initial=0.0)
+        if depth > 0:  # the reference pose reaches into the floor: start just above it
+            d.qpos[2] += depth + self.config.init_clearance_m
+            mujoco.mj_forward(m, d)
+        update_kinematics(m, d)
+        self._bad_qacc = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
+        self._action = np.zeros(len(self.driven))
+        state = read_body_state(m, d)
+        self._obs = self._observe(state)
+        info = {"frame": self._frame, "episode_frame": 0, "clip": track.motion.name, "corrupted": variant >= 0,
+                "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._contacts(self._floor_contact_geoms()),
+                "unstable": False, "ended_by": ""}
+        return self._obs, info
+
+    def _clip_index(self, clip: int | str | None) -> int:
+        if clip is None:
+            return int(self.np_random.integers(len(self.clips)))
+        if isinstance(clip, str):
+            names = [c.name for c in self.clips]
+            if clip not in names:
+                raise ValueError(f"unknown clip {clip!r}; this env has {', '.join(names)}")
+            return names.index(clip)
+        if not 0 <= int(clip) < len(self.clips):
+            raise ValueError(f"clip index {clip} out of range 0..{len(self.clips) - 1}")
+        return int(clip)
+
+    def step(self, action: np.ndarray):
+        if self._track is None:
+            raise RuntimeError("call reset() before step()")
+        cfg, m, d, track = self.config, self.model, self.data, self._track
+        lim = cfg.action_limit_rad
+        raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
+        self._action = cfg.action_smoothing * raw + (1.0 - cfg.action_smoothing) * self._action
+        for _ in range(cfg.frames_per_control):
+            self._frame += 1
+            d.ctrl[:] = track.ctrl[self._frame]
+            d.ctrl[self.driven] += self._action
+            mujoco.mj_step(m, d, nstep=self.substeps)
+        f = self._frame
+        info = {"frame": f, "episode_frame": f - self._start, "clip": track.motion.name,
+                "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}
+        if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc or unstable(d.qvel, cfg.max_joint_speed):
+            info.update(r_local=0.0, r_p=0.0, r_v=0.0, e_discount=0.0, total=0.0, reward=0.0,
+                        contacts=np.zeros(4, bool), unstable=True, ended_by="unstable")
+            return self._obs, 0.0, True, False, info
+
+        update_kinematics(m, d)
+        state = read_body_state(m, d)
+        terms = mimic_reward(
+            local_rotations(state.quat, self.parent)[self.jointed], track.local[f],
+            cube_face_points(state.pos - state.pos[0], state.axes, cfg.cube_size_m), track.faces_rel_root[f],
+            cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), track.face_vel[f],
+            state.pos[self.head], track.pos[f, self.head], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
+        touching = self._floor_contact_geoms()
+        ended_by = ("lagging" if lagging(terms.e_discount, cfg.discount_threshold)
+                    else "fallen" if fallen(self._spinal_contacts(touching), cfg.fall_contacts) else "")
+        truncated = not ended_by and f - self._start >= cfg.episode_frames
+        self._obs = self._observe(state)
+        info.update(terms.as_dict(), reward=terms.total, contacts=self._contacts(touching), unstable=False,
+                    ended_by=ended_by or ("time_limit" if truncated else ""))
+        return self._obs, terms.total, bool(ended_by), truncated, info
+
+    # ---------------------------------------------------------------- pieces
+    def _observe(self, state) -> np.ndarray:
+        f, obs = self._frame, self.observed
+        return mimic_observation(state.pos[obs], state.linvel[obs], state.com, state.com_vel,
+                                 self._track.pos_rel_com[f, obs], self._track.linvel[f, obs],
+                                 self._track.com_vel[f], self._action)
+
+    def _floor_contact_geoms(self) -> np.ndarray:
+        """Geoms touching the floor, one entry per contact."""
+        pairs = self.data.contact.geom
+        floor = (pairs == self._floor).any(axis=1)
+        return np.where(pairs[:, 0] == self._floor, pairs[:, 1], pairs[:, 0])[floor]
+
+    def _spinal_contacts(self, touching: np.ndarray) -> int:
+        """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""
+        bodies = self._geom_spinal_body[touching]
+        return len(set(bodies[bodies >= 0].tolist()))
+
+    def _contacts(self, touching: np.ndarray) -> np.ndarray:
+        """Four contact states (LT, RT, LH, RH): any sole sphere of that region among the
+        floor-touching geoms ``touching``."""
+        channels = self._geom_channel[touching]
+        out = np.zeros(4, dtype=bool)
+        out[channels[channels >= 0]] = True
+        return out
+
+    # ---------------------------------------------------------------- render
+    def render(self):
+        if self.render_mode != "rgb_array":
+            return None
+        if self._track is None:
+            raise RuntimeError("call reset() before render()")
+        if self._renderer is None:
+            self._renderer = GhostRenderer(self.model, *self._size)
+        return self._renderer.render(self.data, self._track.motion.qpos[self._frame])
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+
+def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:
+    if value not in choices:
+        raise ValueError(f"{name} must be one of {', '.join(repr(c) for c in choices)}, got {value!r}")

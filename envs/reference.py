@@ -1,0 +1,82 @@
+"""Reference tracks: everything the reward and observation need from a clip, computed once.
+
+A :class:`ReferenceTrack` is built per clip (and per corrupted variant of a clip) when the
+environment first needs it; each step then only indexes arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from envs.bodies import read_body_state, update_kinematics
+from envs.rewards import cube_face_points, cube_face_velocities, local_rotations
+from reference_motion.humanoid.model import HumanoidModel
+from reference_motion.motion import Motion
+
+
+@dataclass(frozen=True)
+class ReferenceTrack:
+    """Per-frame reference quantities of one clip on one model (``T`` frames, ``B`` bodies,
+    ``J`` jointed bodies; world frame, SI).
+
+    Attributes:
+        motion: the clip.
+        ctrl: ``(T, nu)`` the open-loop PD targets: each actuator's hinge angle (rad).
+        qvel: ``(T, nv)`` generalised velocities, for reference state initialisation.
+        pos: ``(T, B, 3)`` body origins.
+        pos_rel_com: ``(T, B, 3)`` body origins relative to the reference CoM.
+        linvel: ``(T, B, 3)`` body origin velocities.
+        com_vel: ``(T, 3)`` CoM velocity.
+        local: ``(T, J, 4)`` rotations of the jointed bodies relative to their parents.
+        faces_rel_root: ``(T, B, 6, 3)`` cube face points relative to the root body's origin.
+        face_vel: ``(T, B, 6, 3)`` cube face point velocities.
+    """
+
+    motion: Motion
+    ctrl: np.ndarray
+    qvel: np.ndarray
+    pos: np.ndarray
+    pos_rel_com: np.ndarray
+    linvel: np.ndarray
+    com_vel: np.ndarray
+    local: np.ndarray
+    faces_rel_root: np.ndarray
+    face_vel: np.ndarray
+
+    @property
+    def n_frames(self) -> int:
+        return self.motion.n_frames
+
+    @classmethod
+    def build(cls, motion: Motion, model: HumanoidModel, actuator_qpos: np.ndarray, jointed: np.ndarray,
+              parent: np.ndarray, cube_size: float) -> "ReferenceTrack":
+        """Replay ``motion`` kinematically on ``model`` and collect every per-frame quantity.
+
+        Args:
+            actuator_qpos: ``(nu,)`` qpos index of each actuator's hinge.
+            jointed: ``(J,)`` indices of the bodies whose local rotation the pose reward compares.
+            parent: ``(B,)`` parent index of each body (``-1`` for the root).
+            cube_size: edge (m) of the cube of the face-point rewards.
+        """
+        m = model.model
+        data = mujoco.MjData(m)
+        qvel = motion.qvel
+        T, B = motion.n_frames, m.nbody - 1
+        pos, linvel, angvel = np.empty((T, B, 3)), np.empty((T, B, 3)), np.empty((T, B, 3))
+        quat, axes = np.empty((T, B, 4)), np.empty((T, B, 3, 3))
+        com, com_vel = np.empty((T, 3)), np.empty((T, 3))
+        for t in range(T):
+            data.qpos[:] = motion.qpos[t]
+            data.qvel[:] = qvel[t]
+            update_kinematics(m, data)
+            s = read_body_state(m, data)
+            pos[t], linvel[t], angvel[t], quat[t], axes[t], com[t], com_vel[t] = (
+                s.pos, s.linvel, s.angvel, s.quat, s.axes, s.com, s.com_vel)
+        faces = cube_face_points(pos, axes, cube_size) - pos[:, :1, None, :]
+        return cls(motion=motion, ctrl=motion.qpos[:, actuator_qpos], qvel=qvel, pos=pos,
+                   pos_rel_com=pos - com[:, None, :], linvel=linvel, com_vel=com_vel,
+                   local=local_rotations(quat, parent)[:, jointed], faces_rel_root=faces,
+                   face_vel=cube_face_velocities(linvel, angvel, axes, cube_size))

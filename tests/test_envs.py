@@ -1,0 +1,197 @@
+"""The registered mimic environments on real clips: API, layout, determinism, endings, errors."""
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+from gymnasium.utils.env_checker import check_env
+
+import envs
+from envs import ArtefactMix
+from reference_motion import rotations as rot
+from reference_motion.humanoid.model import load_model
+from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+
+WALK = ["deepmimic:walk"]
+
+
+@pytest.mark.parametrize("env_id, obs_dim, act_dim", [("MimicIMU-v0", 273, 20), ("MimicDReCon-v0", 105, 20),
+                                                      ("MimicFullAction-v0", 296, 43)])
+def test_env_checker_passes(env_id, obs_dim, act_dim):
+    env = gym.make(env_id, clips=["deepmimic:walk", "deepmimic:walker/turn_left0"], render_mode="rgb_array",
+                   width=160, height=120)
+    assert env.observation_space.shape == (obs_dim,) and env.action_space.shape == (act_dim,)
+    with warnings.catch_warnings():
+        warnings.filterwarnings("ignore", message=".*infinity.*")  # unbounded observations are intended
+        check_env(env.unwrapped)
+    env.close()
+
+
+def test_two_segment_foot_observes_22_bodies():
+    env = gym.make("MimicIMU-v0", clips=WALK, foot="two")
+    assert env.observation_space.shape == (13 + 12 * 22 + 20,)
+    obs, _ = env.reset(seed=0)
+    _, _, _, _, info = env.step(np.zeros(20, np.float32))
+    assert np.isfinite(obs).all() and 0.0 < info["reward"] <= 3.0
+
+
+def test_observation_slices_at_reference_state_initialisation():
+    env = gym.make("MimicIMU-v0", clips=WALK, artefacts=None)
+    base = env.unwrapped
+    obs, info = env.reset(seed=3, options={"start_frame": 40})
+    s = base.obs_slices
+    track = base.track(0)
+    assert info["frame"] == 40 and not info["corrupted"]
+    # the character starts in the reference state: differences vanish, reference terms are the track's
+    assert np.abs(obs[s["dp"]]).max() < 1e-5 and np.abs(obs[s["dv"]]).max() < 1e-4
+    assert np.allclose(obs[s["ref_v_com"]], track.com_vel[40], atol=1e-6)
+    assert np.allclose(obs[s["dv_com"]], 0.0, atol=1e-4)
+    assert np.allclose(obs[s["p"]].reshape(20, 3), base.data.xpos[1:] - base.data.subtree_com[1], atol=1e-6)
+    assert np.array_equal(obs[s["prev_action"]], np.zeros(20))
+    # the smoothed action shows up in the next observation: a_t = 0.2 a_raw
+    action = np.linspace(-1, 1, 20).astype(np.float32)
+    obs, *_ = env.step(action)
+    assert np.allclose(obs[s["prev_action"]], 0.2 * action, atol=1e-6)
+
+
+def test_first_step_tracks_the_reference_closely_and_reports_everything():
+    env = gym.make("MimicIMU-v0", clips=WALK, artefacts=None)
+    env.reset(seed=0, options={"start_frame": 0})
+    _, reward, term, trunc, info = env.step(np.zeros(20, np.float32))
+    for key in ("r_local", "r_p", "r_v", "e_discount", "reward", "contacts", "frame", "episode_frame", "clip",
+                "corrupted", "unstable", "ended_by"):
+        assert key in info, key
+    assert info["frame"] == 2 and info["episode_frame"] == 2 and info["clip"] == "deepmimic:walk"
+    assert info["e_discount"] > 0.99 and info["r_local"] > 0.9 and reward > 2.0
+    assert not term and not trunc and info["ended_by"] == ""
+    assert info["contacts"].shape == (4,) and info["contacts"].dtype == bool
+    later = [env.step(np.zeros(20, np.float32))[4]["contacts"] for _ in range(3)]
+    assert np.any(later)  # the heel strikes at frame 3–4
+
+
+def test_same_seed_same_trajectory_and_corrupted_variants():
+    def rollout():
+        env = gym.make("MimicIMU-v0", clips=["deepmimic:walk", "deepmimic:run"],
+                       artefacts=ArtefactMix(fraction=0.5, variants_per_clip=2))
+        env.action_space.seed(5)
+        obs, info = env.reset(seed=11)
+        out, seeds = [obs], [info["artefact_seed"]]
+        for _ in range(60):
+            obs, r, term, trunc, info = env.step(env.action_space.sample())
+            out.append(np.append(obs, r))
+            if term or trunc:
+                obs, info = env.reset()
+                seeds.append(info["artefact_seed"])
+        return np.concatenate(out), seeds
+
+    a, seeds_a = rollout()
+    b, seeds_b = rollout()
+    assert np.array_equal(a, b) and seeds_a == seeds_b
+    assert len(seeds_a) > 2 and any(s is not None for s in seeds_a)  # episodes ended and some were corrupted
+
+
+def test_episode_is_truncated_at_episode_frames():
+    env = gym.make("MimicIMU-v0", clips=WALK, episode_frames=6)
+    env.reset(seed=0, options={"start_frame": 10})
+    results = [env.step(np.zeros(20, np.float32)) for _ in range(3)]
+    assert [r[3] for r in results] == [False, False, True]
+    assert results[-1][4]["ended_by"] == "time_limit" and results[-1][4]["frame"] == 16
+
+
+def test_open_loop_walk_falls_behind_and_ends_by_lagging():
+    env = gym.make("MimicIMU-v0", clips=WALK)
+    env.reset(seed=0, options={"start_frame": 0})
+    for steps in range(1, 151):
+        _, _, term, trunc, info = env.step(np.zeros(20, np.float32))
+        if term or trunc:
+            break
+    assert term and info["ended_by"] == "lagging" and info["e_discount"] < 0.025
+    assert 10 <= steps < 150  # the PD controllers alone keep it up a while, not a whole episode
+
+
+def test_three_spinal_contacts_end_the_episode():
+    hm = load_model("humanoid_1seg")
+    q = hm.rest_qpos()
+    q[3:7] = rot.from_axis_angle(np.array([0.0, 1.0, 0.0]), np.pi / 2)  # face down
+    q[2] = 0.12
+    q[[hm.qpos_index("neck_y"), hm.qpos_index("head_y")]] = 0.3
+    q[[hm.qpos_index(j) for j in ("spine_lower_y", "spine_mid_y", "chest_y")]] = -0.2
+    lying = Motion("lying", 60.0, np.tile(q, (320, 1)), "humanoid_1seg")
+    env = gym.make("MimicIMU-v0", clips=[lying])
+    env.reset(seed=0)
+    for _ in range(20):
+        _, _, term, _, info = env.step(np.zeros(20, np.float32))
+        if term:
+            break
+    assert term and info["ended_by"] == "fallen" and info["e_discount"] > 0.5  # not lagging: it mimics well
+
+
+def test_blown_up_simulation_ends_cleanly():
+    env = gym.make("MimicIMU-v0", clips=WALK)
+    obs0, _ = env.reset(seed=0)
+    env.unwrapped.data.qvel[20] = 1e7
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        obs, reward, term, trunc, info = env.step(np.zeros(20, np.float32))
+    assert term and not trunc and info["unstable"] and info["ended_by"] == "unstable" and reward == 0.0
+    assert np.isfinite(obs).all()
+    obs, info = env.reset()
+    assert np.isfinite(obs).all() and not info["unstable"]
+
+
+def test_reference_tracks_are_precomputed_once():
+    env = gym.make("MimicIMU-v0", clips=WALK).unwrapped
+    env.reset(seed=0)
+    assert env.track(0) is env.track(0)
+    track = env.track(0)
+    assert track.faces_rel_root.shape == (track.n_frames, 20, 6, 3)
+    assert track.face_vel.shape == track.faces_rel_root.shape and track.local.shape[1:] == (18, 4)
+
+
+def test_render_shows_the_reference_beside_the_character():
+    env = gym.make("MimicIMU-v0", clips=WALK, render_mode="rgb_array", width=200, height=150)
+    env.reset(seed=0)
+    env.step(np.zeros(20, np.float32))
+    img = env.render()
+    assert img.shape == (150, 200, 3) and img.dtype == np.uint8
+    orange = (img[..., 0] > 150) & (img[..., 0] > img[..., 2] + 60)  # the translucent reference
+    grey = (np.abs(img[..., 0].astype(int) - img[..., 2]) < 20) & (img[..., 1] > 90)
+    assert orange.sum() > 200 and grey.sum() > 200
+    env.close()
+
+
+def test_bad_arguments_raise_clear_errors():
+    with pytest.raises(ValueError, match="foot must be one of"):
+        gym.make("MimicIMU-v0", clips=WALK, foot="three")
+    with pytest.raises(ValueError, match="obs_mode"):
+        gym.make("MimicIMU-v0", clips=WALK, obs_mode="pixels")
+    with pytest.raises(ValueError, match="action_mode"):
+        gym.make("MimicIMU-v0", clips=WALK, action_mode="all")
+    with pytest.raises(ValueError, match="clips is empty"):
+        gym.make("MimicIMU-v0", clips=[])
+    with pytest.raises(KeyError, match="unknown clip set"):
+        gym.make("MimicIMU-v0", clips="walking")
+    with pytest.raises(ValueError, match="fewer than one episode"):
+        gym.make("MimicIMU-v0", clips=["deepmimic:kick"])  # 92 frames, not cyclic
+    two = load_motion("deepmimic:walk", "humanoid_2seg")
+    with pytest.raises(ValueError, match="Motion for humanoid_2seg"):
+        gym.make("MimicIMU-v0", clips=[two])
+    with pytest.raises(TypeError, match="ArtefactMix"):
+        gym.make("MimicIMU-v0", clips=WALK, artefacts="imu")
+    with pytest.raises(ValueError, match="fraction"):
+        ArtefactMix(fraction=1.5)
+    env = gym.make("MimicIMU-v0", clips=WALK, artefacts=None)
+    with pytest.raises(ValueError, match="unknown clip 'deepmimic:run'"):
+        env.reset(options={"clip": "deepmimic:run"})
+    with pytest.raises(ValueError, match="unknown reset option"):
+        env.reset(options={"speed": 2})
+    with pytest.raises(ValueError, match="needs an env made with artefacts"):
+        env.reset(options={"corrupted": True})
+    with pytest.raises(ValueError, match="start_frame 9999 out of range"):
+        env.reset(options={"start_frame": 9999})
+
+
+def test_all_ids_registered():
+    assert set(envs.ENV_IDS) <= set(gym.registry)
