@@ -285,6 +285,13 @@ class MimicEnv(gym.Env):
                     ended_by=ended_by or ("time_limit" if truncated else ""))
         return self._obs, terms.total, bool(ended_by), truncated, info
 
+    @property
+    def current_track(self) -> ReferenceTrack:
+        """The reference track of the running episode (after :meth:`reset`)."""
+        if self._track is None:
+            raise RuntimeError("call reset() first")
+        return self._track
+
     # ---------------------------------------------------------------- pieces
     def _observe(self, state) -> np.ndarray:
         f, obs = self._frame, self.observed

@@ -1,0 +1,85 @@
+"""ADAPT's evaluation protocol (adapt §3.2.6, §4.1) for any policy on a mimic environment.
+
+A policy here is any function from an observation ``(D,)`` float32 to an action ``(A,)``. Each
+clip is evaluated as one ``episode_frames`` segment, rolled out ``episodes`` times from start
+offsets ``0, offset_step, 2·offset_step, ...`` frames; the metrics of :mod:`agents.metrics` are
+averaged over all rollouts.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+
+from agents.metrics import episode_length_ratio, max_reward_ratio, root_displacement_error, survived
+
+Policy = Callable[[np.ndarray], np.ndarray]
+
+
+@dataclass(frozen=True)
+class Rollout:
+    """One evaluated episode.
+
+    Attributes:
+        clip: clip name; start_frame: its first reference frame.
+        elr, sr90, rde, mrr: the four metrics of the rollout.
+        ended_by: why it ended (see :class:`envs.mimic.MimicEnv`).
+        qpos: ``(N + 1, nq)`` the simulated motion at the 30 Hz control steps, start included.
+    """
+
+    clip: str
+    start_frame: int
+    elr: float
+    sr90: float
+    rde: float
+    mrr: float
+    ended_by: str
+    qpos: np.ndarray
+
+
+def zero_policy(action_size: int) -> Policy:
+    """The policy that always outputs zero: the reference fed open loop to the PD controllers."""
+    zero = np.zeros(action_size, dtype=np.float32)
+    return lambda obs: zero
+
+
+def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, corrupted: bool = False) -> Rollout:
+    """Run ``policy`` on ``env`` from ``start_frame`` of ``clip`` until the episode ends."""
+    base = env.unwrapped
+    obs, info = env.reset(options={"clip": clip, "start_frame": start_frame, "corrupted": corrupted})
+    track = base.current_track
+    rewards, qpos, ref_root = [], [base.data.qpos.copy()], [track.motion.qpos[start_frame, :3]]
+    while True:
+        obs, reward, term, trunc, info = env.step(policy(obs))
+        rewards.append(reward)
+        qpos.append(base.data.qpos.copy())
+        ref_root.append(track.motion.qpos[info["frame"], :3])
+        if term or trunc:
+            break
+    qpos = np.array(qpos)
+    total = base.config.episode_frames
+    frames = info["episode_frame"]
+    return Rollout(clip=info["clip"], start_frame=start_frame, elr=episode_length_ratio(frames, total),
+                   sr90=survived(frames, total), rde=root_displacement_error(qpos[:, :3], np.array(ref_root)),
+                   mrr=max_reward_ratio(np.array(rewards), total // base.config.frames_per_control),
+                   ended_by=info["ended_by"], qpos=qpos)
+
+
+def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None, episodes: int = 20,
+             offset_step: int = 3, corrupted: bool = False) -> tuple[dict[str, float], list[Rollout]]:
+    """ADAPT's protocol over ``clips`` (default: all of ``env``'s clips).
+
+    Returns ``(summary, rollouts)``; the summary has ``ELR_mean``, ``ELR_std``, ``SR90``,
+    ``RDE_mean``, ``RDE_std``, ``MRR_mean``, ``MRR_std`` and ``rollouts``.
+    """
+    base = env.unwrapped
+    clips = list(range(len(base.clips))) if clips is None else clips
+    runs = [rollout(env, policy, clip, k * offset_step, corrupted) for clip in clips for k in range(episodes)]
+    summary: dict[str, float] = {"rollouts": len(runs), "SR90": float(np.mean([r.sr90 for r in runs]))}
+    for name, key in (("ELR", "elr"), ("RDE", "rde"), ("MRR", "mrr")):
+        values = np.array([getattr(r, key) for r in runs])
+        summary[f"{name}_mean"], summary[f"{name}_std"] = float(values.mean()), float(values.std())
+    return summary, runs

@@ -1,0 +1,229 @@
+"""Train a mimic policy with stable-baselines3 PPO (ADAPT Table 3 settings where they fit a CPU).
+
+Usage::
+
+    python agents/train_ppo.py --clips deepmimic:walk --total-steps 3000000 --run-dir runs/mimic_walk
+    python agents/train_ppo.py --run-dir runs/mimic_walk --resume          # continue an interrupted run
+
+A run directory holds ``args.json`` (the command's settings), ``checkpoints/`` (model and
+observation statistics every ``--checkpoint-every`` steps; ``--resume`` continues from the newest,
+losing at most one interval), ``best/`` (the checkpoint with the best evaluation, as ADAPT keeps
+the best epoch), ``evaluations.jsonl`` and TensorBoard logs in ``tb/``.
+
+Policy: tanh MLP, the same size for actor and critic, fixed action variance σ² = 0.03 (the log-std
+is not learned), observations normalised by running statistics (saved with every checkpoint).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import re
+import sys
+import time
+from pathlib import Path
+
+if __package__ in (None, ""):  # `python agents/train_ppo.py` puts agents/ first on the path: use the repo root
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import gymnasium as gym
+import numpy as np
+import torch
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
+
+import envs  # noqa: F401  (registers the ids)
+from agents.evaluation import evaluate
+from envs import ArtefactMix
+from reference_motion.artefacts import ArtefactRecipe
+
+CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g = p.add_argument_group("task")
+    g.add_argument("--env-id", default="MimicIMU-v0", help="MimicIMU-v0, MimicDReCon-v0 or MimicFullAction-v0")
+    g.add_argument("--clips", nargs="+", default=["deepmimic:walk"],
+                   help="training clips: SOURCE strings, or one named set (locomotion, deepmimic)")
+    g.add_argument("--exclude", nargs="*", default=[], help="clips to leave out of a named set (held out)")
+    g.add_argument("--eval-clips", nargs="*", default=None, help="evaluation clips (default: the training clips)")
+    g.add_argument("--foot", choices=["one", "two"], default="one")
+    g.add_argument("--corrupted-fraction", type=float, default=0.0,
+                   help="share of episodes with an IMU-corrupted reference (ADAPT's mix: 0.5; 0 = clean only)")
+    g.add_argument("--strength", type=float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
+                   help="IMU artefact strength range of corrupted references")
+    g = p.add_argument_group("PPO")
+    g.add_argument("--total-steps", type=int, default=3_000_000, help="environment (control) steps")
+    g.add_argument("--n-envs", type=int, default=8, help="environments stepped together (one policy batch)")
+    g.add_argument("--vec", choices=["dummy", "subproc"], default="dummy",
+                   help="dummy: all envs in this process (batched inference; fastest on 2 cores, see README); "
+                        "subproc: one process per env (for many-core machines)")
+    g.add_argument("--net", default="256,256", help="hidden layer sizes of actor and critic (tanh)")
+    g.add_argument("--lr", type=float, default=5e-5, help="Adam learning rate (ADAPT: 5e-5)")
+    g.add_argument("--n-steps", type=int, default=1024, help="rollout length per environment")
+    g.add_argument("--batch-size", type=int, default=512, help="minibatch size")
+    g.add_argument("--epochs", type=int, default=6, help="optimisation epochs per rollout (ADAPT: 6)")
+    g.add_argument("--gamma", type=float, default=0.99)
+    g.add_argument("--gae-lambda", type=float, default=0.95)
+    g.add_argument("--clip-range", type=float, default=0.2)
+    g.add_argument("--action-variance", type=float, default=0.03, help="fixed σ² of the Gaussian policy")
+    g.add_argument("--seed", type=int, default=0)
+    g.add_argument("--torch-threads", type=int, default=2, help="torch threads in the learner process")
+    g = p.add_argument_group("run")
+    g.add_argument("--run-dir", type=Path, required=True)
+    g.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --run-dir")
+    g.add_argument("--checkpoint-every", type=int, default=100_000, help="steps between checkpoints")
+    g.add_argument("--eval-every", type=int, default=200_000, help="steps between evaluations")
+    g.add_argument("--eval-episodes", type=int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
+    g.add_argument("--no-progress", action="store_true", help="no progress bar")
+    return p
+
+
+def env_kwargs(args: argparse.Namespace, clips: list[str], corrupted_fraction: float) -> dict:
+    mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction)
+           if corrupted_fraction > 0 else None)
+    return {"clips": clips, "artefacts": mix, "foot": args.foot}
+
+
+def training_clips(args: argparse.Namespace) -> list[str]:
+    from reference_motion.library import NAMED_SETS, named_set
+
+    if len(args.clips) == 1 and args.clips[0] in NAMED_SETS:
+        clips = named_set(args.clips[0])
+    else:
+        clips = list(args.clips)
+    unknown = set(args.exclude) - set(clips)
+    if unknown:
+        raise SystemExit(f"error: --exclude names clips not in the training set: {sorted(unknown)}")
+    return [c for c in clips if c not in args.exclude]
+
+
+class CheckpointAndEvaluate(BaseCallback):
+    """Saves model + observation statistics every ``checkpoint_every`` steps; evaluates every
+    ``eval_every`` steps with ADAPT's protocol, logs the metrics and keeps the best checkpoint."""
+
+    def __init__(self, run_dir: Path, eval_env: gym.Env, args: argparse.Namespace):
+        super().__init__()
+        self.run_dir, self.eval_env, self.args = run_dir, eval_env, args
+        self.best_path = run_dir / "best" / "best.json"
+        self.best = json.loads(self.best_path.read_text())["score"] if self.best_path.exists() else -math.inf
+        self._next_ckpt = self._next_eval = 0
+
+    def _on_training_start(self) -> None:
+        self._t0 = time.time()
+        log = self.run_dir / "evaluations.jsonl"
+        lines = log.read_text().splitlines() if log.exists() else []
+        self._wall_before = json.loads(lines[-1])["wall_s"] if lines else 0.0  # resumed runs add up
+        n = self.num_timesteps
+        self._next_ckpt = (n // self.args.checkpoint_every + 1) * self.args.checkpoint_every
+        self._next_eval = (n // self.args.eval_every + 1) * self.args.eval_every
+
+    def _save(self, directory: Path, stem: str) -> None:
+        directory.mkdir(parents=True, exist_ok=True)
+        self.model.save(directory / f"{stem}.zip")
+        self.model.get_vec_normalize_env().save(str(directory / f"{stem}_vecnormalize.pkl"))
+
+    def _on_step(self) -> bool:
+        if self.num_timesteps >= self._next_ckpt:
+            self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
+            self._next_ckpt += self.args.checkpoint_every
+        if self.num_timesteps >= self._next_eval:
+            self._evaluate()
+            self._next_eval += self.args.eval_every
+        return True
+
+    def _evaluate(self) -> None:
+        norm = self.model.get_vec_normalize_env()
+
+        def policy(obs: np.ndarray) -> np.ndarray:
+            action, _ = self.model.predict(norm.normalize_obs(obs), deterministic=True)
+            return action
+
+        start = time.perf_counter()
+        summary, _ = evaluate(self.eval_env, policy, episodes=self.args.eval_episodes)
+        for key in ("ELR_mean", "SR90", "RDE_mean", "MRR_mean"):
+            self.logger.record(f"eval/{key}", summary[key])
+        score = summary["ELR_mean"] + 0.1 * summary["MRR_mean"]  # survive first, then track closely
+        record = {"steps": self.num_timesteps, "wall_s": self._wall_before + time.time() - self._t0,
+                  "eval_s": time.perf_counter() - start, "score": score, **summary}
+        with open(self.run_dir / "evaluations.jsonl", "a") as f:
+            f.write(json.dumps(record) + "\n")
+        if score > self.best:
+            self.best = score
+            self._save(self.run_dir / "best", "model")
+            self.best_path.write_text(json.dumps(record, indent=1))
+        print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
+              f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
+
+    def _on_training_end(self) -> None:
+        self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
+
+
+
+def newest_checkpoint(run_dir: Path) -> Path | None:
+    found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / "checkpoints").glob("step_*.zip")
+             if CHECKPOINT.search(p.name)]
+    return max(found)[1] if found else None
+
+
+def main(argv: list[str] | None = None) -> None:
+    argv = sys.argv[1:] if argv is None else argv
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    run_dir: Path = args.run_dir
+    if args.resume:  # the stored settings, except what this command line sets explicitly
+        saved = run_dir / "args.json"
+        if not saved.exists():
+            raise SystemExit(f"error: --resume: {saved} not found (no run to resume in {run_dir})")
+        stored = json.loads(saved.read_text())
+        explicit = {a.dest for a in parser._actions if any(o in argv for o in a.option_strings)}
+        args = argparse.Namespace(**{**stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
+                                     "resume": True})
+    elif (run_dir / "args.json").exists():
+        raise SystemExit(f"error: {run_dir} already holds a run; pass --resume to continue it or pick a new --run-dir")
+    torch.set_num_threads(args.torch_threads)
+    clips = training_clips(args)
+    run_dir.mkdir(parents=True, exist_ok=True)
+    (run_dir / "args.json").write_text(json.dumps({**vars(args), "run_dir": str(run_dir), "command": sys.argv},
+                                                  indent=1, default=str))
+
+    vec_cls = SubprocVecEnv if args.vec == "subproc" else DummyVecEnv
+    venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls,
+                        env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
+    eval_env = gym.make(args.env_id, **env_kwargs(args, args.eval_clips or clips, 0.0))
+    eval_env.reset(seed=10_000 + args.seed)
+
+    checkpoint = newest_checkpoint(run_dir) if args.resume else None
+    if checkpoint is not None:
+        stats = checkpoint.with_name(checkpoint.stem + "_vecnormalize.pkl")
+        venv = VecNormalize.load(str(stats), venv)
+        model = PPO.load(checkpoint, env=venv, device="cpu", tensorboard_log=str(run_dir / "tb"))
+        print(f"resuming from {checkpoint} at {model.num_timesteps} steps", flush=True)
+    else:
+        if args.resume:
+            print(f"no checkpoint in {run_dir}; starting from scratch", flush=True)
+        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=args.gamma)
+        net = [int(n) for n in str(args.net).split(",")]
+        model = PPO("MlpPolicy", venv, learning_rate=args.lr, n_steps=args.n_steps, batch_size=args.batch_size,
+                    n_epochs=args.epochs, gamma=args.gamma, gae_lambda=args.gae_lambda, clip_range=args.clip_range,
+                    seed=args.seed, device="cpu", tensorboard_log=str(run_dir / "tb"), verbose=0,
+                    policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
+                                   "log_std_init": 0.5 * math.log(args.action_variance)})
+    model.policy.log_std.requires_grad_(False)  # fixed exploration noise (ADAPT: σ² = 0.03)
+    remaining = args.total_steps - model.num_timesteps
+    if remaining <= 0:
+        print(f"run already has {model.num_timesteps} >= --total-steps {args.total_steps} steps")
+        return
+    callback = CheckpointAndEvaluate(run_dir, eval_env, args)
+    model.learn(remaining, callback=callback, reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
+                progress_bar=not args.no_progress)
+    venv.close()
+
+
+if __name__ == "__main__":
+    main()

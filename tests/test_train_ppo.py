@@ -1,0 +1,39 @@
+"""agents/train_ppo.py end to end on a tiny budget: checkpoints, evaluation, best model, resume."""
+
+import json
+
+import pytest
+from stable_baselines3 import PPO
+
+from agents.train_ppo import main, newest_checkpoint
+
+
+def test_train_checkpoint_evaluate_and_resume(tmp_path):
+    run = tmp_path / "run"
+    common = ["--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128", "--batch-size", "64",
+              "--checkpoint-every", "256", "--eval-every", "256", "--eval-episodes", "1", "--net", "32,32"]
+    main(["--clips", "deepmimic:walk", "--total-steps", "512", *common])
+    assert newest_checkpoint(run).name == "step_512.zip"
+    assert (run / "best" / "model.zip").exists() and (run / "best" / "model_vecnormalize.pkl").exists()
+    evals = [json.loads(line) for line in (run / "evaluations.jsonl").read_text().splitlines()]
+    assert [e["steps"] for e in evals] == [256, 512]
+    assert 0.0 < evals[0]["ELR_mean"] <= 1.0 and "SR90" in evals[0]
+    model = PPO.load(run / "best" / "model.zip", device="cpu")
+    assert model.policy.log_std.detach().exp().pow(2).allclose(model.policy.log_std.new_full((20,), 0.03))
+    assert tuple(model.observation_space.shape) == (273,)
+
+    main(["--run-dir", str(run), "--resume", "--total-steps", "768", "--no-progress"])  # picks up at 512
+    assert newest_checkpoint(run).name == "step_768.zip"
+    assert json.loads((run / "args.json").read_text())["net"] == "32,32"  # stored settings kept
+
+
+def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
+    with pytest.raises(SystemExit, match="no run to resume"):
+        main(["--run-dir", str(tmp_path / "none"), "--resume"])
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "args.json").write_text("{}")
+    with pytest.raises(SystemExit, match="already holds a run"):
+        main(["--run-dir", str(run)])
+    with pytest.raises(SystemExit, match="--exclude names clips not in the training set"):
+        main(["--run-dir", str(tmp_path / "x"), "--clips", "locomotion", "--exclude", "deepmimic:kick"])
