@@ -15,6 +15,7 @@ import gymnasium as gym
 import numpy as np
 
 from agents.metrics import episode_length_ratio, max_reward_ratio, root_displacement_error, survived
+from reference_motion.motion import Motion
 
 Policy = Callable[[np.ndarray], np.ndarray]
 
@@ -27,7 +28,8 @@ class Rollout:
         clip: clip name; start_frame: its first reference frame.
         elr, sr90, rde, mrr: the four metrics of the rollout.
         ended_by: why it ended (see :class:`envs.mimic.MimicEnv`).
-        qpos: ``(N + 1, nq)`` the simulated motion at the 30 Hz control steps, start included.
+        simulated: the simulated motion, every 60 Hz frame from the start state on.
+        reference: the reference frames it mimicked (same length and rate).
     """
 
     clip: str
@@ -37,7 +39,8 @@ class Rollout:
     rde: float
     mrr: float
     ended_by: str
-    qpos: np.ndarray
+    simulated: Motion
+    reference: Motion
 
 
 def zero_policy(action_size: int) -> Policy:
@@ -51,21 +54,26 @@ def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, cor
     base = env.unwrapped
     obs, info = env.reset(options={"clip": clip, "start_frame": start_frame, "corrupted": corrupted})
     track = base.current_track
-    rewards, qpos, ref_root = [], [base.data.qpos.copy()], [track.motion.qpos[start_frame, :3]]
-    while True:
-        obs, reward, term, trunc, info = env.step(policy(obs))
-        rewards.append(reward)
-        qpos.append(base.data.qpos.copy())
-        ref_root.append(track.motion.qpos[info["frame"], :3])
-        if term or trunc:
-            break
-    qpos = np.array(qpos)
+    base.frame_log = [base.data.qpos.copy()]
+    rewards = []
+    try:
+        while True:
+            obs, reward, term, trunc, info = env.step(policy(obs))
+            rewards.append(reward)
+            if term or trunc:
+                break
+        frames = np.array(base.frame_log)
+    finally:
+        base.frame_log = None
+    ref = track.motion
+    reference = ref.with_qpos(ref.qpos[start_frame:start_frame + len(frames)], loop=False)
+    simulated = reference.with_qpos(frames, source={**ref.source, "simulated_by": "policy"})
     total = base.config.episode_frames
-    frames = info["episode_frame"]
-    return Rollout(clip=info["clip"], start_frame=start_frame, elr=episode_length_ratio(frames, total),
-                   sr90=survived(frames, total), rde=root_displacement_error(qpos[:, :3], np.array(ref_root)),
+    n = info["episode_frame"]
+    return Rollout(clip=info["clip"], start_frame=start_frame, elr=episode_length_ratio(n, total),
+                   sr90=survived(n, total), rde=root_displacement_error(frames[:, :3], reference.qpos[:, :3]),
                    mrr=max_reward_ratio(np.array(rewards), total // base.config.frames_per_control),
-                   ended_by=info["ended_by"], qpos=qpos)
+                   ended_by=info["ended_by"], simulated=simulated, reference=reference)
 
 
 def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None, episodes: int = 20,

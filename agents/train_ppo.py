@@ -110,7 +110,7 @@ class CheckpointAndEvaluate(BaseCallback):
     def __init__(self, run_dir: Path, eval_env: gym.Env, args: argparse.Namespace):
         super().__init__()
         self.run_dir, self.eval_env, self.args = run_dir, eval_env, args
-        self.best_path = run_dir / "best" / "best.json"
+        self.best_path = run_dir / "best" / "sidecar.json"
         self.best = json.loads(self.best_path.read_text())["score"] if self.best_path.exists() else -math.inf
         self._next_ckpt = self._next_eval = 0
 
@@ -156,9 +156,20 @@ class CheckpointAndEvaluate(BaseCallback):
         if score > self.best:
             self.best = score
             self._save(self.run_dir / "best", "model")
-            self.best_path.write_text(json.dumps(record, indent=1))
+            self.best_path.write_text(json.dumps(self._sidecar(record), indent=1, default=str))
         print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
               f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
+
+    def _sidecar(self, record: dict) -> dict:
+        """How the best policy was made and how it scored (``agents/policy.py`` reads it)."""
+        args = self.args
+        return {"env_id": args.env_id, "env_kwargs": {"clips": training_clips(args), "foot": args.foot},
+                "corrupted_fraction": args.corrupted_fraction, "strength": list(args.strength),
+                "eval_clips": args.eval_clips or training_clips(args),
+                "command": "python agents/train_ppo.py " + " ".join(sys.argv[1:]), "seed": args.seed,
+                "steps": record["steps"], "wall_s": record["wall_s"], "score": record["score"],
+                "metrics": {k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean", "rollouts")},
+                "net": args.net, "settings": {k: v for k, v in vars(args).items() if k != "command"}}
 
     def _on_training_end(self) -> None:
         self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")

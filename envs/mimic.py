@@ -22,8 +22,9 @@ from envs.config import (ACTION_MODES, DRECON_BODIES, FOOT_MODELS, KEY_JOINT_BOD
                          ArtefactMix, MimicConfig)
 from envs.observations import mimic_observation, observation_size, observation_slices
 from envs.reference import ReferenceTrack
+from reference_motion import rotations as rot
 from envs.rendering import GhostRenderer
-from envs.rewards import (cube_face_points, cube_face_velocities, fallen, lagging, local_rotations, mimic_reward,
+from envs.rewards import (cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
                           unstable)
 from reference_motion.artefacts import corrupt
 from reference_motion.humanoid.builder import HEEL_CELLS, TOE_CELLS
@@ -58,7 +59,8 @@ class MimicEnv(gym.Env):
     added to the reference PD targets of the driven hinges.
 
     ``reset(options=...)`` accepts ``clip`` (index or name), ``start_frame`` and ``corrupted``
-    (bool) to pin down an episode, e.g. for evaluation.
+    (bool) to pin down an episode, e.g. for evaluation, and ``state`` = ``(qpos, qvel)`` to start
+    from a given simulated state instead of the reference state (to continue a long clip).
 
     ``info``: ``r_local``, ``r_p``, ``r_v``, ``e_discount``, ``reward``; ``contacts`` (4 bools,
     order LT, RT, LH, RH: a sole region touching the floor); ``frame`` (reference frame index)
@@ -132,6 +134,9 @@ class MimicEnv(gym.Env):
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None
         self._renderer: GhostRenderer | None = None
+        self.frame_log: list[np.ndarray] | None = None
+        """Set to a list to have the simulated ``qpos`` of every 60 Hz frame appended (for
+        turning a rollout into a Motion); ``None`` (default) records nothing."""
         self._track: ReferenceTrack | None = None
         self._action = np.zeros(n_act)
         self._obs = np.zeros(self.observation_space.shape, dtype=np.float32)
@@ -212,19 +217,22 @@ class MimicEnv(gym.Env):
         start = int(self.np_random.integers(last_start + 1)) if start is None else int(start)
         if not 0 <= start <= last_start:
             raise ValueError(f"start_frame {start} out of range for clip {track.motion.name!r}: 0..{last_start}")
+        state = options.pop("state", None)
         if options:
-            raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted")
+            raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted, state")
 
         self._track, self._clip, self._variant = track, clip, variant
         self._start = self._frame = start
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
-        d.qpos[:] = track.motion.qpos[start]
-        d.qvel[:] = track.qvel[start]
+        qpos, qvel = (track.motion.qpos[start], track.qvel[start]) if state is None else state
+        if np.shape(qpos) != (m.nq,) or np.shape(qvel) != (m.nv,) or not np.all(np.isfinite(qpos)):
+            raise ValueError(f"reset option 'state' must be (qpos ({m.nq},), qvel ({m.nv},)) finite arrays")
+        d.qpos[:], d.qvel[:] = qpos, qvel
         d.ctrl[:] = track.ctrl[start]
         mujoco.mj_forward(m, d)
         depth = -d.contact.dist[(d.contact.geom == self._floor).any(axis=1)].min(initial=0.0)
-        if depth > 0:  # the reference pose reaches into the floor: start just above it
+        if depth > 0 and state is None:  # the reference pose reaches into the floor: start just above it
             d.qpos[2] += depth + self.config.init_clearance_m
             mujoco.mj_forward(m, d)
         update_kinematics(m, d)
@@ -261,6 +269,8 @@ class MimicEnv(gym.Env):
             d.ctrl[:] = track.ctrl[self._frame]
             d.ctrl[self.driven] += self._action
             mujoco.mj_step(m, d, nstep=self.substeps)
+            if self.frame_log is not None:
+                self.frame_log.append(d.qpos.copy())
         f = self._frame
         info = {"frame": f, "episode_frame": f - self._start, "clip": track.motion.name,
                 "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}
@@ -272,7 +282,7 @@ class MimicEnv(gym.Env):
         update_kinematics(m, d)
         state = read_body_state(m, d)
         terms = mimic_reward(
-            local_rotations(state.quat, self.parent)[self.jointed], track.local[f],
+            rot.relative_to_parent(state.quat, self.parent)[self.jointed], track.local[f],
             cube_face_points(state.pos - state.pos[0], state.axes, cfg.cube_size_m), track.faces_rel_root[f],
             cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), track.face_vel[f],
             state.pos[self.head], track.pos[f, self.head], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)

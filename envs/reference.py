@@ -12,7 +12,8 @@ import mujoco
 import numpy as np
 
 from envs.bodies import read_body_state, update_kinematics
-from envs.rewards import cube_face_points, cube_face_velocities, local_rotations
+from envs.rewards import cube_face_points, cube_face_velocities
+from reference_motion import rotations as rot
 from reference_motion.humanoid.model import HumanoidModel
 from reference_motion.motion import Motion
 
@@ -78,5 +79,5 @@ class ReferenceTrack:
         faces = cube_face_points(pos, axes, cube_size) - pos[:, :1, None, :]
         return cls(motion=motion, ctrl=motion.qpos[:, actuator_qpos], qvel=qvel, pos=pos,
                    pos_rel_com=pos - com[:, None, :], linvel=linvel, com_vel=com_vel,
-                   local=local_rotations(quat, parent)[:, jointed], faces_rel_root=faces,
+                   local=rot.relative_to_parent(quat, parent)[:, jointed], faces_rel_root=faces,
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size))

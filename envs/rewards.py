@@ -36,15 +36,6 @@ def cube_face_velocities(linvel: np.ndarray, angvel: np.ndarray, axes: np.ndarra
     return linvel[..., None, :] + np.concatenate([spin, -spin], axis=-2)
 
 
-def local_rotations(quat: np.ndarray, parent: np.ndarray) -> np.ndarray:
-    """Each body's rotation relative to its parent, ``(..., B, 4)``, from world rotations
-    ``quat (..., B, 4)``; ``parent (B,)`` indexes the parent body, ``-1`` for the root (whose
-    "local" rotation is its world rotation)."""
-    parent_quat = quat[..., parent, :]  # a copy (fancy indexing)
-    parent_quat[..., parent < 0, :] = [1.0, 0.0, 0.0, 0.0]
-    return rot.multiply(rot.conjugate(parent_quat), quat)
-
-
 def local_pose_reward(local: np.ndarray, ref_local: np.ndarray, alpha: float) -> float:
     """r_local = exp(−α · mean_j ∠(q_j⁻¹ q̄_j)) over the ``J`` joints of ``local``/``ref_local``
     ``(J, 4)`` (adapt eq. 6; the angle in rad)."""

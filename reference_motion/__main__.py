@@ -34,9 +34,7 @@ def _motions(args: argparse.Namespace) -> tuple[Motion, Motion]:
     clean = load_motion(args.source, args.model)
     if not args.corrupt:
         return clean, clean
-    recipe = (ArtefactRecipe.imu(args.strength) if args.corrupt == "imu"
-              else ArtefactRecipe.only(args.corrupt, args.strength))
-    return clean, corrupt(clean, recipe, args.seed)
+    return clean, corrupt(clean, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
 
 
 def _info(motion: Motion) -> dict:

@@ -91,6 +91,11 @@ class ArtefactRecipe:
             raise ValueError(f"unknown artefact kind {kind!r}; expected 'imu' or one of {', '.join(ARTEFACT_KINDS)}")
         return cls(**{kind: strength})
 
+    @classmethod
+    def named(cls, kind: str, strength: float = 1.0) -> "ArtefactRecipe":
+        """``"imu"`` (every kind, :meth:`imu`) or a single kind (:meth:`only`) at ``strength``."""
+        return cls.imu(strength) if kind == "imu" else cls.only(kind, strength)
+
     def scaled(self, factor: float) -> "ArtefactRecipe":
         """Every strength multiplied by ``factor``."""
         return ArtefactRecipe(**{k: v * factor for k, v in self.as_dict().items()})

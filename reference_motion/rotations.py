@@ -267,3 +267,12 @@ def log_map(q: np.ndarray) -> np.ndarray:
     ang = 2.0 * np.arctan2(vec_norm, q[..., :1])
     scale = np.divide(ang, vec_norm, out=np.full_like(ang, 2.0), where=vec_norm > 1e-12)
     return q[..., 1:] * scale
+
+
+def relative_to_parent(quat: np.ndarray, parent: np.ndarray) -> np.ndarray:
+    """Each body's rotation relative to its parent, ``(..., B, 4)``, from world rotations
+    ``quat (..., B, 4)``; ``parent (B,)`` indexes the parent body, ``-1`` for the root (whose
+    "local" rotation is its world rotation)."""
+    parent_quat = quat[..., parent, :]  # a copy (fancy indexing)
+    parent_quat[..., parent < 0, :] = [1.0, 0.0, 0.0, 0.0]
+    return multiply(conjugate(parent_quat), quat)

@@ -3,11 +3,15 @@ import subprocess
 import sys
 
 import numpy as np
+import pytest
 
 from reference_motion import deepmimic
 from reference_motion import rotations as rot
 from reference_motion.bvh import CMU_NAME_MAP, load as load_bvh
-from reference_motion.retarget import retarget
+from reference_motion.bvh_export import bvh_name_map, write_bvh
+from reference_motion.humanoid.model import load_model
+from reference_motion.library import load_motion
+from reference_motion.retarget import MODEL_POINTS, model_joint_positions, retarget
 from reference_motion.source import CANONICAL_JOINTS, CANONICAL_PARENTS
 
 Z_UP_TO_Y_UP = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])
@@ -98,3 +102,22 @@ def test_cli_render_png(tmp_path):
 
     img = imageio.imread(out)
     assert img.shape == (360, 480, 3) and img.std() > 10
+
+
+@pytest.mark.parametrize("model", ["humanoid_1seg", "humanoid_2seg"])
+def test_written_bvh_reads_back_with_the_same_pose(tmp_path, model):
+    motion = load_motion("deepmimic:walker/turn_left0", model)
+    clip = load_bvh(write_bvh(motion, tmp_path / "walk.bvh"), bvh_name_map(model))
+    assert clip.n_frames == motion.n_frames and clip.fps == pytest.approx(motion.fps, rel=1e-6)
+    hm = load_model(model)
+    kin = hm.forward_kinematics(motion.qpos)
+    pos, quat = clip.global_pose()
+    for j, name in enumerate(CANONICAL_JOINTS):
+        if name.endswith(("_end", "_wrist")):
+            continue
+        body = hm.body_names.index(MODEL_POINTS[name][0])
+        dot = np.abs(np.sum(quat[:, j] * kin.body_quat[:, body], axis=-1))
+        assert dot.min() > 1 - 1e-9, name  # world rotations survive exactly (6-decimal degrees)
+    ours = model_joint_positions(hm, kin)
+    legs = [CANONICAL_JOINTS.index(f"{s}_{j}") for s in ("left", "right") for j in ("hip", "knee", "ankle", "toe_end")]
+    assert np.abs(pos[:, legs] - ours[:, legs]).max() < 1e-4

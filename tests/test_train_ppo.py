@@ -15,6 +15,9 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
     main(["--clips", "deepmimic:walk", "--total-steps", "512", *common])
     assert newest_checkpoint(run).name == "step_512.zip"
     assert (run / "best" / "model.zip").exists() and (run / "best" / "model_vecnormalize.pkl").exists()
+    sidecar = json.loads((run / "best" / "sidecar.json").read_text())
+    assert sidecar["env_id"] == "MimicIMU-v0" and sidecar["seed"] == 0 and sidecar["steps"] in (256, 512)
+    assert set(sidecar["metrics"]) >= {"ELR_mean", "SR90", "RDE_mean", "MRR_mean"} and sidecar["wall_s"] > 0
     evals = [json.loads(line) for line in (run / "evaluations.jsonl").read_text().splitlines()]
     assert [e["steps"] for e in evals] == [256, 512]
     assert 0.0 < evals[0]["ELR_mean"] <= 1.0 and "SR90" in evals[0]

@@ -1,0 +1,130 @@
+"""Clean a clip with a trained mimic policy: the physically simulated re-performance of it.
+
+Usage::
+
+    python agents/clean.py --policy models/mimic_imu deepmimic:walker/turn_left1 --out out/clean.npz \\
+        [--corrupt imu --strength 1 --seed 7] [--bvh out/clean.bvh] [--video out/clean.mp4]
+
+The clip (any length) is simulated segment by segment (episodes of the policy's length); each
+segment continues from the simulated state where the previous one ended, so the result is one
+continuous motion. If the character falls or lags behind, the rest of that segment is copied
+from the reference and the next segment restarts from the reference state; those frames are
+listed in the output's ``source["kinematic_frames"]``. Before/after artefact metrics are printed,
+and the video shows the reference (left) and the result (right).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+if __package__ in (None, ""):  # `python agents/clean.py`: make the repository importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import gymnasium as gym
+import numpy as np
+from tqdm import tqdm
+
+import envs  # noqa: F401  (registers the ids)
+from agents.policy import MimicPolicy, PolicyError, load_policy
+from envs.config import FOOT_MODELS
+from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+from reference_motion.quality import motion_quality
+
+SHOWN = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter", "self_penetration_frac")
+
+
+def clean_motion(policy: MimicPolicy, reference: Motion, episode_frames: int = 300, progress: bool = True) -> Motion:
+    """The simulated re-performance of ``reference`` (60 Hz, same length) by ``policy``."""
+    last = reference.n_frames - 1
+    if last < 2:
+        raise ValueError(f"clip {reference.name!r} has {reference.n_frames} frames; at least 3 are needed")
+    # hold the last frame for one more episode so every segment can start where the previous ended
+    hold = np.repeat(reference.qpos[-1:], episode_frames + 2, axis=0)
+    padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
+    env = gym.make(policy.env_id, clips=[padded], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
+    policy.check_env(env)
+    base = env.unwrapped
+    out = reference.qpos.copy()
+    kinematic: list[list[int]] = []
+    done, state = 0, None  # last frame written; simulated (qpos, qvel) at it, or None after a fall
+    bar = tqdm(total=last, desc=f"cleaning {reference.name}", unit="frame", disable=not progress)
+    while done < last:
+        options = {"start_frame": done} if state is None else {"start_frame": done, "state": state}
+        obs, _ = env.reset(seed=0, options=options)
+        base.frame_log = []
+        term = trunc = False
+        while not (term or trunc) and done + len(base.frame_log) < last:
+            obs, _, term, trunc, _ = env.step(policy(obs))
+        frames = np.array(base.frame_log)[: last - done]
+        base.frame_log = None
+        end = done + len(frames)
+        out[done + 1:end + 1] = frames
+        if term and end < last:  # fell or lagged: the rest of the segment kinematically, then restart
+            seg_end = min(done + episode_frames, last)
+            kinematic.append([end + 1, seg_end])
+            state, end = None, seg_end
+        else:
+            state = (base.data.qpos.copy(), base.data.qvel.copy())
+        bar.update(end - done)
+        done = end
+    bar.close()
+    env.close()
+    source = {**reference.source, "cleaned_by": str(policy.path), "kinematic_frames": kinematic}
+    return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
+
+
+def main(argv: list[str] | None = None) -> dict:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("source", help="deepmimic:NAME, or a .npz / .bvh / .txt file")
+    p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
+    p.add_argument("--out", type=Path, required=True, help="cleaned motion (.npz)")
+    p.add_argument("--bvh", type=Path, help="also write the cleaned motion as BVH")
+    p.add_argument("--video", type=Path, help="side-by-side video (.mp4/.gif): reference | cleaned")
+    p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt the clip with IMU artefacts first")
+    p.add_argument("--strength", type=float, default=1.0)
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--json", type=Path, help="write the before/after metrics as JSON")
+    args = p.parse_args(argv)
+    if args.out.suffix != ".npz":
+        raise SystemExit(f"error: --out must end in .npz, got {args.out}")
+    try:
+        policy = load_policy(args.policy)
+        reference = load_motion(args.source, FOOT_MODELS[policy.foot])
+    except (PolicyError, ValueError, KeyError, FileNotFoundError) as err:
+        raise SystemExit(f"error: {err}") from None
+    if args.corrupt:
+        reference = corrupt(reference, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
+    try:
+        cleaned = clean_motion(policy, reference)
+    except PolicyError as err:
+        raise SystemExit(f"error: {err}") from None
+    cleaned.save(args.out)
+    before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
+    print(f"{'metric':<24}{'input':>10}{'cleaned':>10}")
+    for k in SHOWN:
+        print(f"{k:<24}{before[k]:>10.4f}{after[k]:>10.4f}")
+    kinematic = sum(b - a + 1 for a, b in cleaned.source["kinematic_frames"])
+    print(f"wrote {args.out} ({cleaned.n_frames} frames; {kinematic} copied from the reference after a fall)")
+    if args.bvh:
+        from reference_motion.bvh_export import write_bvh
+
+        print(f"wrote {write_bvh(cleaned, args.bvh)}")
+    if args.video:
+        from reference_motion.render import render
+
+        print(f"wrote {render([reference, cleaned], args.video)}")
+    result = {"source": args.source, "policy": str(args.policy), "input": before, "cleaned": after,
+              "kinematic_frames": cleaned.source["kinematic_frames"]}
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(result, indent=1))
+    return result
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,113 @@
+"""Evaluate a trained mimic policy with ADAPT's protocol, and what it does to the artefacts.
+
+Usage::
+
+    python agents/evaluate.py --policy models/mimic_walk --clips deepmimic:walk
+    python agents/evaluate.py --policy models/mimic_imu --clips deepmimic:walker/turn_left1 \\
+        --corrupt imu --strength 1 --seed 1000 --episodes 20 --json out/eval.json
+
+Each clip is one ``episode_frames`` segment rolled out ``--episodes`` times from start offsets
+0, 3, 6, ... frames (adapt §4.1). Printed: mean and σ of ELR, RDE, MRR, and SR90; then the
+artefact metrics (:mod:`reference_motion.quality`) of the reference the policy was given
+(``input``) and of the simulated motion (``output``), averaged over rollouts.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+
+if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repository importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import gymnasium as gym
+import numpy as np
+
+import envs  # noqa: F401  (registers the ids)
+from agents.evaluation import evaluate
+from agents.policy import PolicyError, load_policy
+from envs.config import FOOT_MODELS
+from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.library import load_motion
+from reference_motion.quality import motion_quality
+
+ARTEFACT_METRICS = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter",
+                    "self_penetration_frac")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
+    p.add_argument("--clips", nargs="+", required=True, help="SOURCE strings or files of the clips to evaluate on")
+    p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt each clip with IMU artefacts first")
+    p.add_argument("--strength", type=float, default=1.0, help="artefact strength")
+    p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
+    p.add_argument("--episodes", type=int, default=20, help="rollouts per clip")
+    p.add_argument("--offset-step", type=int, default=3, help="frames between the rollouts' start offsets")
+    p.add_argument("--json", type=Path, help="also write the results as JSON here")
+    return p
+
+
+def reference_clips(sources: list[str], model: str, episode_frames: int, kind: str | None, strength: float,
+                    seed: int) -> list:
+    """The clips as the policy gets them: loaded for ``model`` and optionally corrupted."""
+    out = []
+    for i, source in enumerate(sources):
+        motion = load_motion(source, model, min_frames=2 * (episode_frames + 1))
+        out.append(corrupt(motion, ArtefactRecipe.named(kind, strength), seed + i) if kind else motion)
+    return out
+
+
+def artefact_table(runs: list) -> dict[str, dict[str, float]]:
+    """Mean artefact metrics of the references (``input``) and simulations (``output``) of ``runs``."""
+    table = {k: {"input": [], "output": []} for k in ARTEFACT_METRICS}
+    for r in runs:
+        for side, motion in (("input", r.reference), ("output", r.simulated)):
+            q = motion_quality(motion).as_dict()
+            for k in ARTEFACT_METRICS:
+                table[k][side].append(q[k])
+    out = {}
+    for k, v in table.items():
+        inp, outp = float(np.mean(v["input"])), float(np.mean(v["output"]))
+        out[k] = {"input": inp, "output": outp, "reduction": (1 - outp / inp) if inp > 0 else 0.0}
+    return out
+
+
+def main(argv: list[str] | None = None) -> dict:
+    args = build_parser().parse_args(argv)
+    try:
+        policy = load_policy(args.policy)
+    except PolicyError as err:
+        raise SystemExit(f"error: {err}") from None
+    probe = gym.make(policy.env_id, clips=["deepmimic:walk"], foot=policy.foot)
+    try:
+        policy.check_env(probe)
+    except PolicyError as err:
+        raise SystemExit(f"error: {err}") from None
+    frames = probe.unwrapped.config.episode_frames
+    clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], frames, args.corrupt, args.strength, args.seed)
+    env = gym.make(policy.env_id, clips=clips, artefacts=None, foot=policy.foot)
+    env.reset(seed=0)
+    summary, runs = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
+    result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
+              "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
+              **summary, "artefacts": artefact_table(runs)}
+    print(f"{len(runs)} rollouts ({args.episodes} per clip) of {args.policy} on {', '.join(args.clips)}"
+          + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else ""))
+    print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
+    print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "
+          f"{summary['MRR_std']:.3f}")
+    print(f"  {'artefact':<24}{'input':>10}{'output':>10}{'reduction':>11}")
+    for k, v in result["artefacts"].items():
+        print(f"  {k:<24}{v['input']:>10.4f}{v['output']:>10.4f}{100 * v['reduction']:>10.0f}%")
+    if args.json:
+        args.json.parent.mkdir(parents=True, exist_ok=True)
+        args.json.write_text(json.dumps(result, indent=1))
+    return result
+
+
+if __name__ == "__main__":
+    main()

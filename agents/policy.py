@@ -1,0 +1,98 @@
+"""Loading a trained mimic policy (SB3 PPO + observation statistics + sidecar) with clear errors.
+
+A policy is stored as a directory holding ``model.zip`` (stable-baselines3 PPO),
+``model_vecnormalize.pkl`` (the running observation statistics it was trained with) and
+``sidecar.json`` (how it was made: command, seed, steps, wall time, metrics, and the environment
+id and arguments it expects). ``agents/train_ppo.py`` writes such a directory as ``RUN/best``;
+shipped policies live in ``models/NAME/``.
+"""
+
+from __future__ import annotations
+
+import json
+import pickle
+import zipfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3 import PPO
+
+MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
+
+
+class PolicyError(ValueError):
+    """A policy file is missing, malformed, or does not fit the environment."""
+
+
+@dataclass
+class MimicPolicy:
+    """A trained policy: ``policy(obs)`` → deterministic action.
+
+    Attributes:
+        path: the policy directory.
+        model: the SB3 PPO model.
+        obs_mean, obs_var, clip_obs, epsilon: observation normalisation (VecNormalize's).
+        sidecar: the sidecar's contents (``{}`` when absent).
+    """
+
+    path: Path
+    model: PPO
+    obs_mean: np.ndarray
+    obs_var: np.ndarray
+    clip_obs: float
+    epsilon: float
+    sidecar: dict = field(default_factory=dict)
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        norm = np.clip((obs - self.obs_mean) / np.sqrt(self.obs_var + self.epsilon), -self.clip_obs, self.clip_obs)
+        action, _ = self.model.predict(norm.astype(np.float32), deterministic=True)
+        return action
+
+    @property
+    def env_id(self) -> str:
+        return self.sidecar.get("env_id", "MimicIMU-v0")
+
+    @property
+    def foot(self) -> str:
+        return self.sidecar.get("env_kwargs", {}).get("foot", "one")
+
+    def check_env(self, env: gym.Env) -> None:
+        """Raise :class:`PolicyError` unless ``env``'s spaces are the ones the policy was trained on."""
+        obs, act = self.model.observation_space.shape, self.model.action_space.shape
+        if env.observation_space.shape != obs or env.action_space.shape != act:
+            raise PolicyError(f"{self.path}: the policy expects observations {obs} and actions {act}, but the "
+                              f"environment gives {env.observation_space.shape} and {env.action_space.shape}; it was "
+                              f"trained on {self.env_id} with foot={self.foot!r}")
+
+
+def load_policy(path: str | Path) -> MimicPolicy:
+    """Load a policy directory (or its ``model.zip``); :class:`PolicyError` names what is wrong."""
+    path = Path(path)
+    directory = path.parent if path.suffix == ".zip" else path
+    model_file = path if path.suffix == ".zip" else directory / MODEL_FILE
+    if not model_file.exists():
+        raise PolicyError(f"{model_file}: no such policy file (a policy is a directory with {MODEL_FILE}, "
+                          f"{STATS_FILE} and {SIDECAR_FILE})")
+    if not zipfile.is_zipfile(model_file):
+        raise PolicyError(f"{model_file}: not a stable-baselines3 model (not a zip archive)")
+    try:
+        model = PPO.load(model_file, device="cpu")
+    except Exception as err:  # SB3 raises many kinds on a damaged archive
+        raise PolicyError(f"{model_file}: cannot load the PPO model: {err}") from err
+    stats_file = model_file.with_name(model_file.stem + "_vecnormalize.pkl")
+    if not stats_file.exists():
+        raise PolicyError(f"{stats_file}: missing; the policy needs the observation statistics it was trained with")
+    try:
+        with open(stats_file, "rb") as f:
+            stats = pickle.load(f)
+        mean, var = stats.obs_rms.mean, stats.obs_rms.var
+    except Exception as err:
+        raise PolicyError(f"{stats_file}: not VecNormalize statistics: {err}") from err
+    if mean.shape != model.observation_space.shape:
+        raise PolicyError(f"{stats_file}: statistics for observations {mean.shape}, but the model takes "
+                          f"{model.observation_space.shape}: the two files come from different runs")
+    sidecar_file = directory / SIDECAR_FILE
+    sidecar = json.loads(sidecar_file.read_text()) if sidecar_file.exists() else {}
+    return MimicPolicy(directory, model, mean, var, float(stats.clip_obs), float(stats.epsilon), sidecar)

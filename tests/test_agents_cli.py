@@ -1,0 +1,69 @@
+"""evaluate.py, clean.py and policy loading with a tiny policy trained here (a few seconds)."""
+
+import json
+import shutil
+
+import numpy as np
+import pytest
+
+from agents import clean, evaluate
+from agents.policy import PolicyError, load_policy
+from agents.train_ppo import main as train
+from reference_motion.bvh import load as load_bvh
+from reference_motion.bvh_export import bvh_name_map
+from reference_motion.motion import Motion
+
+
+@pytest.fixture(scope="module")
+def policy_dir(tmp_path_factory):
+    run = tmp_path_factory.mktemp("run")
+    train(["--run-dir", str(run), "--no-progress", "--clips", "deepmimic:walk", "--total-steps", "256",
+           "--n-envs", "2", "--n-steps", "128", "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1",
+           "--net", "16,16"])
+    return run / "best"
+
+
+def test_evaluate_reports_adapt_metrics_and_artefacts(policy_dir, tmp_path):
+    out = tmp_path / "eval.json"
+    result = evaluate.main(["--policy", str(policy_dir), "--clips", "deepmimic:walk", "--episodes", "3",
+                            "--corrupt", "imu", "--strength", "0.5", "--seed", "1000", "--json", str(out)])
+    saved = json.loads(out.read_text())
+    assert saved["rollouts"] == 3 and result["rollouts"] == 3
+    for key in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean"):
+        assert np.isfinite(saved[key])
+    assert 0 < saved["ELR_mean"] <= 1 and 0 <= saved["SR90"] <= 1
+    for metric in ("foot_skate_mps", "penetration_max_m", "floating_m", "jitter", "self_penetration_frac"):
+        assert set(saved["artefacts"][metric]) == {"input", "output", "reduction"}
+    assert saved["artefacts"]["jitter"]["input"] > 0 and saved["corrupt"] == "imu"
+
+
+def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):
+    result = clean.main(["deepmimic:walker/turn_left0", "--policy", str(policy_dir), "--out", str(tmp_path / "c.npz"),
+                         "--bvh", str(tmp_path / "c.bvh")])
+    cleaned = Motion.load(tmp_path / "c.npz")
+    assert cleaned.n_frames == 75 and cleaned.fps == 60.0 and cleaned.name.endswith("(cleaned)")
+    assert cleaned.source["kinematic_frames"] == result["kinematic_frames"]
+    assert load_bvh(tmp_path / "c.bvh", bvh_name_map("humanoid_1seg")).n_frames == 75
+    assert set(result["input"]) >= {"foot_skate_mps", "jitter"}
+
+
+def test_bad_or_mismatched_policy_files_give_clear_errors(policy_dir, tmp_path):
+    with pytest.raises(PolicyError, match="no such policy file"):
+        load_policy(tmp_path / "nowhere")
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "model.zip").write_text("not a zip")
+    with pytest.raises(PolicyError, match="not a stable-baselines3 model"):
+        load_policy(broken)
+    no_stats = tmp_path / "no_stats"
+    shutil.copytree(policy_dir, no_stats)
+    (no_stats / "model_vecnormalize.pkl").unlink()
+    with pytest.raises(PolicyError, match="observation statistics"):
+        load_policy(no_stats)
+    other_foot = tmp_path / "other_foot"
+    shutil.copytree(policy_dir, other_foot)
+    sidecar = json.loads((other_foot / "sidecar.json").read_text())
+    sidecar["env_kwargs"]["foot"] = "two"
+    (other_foot / "sidecar.json").write_text(json.dumps(sidecar))
+    with pytest.raises(SystemExit, match=r"expects observations \(273,\).*\(297,\)"):
+        evaluate.main(["--policy", str(other_foot), "--clips", "deepmimic:walk", "--episodes", "1"])
