@@ -85,6 +85,7 @@ def main(argv: list[str] | None = None) -> dict:
     p.add_argument("--out", type=Path, required=True, help="cleaned motion (.npz)")
     p.add_argument("--bvh", type=Path, help="also write the cleaned motion as BVH")
     p.add_argument("--video", type=Path, help="side-by-side video (.mp4/.gif): reference | cleaned")
+    p.add_argument("--min-frames", type=int, help="loop a cyclic clip to at least this many 60 Hz frames")
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt the clip with IMU artefacts first")
     p.add_argument("--strength", type=float, default=1.0)
     p.add_argument("--seed", type=int, default=0)
@@ -94,7 +95,7 @@ def main(argv: list[str] | None = None) -> dict:
         raise SystemExit(f"error: --out must end in .npz, got {args.out}")
     try:
         policy = load_policy(args.policy)
-        reference = load_motion(args.source, FOOT_MODELS[policy.foot])
+        reference = load_motion(args.source, FOOT_MODELS[policy.foot], min_frames=args.min_frames)
     except (PolicyError, ValueError, KeyError, FileNotFoundError) as err:
         raise SystemExit(f"error: {err}") from None
     if args.corrupt:

@@ -64,7 +64,11 @@ class HumanoidModel:
                                           for p, s in (("toe", "l"), ("toe", "r"), ("heel", "l"), ("heel", "r"))])
         """Site ids of the four foot points, in :data:`CONTACT_CHANNELS` order."""
         self._floor_geom = m.geom("floor").id
-        self._body_geoms = np.array([g for g in range(m.ngeom) if g != self._floor_geom and m.geom_contype[g] != A.SOLE_BIT])
+        f = self._floor_geom
+        self._floor_colliding_geoms = np.array([
+            g for g in range(m.ngeom) if g != f
+            and (m.geom_contype[g] & m.geom_conaffinity[f] or m.geom_conaffinity[g] & m.geom_contype[f])])
+        """Geoms that can touch the floor: the sole spheres and the body (not the foot boxes)."""
         self._sole_cell = self._sole_geom_cells()
         self._body_cell_sites = self._cell_sites_by_body()
         self._collision_group = self._geom_groups()
@@ -99,7 +103,7 @@ class HumanoidModel:
         body_quat = np.empty((T, m.nbody - 1, 4))
         points = np.empty((T, 4, 3))
         lowest = np.empty(T)
-        geoms = self._body_geoms
+        geoms = self._floor_colliding_geoms
         for t in range(T):
             d.qpos[:] = qpos[t]
             mujoco.mj_kinematics(m, d)
@@ -110,7 +114,7 @@ class HumanoidModel:
         return Kinematics(body_pos, body_quat, points, lowest)
 
     def _lowest_geom_point(self, geoms: np.ndarray) -> float:
-        """Lowest z (m) over the body geoms of the current MjData (analytic per geom type)."""
+        """Lowest z (m) over ``geoms`` in the current MjData (analytic per geom type)."""
         m, d = self.model, self._data
         low = np.inf
         for g in geoms:
@@ -226,7 +230,8 @@ class Kinematics:
         body_pos: ``(T, nbody, 3)`` body origins.
         body_quat: ``(T, nbody, 4)`` body orientations (w, x, y, z).
         foot_points: ``(T, 4, 3)`` sole points in :data:`CONTACT_CHANNELS` order.
-        lowest: ``(T,)`` lowest z of the body geometry.
+        lowest: ``(T,)`` lowest z of the geometry that can touch the floor (the sole spheres stand
+            in for the soles; the foot boxes only collide with the other leg).
     """
 
     body_pos: np.ndarray

@@ -1,0 +1,60 @@
+"""Ship a training run's best policy to ``models/NAME`` with its evaluation in the sidecar.
+
+Usage::
+
+    python agents/ship.py --run-dir runs/mimic_walk --name mimic_walk --clips deepmimic:walk
+    python agents/ship.py --run-dir runs/data_mix/mixed --name mimic_imu --clips HELD_OUT... --corrupt imu --seed 1000
+
+Copies ``RUN/best`` (model, observation statistics, sidecar), evaluates it with
+``agents/evaluate.py`` (the extra arguments are passed on) and records the evaluation, its command
+and the training wall time in ``models/NAME/sidecar.json``. Refuses a model over 20 MB.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+from pathlib import Path
+
+if __package__ in (None, ""):  # `python agents/ship.py`: make the repository importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+from agents import evaluate
+from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE
+
+MAX_MODEL_BYTES = 20 * 1024 * 1024
+
+
+def main(argv: list[str] | None = None) -> Path:
+    argv = sys.argv[1:] if argv is None else argv
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--run-dir", type=Path, required=True)
+    p.add_argument("--name", required=True, help="directory name under --models")
+    p.add_argument("--models", type=Path, default=Path("models"))
+    args, eval_args = p.parse_known_args(argv)
+    best = args.run_dir / "best"
+    if not (best / MODEL_FILE).exists():
+        raise SystemExit(f"error: {best / MODEL_FILE} not found: the run has not been evaluated yet")
+    size = (best / MODEL_FILE).stat().st_size
+    if size > MAX_MODEL_BYTES:
+        raise SystemExit(f"error: {best / MODEL_FILE} is {size / 2**20:.1f} MB, over the 20 MB limit for models/")
+    out = args.models / args.name
+    out.mkdir(parents=True, exist_ok=True)
+    for name in (MODEL_FILE, STATS_FILE, SIDECAR_FILE):
+        shutil.copy2(best / name, out / name)
+    result = evaluate.main(["--policy", str(out), *eval_args, "--json", str(out / "evaluation.json")])
+    sidecar = json.loads((out / SIDECAR_FILE).read_text())
+    evaluations = [json.loads(line) for line in (args.run_dir / "evaluations.jsonl").read_text().splitlines()]
+    sidecar.update(name=args.name, training_wall_s_total=evaluations[-1]["wall_s"],
+                   training_steps_total=evaluations[-1]["steps"],
+                   evaluate_command="python agents/evaluate.py --policy " + " ".join([str(out), *eval_args]),
+                   evaluation={k: v for k, v in result.items() if k not in ("policy",)})
+    (out / SIDECAR_FILE).write_text(json.dumps(sidecar, indent=1, default=str))
+    print(f"shipped {out} ({size / 2**20:.1f} MB)")
+    return out
+
+
+if __name__ == "__main__":
+    main()
