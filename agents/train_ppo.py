@@ -80,6 +80,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--checkpoint-every", type=int, default=100_000, help="steps between checkpoints")
     g.add_argument("--eval-every", type=int, default=200_000, help="steps between evaluations")
     g.add_argument("--eval-episodes", type=int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
+    g.add_argument("--stop-at-sr90", type=float, default=None,
+                   help="stop early once an evaluation reaches this SR90 (and save a checkpoint)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
 
@@ -133,11 +135,16 @@ class CheckpointAndEvaluate(BaseCallback):
             self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
             self._next_ckpt += self.args.checkpoint_every
         if self.num_timesteps >= self._next_eval:
-            self._evaluate()
+            sr90 = self._evaluate()
             self._next_eval += self.args.eval_every
+            target = getattr(self.args, "stop_at_sr90", None)
+            if target is not None and sr90 >= target:
+                print(f"SR90 {sr90:.2f} >= {target}: stopping at {self.num_timesteps} steps", flush=True)
+                return False
         return True
 
-    def _evaluate(self) -> None:
+    def _evaluate(self) -> float:
+        """Evaluate, log, keep the best; returns the SR90."""
         norm = self.model.get_vec_normalize_env()
 
         def policy(obs: np.ndarray) -> np.ndarray:
@@ -159,6 +166,7 @@ class CheckpointAndEvaluate(BaseCallback):
             self.best_path.write_text(json.dumps(self._sidecar(record), indent=1, default=str))
         print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
               f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
+        return summary["SR90"]
 
     def _sidecar(self, record: dict) -> dict:
         """How the best policy was made and how it scored (``agents/policy.py`` reads it)."""

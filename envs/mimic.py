@@ -238,8 +238,7 @@ class MimicEnv(gym.Env):
         update_kinematics(m, d)
         self._bad_qacc = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
         self._action = np.zeros(len(self.driven))
-        state = read_body_state(m, d)
-        self._obs = self._observe(state)
+        self._obs = self._observe(read_body_state(m, d))
         info = {"frame": self._frame, "episode_frame": 0, "clip": track.motion.name, "corrupted": variant >= 0,
                 "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._contacts(self._floor_contact_geoms()),
                 "unstable": False, "ended_by": ""}

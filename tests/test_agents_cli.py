@@ -2,6 +2,7 @@
 
 import json
 import shutil
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -67,3 +68,11 @@ def test_bad_or_mismatched_policy_files_give_clear_errors(policy_dir, tmp_path):
     (other_foot / "sidecar.json").write_text(json.dumps(sidecar))
     with pytest.raises(SystemExit, match=r"expects observations \(273,\).*\(297,\)"):
         evaluate.main(["--policy", str(other_foot), "--clips", "deepmimic:walk", "--episodes", "1"])
+
+
+def test_shipped_walk_policy_walks(tmp_path):
+    """models/mimic_walk loads with evaluate.py and re-performs walk (README: 20 rollouts)."""
+    result = evaluate.main(["--policy", str(Path(__file__).parents[1] / "models" / "mimic_walk"), "--clips", "deepmimic:walk", "--episodes", "3",
+                            "--offset-step", "10"])
+    assert result["ELR_mean"] > 0.9 and result["SR90"] >= 2 / 3
+    assert result["artefacts"]["jitter"]["output"] < result["artefacts"]["jitter"]["input"]
