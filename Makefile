@@ -15,13 +15,14 @@ $(PY):
 
 setup: $(PY)
 
-# Main job on built-in data: retarget DeepMimic walk, corrupt it with IMU artefacts, measure both
-# and render them side by side (later issues turn this into the clean-a-clip demo).
+# Main job on built-in data: a held-out clip (walker/turn_left1, never seen in training), corrupted with
+# IMU artefacts (seed 1000, never used in training), cleaned by the shipped policy: before/after metrics,
+# the cleaned motion (.npz, .bvh) and a side-by-side video (reference | cleaned) in out/.
 demo: setup
 	mkdir -p out
-	$(PY) -m reference_motion quality deepmimic:walk --json | tee out/walk_quality.json
-	$(PY) -m reference_motion quality deepmimic:walk --corrupt imu --strength 0.5 --seed 1 --json | tee out/walk_imu_quality.json
-	$(PY) -m reference_motion render deepmimic:walk --corrupt imu --strength 0.5 --seed 1 --with-clean --out out/walk_clean_vs_imu.mp4
+	$(PY) agents/clean.py deepmimic:walker/turn_left1 --policy models/mimic_imu --corrupt imu --strength 1 \
+		--seed 1000 --min-frames 600 --out out/turn_left1_cleaned.npz --bvh out/turn_left1_cleaned.bvh \
+		--video out/turn_left1_imu_vs_cleaned.mp4 --json out/turn_left1_metrics.json
 
 test: setup
 	$(PY) -m pytest -q

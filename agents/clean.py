@@ -106,9 +106,9 @@ def main(argv: list[str] | None = None) -> dict:
         raise SystemExit(f"error: {err}") from None
     cleaned.save(args.out)
     before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
-    print(f"{'metric':<24}{'input':>10}{'cleaned':>10}")
+    print(f"{'metric':<24}{'input':>12}{'cleaned':>12}")
     for k in SHOWN:
-        print(f"{k:<24}{before[k]:>10.4f}{after[k]:>10.4f}")
+        print(f"{k:<24}{before[k]:>12.4f}{after[k]:>12.4f}")
     kinematic = sum(b - a + 1 for a, b in cleaned.source["kinematic_frames"])
     print(f"wrote {args.out} ({cleaned.n_frames} frames; {kinematic} copied from the reference after a fall)")
     if args.bvh:

@@ -100,9 +100,9 @@ def main(argv: list[str] | None = None) -> dict:
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "
           f"{summary['MRR_std']:.3f}")
-    print(f"  {'artefact':<24}{'input':>10}{'output':>10}{'reduction':>11}")
+    print(f"  {'artefact':<24}{'input':>12}{'output':>12}{'reduction':>11}")
     for k, v in result["artefacts"].items():
-        print(f"  {k:<24}{v['input']:>10.4f}{v['output']:>10.4f}{100 * v['reduction']:>10.0f}%")
+        print(f"  {k:<24}{v['input']:>12.4f}{v['output']:>12.4f}{100 * v['reduction']:>10.0f}%")
     if args.json:
         args.json.parent.mkdir(parents=True, exist_ok=True)
         args.json.write_text(json.dumps(result, indent=1))
