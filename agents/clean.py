@@ -16,7 +16,6 @@ and the video shows the reference (left) and the result (right).
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -29,6 +28,7 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.policy import MimicPolicy, PolicyError, load_policy
+from agents.reporting import write_json
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.library import load_motion
@@ -122,8 +122,7 @@ def main(argv: list[str] | None = None) -> dict:
     result = {"source": args.source, "policy": str(args.policy), "input": before, "cleaned": after,
               "kinematic_frames": cleaned.source["kinematic_frames"]}
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps(result, indent=1))
+        write_json(args.json, result)
     return result
 
 

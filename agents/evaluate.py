@@ -15,7 +15,6 @@ artefact metrics (:mod:`reference_motion.quality`) of the reference the policy w
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from pathlib import Path
 
@@ -28,6 +27,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import PolicyError, load_policy
+from agents.reporting import write_json
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.library import load_motion
@@ -104,8 +104,7 @@ def main(argv: list[str] | None = None) -> dict:
     for k, v in result["artefacts"].items():
         print(f"  {k:<24}{v['input']:>12.4f}{v['output']:>12.4f}{100 * v['reduction']:>10.0f}%")
     if args.json:
-        args.json.parent.mkdir(parents=True, exist_ok=True)
-        args.json.write_text(json.dumps(result, indent=1))
+        write_json(args.json, result)
     return result
 
 

@@ -13,8 +13,9 @@ unfinished runs and skips finished ones; the mixed run is the one shipped as ``m
 from __future__ import annotations
 
 import argparse
-import json
 from pathlib import Path
+
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
 HELD_OUT = ["deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left1", "deepmimic:walker/turn_right1"]
 MIXES = {"clean_only": 0.0, "corrupted_only": 1.0, "mixed": 0.5}
@@ -55,12 +56,7 @@ def main() -> None:
         a = r["artefacts"]
         print(f"| {name} | {r['ELR_mean']:.3f} ± {r['ELR_std']:.3f} | {r['SR90']:.2f} | {r['RDE_mean']:.4f} | "
               f"{r['MRR_mean']:.3f} | {a['foot_skate_mps']['output']:.3f} | {100 * a['penetration_max_m']['output']:.2f} |")
-    if args.json:
-        text = json.dumps({"steps": args.steps, "held_out": HELD_OUT, "rows": rows}, indent=1)
-        if args.json != "-":
-            Path(args.json).write_text(text)
-        else:
-            print(text)
+    emit_json({"steps": args.steps, "held_out": HELD_OUT, "rows": rows}, args.json)
 
 
 if __name__ == "__main__":

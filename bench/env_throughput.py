@@ -16,7 +16,6 @@ machine is noisy; the median round is reported):
 from __future__ import annotations
 
 import argparse
-import json
 import os
 import platform
 import statistics
@@ -27,6 +26,7 @@ import mujoco
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
 
 def mimic_rate(env: gym.Env, actions: np.ndarray) -> tuple[float, float]:
@@ -114,13 +114,7 @@ def main() -> None:
         "steps_per_round": args.steps,
         "machine": f"{platform.processor() or platform.machine()}, 1 core, mujoco {mujoco.__version__}",
     }
-    text = json.dumps(result, indent=1)
-    if args.json and args.json != "-":
-        with open(args.json, "w") as f:
-            f.write(text)
-    if args.json:
-        print(text)
-    else:
+    if not emit_json(result, args.json):
         print(f"MimicIMU-v0      {result['mimic_steps_per_s']:>7} control steps/s (random actions, resets included)")
         print(f"physics floor    {result['physics_floor_steps_per_s']:>7} control steps/s "
               f"({result['substeps_per_control_step']} raw mj_step each)")

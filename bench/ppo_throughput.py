@@ -12,7 +12,6 @@ simulation frames (ADAPT's unit), ``steps_per_s`` policy steps.
 from __future__ import annotations
 
 import argparse
-import json
 import math
 import time
 
@@ -22,6 +21,7 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
 import envs  # noqa: F401  (registers the ids)
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
 
 def rate(net: list[int], steps: int, n_envs: int, subproc: bool) -> float:
@@ -58,13 +58,7 @@ def main() -> None:
     base = rows[0]["steps_per_s"]
     for r in rows:
         r["speedup_vs_first"] = round(r["steps_per_s"] / base, 2)
-    text = json.dumps({"steps": args.steps, "rows": rows}, indent=1)
-    if args.json and args.json != "-":
-        with open(args.json, "w") as f:
-            f.write(text)
-    if args.json:
-        print(text)
-    else:
+    if not emit_json({"steps": args.steps, "rows": rows}, args.json):
         for r in rows:
             print(f"{r['net']:>14}  {r['envs']:>12}  {r['parameters']:>9} params  {r['frames_per_s']:>6} frames/s  "
                   f"×{r['speedup_vs_first']}")

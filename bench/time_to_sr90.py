@@ -16,6 +16,7 @@ import shutil
 from pathlib import Path
 
 from agents.train_ppo import main as train
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
 
 def main() -> None:
@@ -35,11 +36,9 @@ def main() -> None:
               "wall_s": round((hit or evals[-1])["wall_s"], 1),
               "frames_per_s": round(2 * (hit or evals[-1])["steps"] / (hit or evals[-1])["wall_s"]),
               "evaluations": [{k: e[k] for k in ("steps", "wall_s", "ELR_mean", "SR90")} for e in evals]}
-    text = json.dumps(result, indent=1)
-    if args.json and args.json != "-":
-        Path(args.json).write_text(text)
-    print(text if args.json else f"SR90 >= 0.9 after {result['steps']} steps, {result['wall_s']:.0f} s "
-          f"({result['frames_per_s']} frames/s)" if hit else f"not reached in {result['steps']} steps")
+    if not emit_json(result, args.json):
+        print(f"SR90 >= 0.9 after {result['steps']} steps, {result['wall_s']:.0f} s ({result['frames_per_s']} "
+              f"frames/s)" if hit else f"not reached in {result['steps']} steps")
 
 
 if __name__ == "__main__":

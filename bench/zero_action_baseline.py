@@ -11,12 +11,12 @@ from __future__ import annotations
 
 import argparse
 import collections
-import json
 
 import gymnasium as gym
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate, zero_policy
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
 
 def main() -> None:
@@ -29,14 +29,10 @@ def main() -> None:
     env.reset(seed=0)
     summary, runs = evaluate(env, zero_policy(env.action_space.shape[0]), episodes=args.episodes)
     result = {"clip": args.clip, **summary, "ended_by": dict(collections.Counter(r.ended_by for r in runs))}
-    text = json.dumps(result, indent=1)
-    if args.json and args.json != "-":
-        with open(args.json, "w") as f:
-            f.write(text)
-    print(text if args.json else
-          f"{args.clip}, zero action, {len(runs)} rollouts: ELR {result['ELR_mean']:.3f} ± {result['ELR_std']:.3f}, "
-          f"SR90 {result['SR90']:.2f}, RDE {result['RDE_mean']:.4f} m², MRR {result['MRR_mean']:.3f}; "
-          f"ended by {result['ended_by']}")
+    if not emit_json(result, args.json):
+        print(f"{args.clip}, zero action, {len(runs)} rollouts: ELR {result['ELR_mean']:.3f} ± "
+              f"{result['ELR_std']:.3f}, SR90 {result['SR90']:.2f}, RDE {result['RDE_mean']:.4f} m², "
+              f"MRR {result['MRR_mean']:.3f}; ended by {result['ended_by']}")
 
 
 if __name__ == "__main__":

@@ -234,7 +234,6 @@ class MimicEnv(gym.Env):
         depth = -d.contact.dist[(d.contact.geom == self._floor).any(axis=1)].min(initial=0.0)
         if depth > 0 and state is None:  # the reference pose reaches into the floor: start just above it
             d.qpos[2] += depth + self.config.init_clearance_m
-            mujoco.mj_forward(m, d)
         update_kinematics(m, d)
         self._bad_qacc = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
         self._action = np.zeros(len(self.driven))

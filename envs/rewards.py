@@ -31,8 +31,11 @@ def cube_face_points(pos: np.ndarray, axes: np.ndarray, size: float = 1.0) -> np
 
 
 def cube_face_velocities(linvel: np.ndarray, angvel: np.ndarray, axes: np.ndarray, size: float = 1.0) -> np.ndarray:
-    """Velocities ``(..., B, 6, 3)`` of the points of :func:`cube_face_points`: ``v + ω × r``."""
-    spin = rot.cross(angvel[..., None, :], 0.5 * size * axes)
+    """Velocities ``(..., B, 6, 3)`` of the points of :func:`cube_face_points`: ``v + ω × r``.
+
+    ``ω × a`` for the three axis rows ``a`` of ``axes`` is ``axes · [ω]×ᵀ``, one batched matrix
+    product."""
+    spin = (0.5 * size) * (axes @ np.swapaxes(rot.skew(angvel), -1, -2))
     return linvel[..., None, :] + np.concatenate([spin, -spin], axis=-2)
 
 

@@ -62,6 +62,12 @@ def multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return outer.reshape(*outer.shape[:-2], 16) @ _HAMILTON
 
 
+def skew(v: np.ndarray) -> np.ndarray:
+    """Cross-product matrices ``[v]×`` ``(..., 3, 3)`` of vectors ``v (..., 3)``: ``[v]× b = v × b``."""
+    v = np.asarray(v, dtype=float)
+    return (v @ _LEVI_CIVITA.T).reshape(*v.shape[:-1], 3, 3) * -1.0
+
+
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product of 3-vectors ``a × b``; shapes broadcast, ``(..., 3)`` (as ``np.cross``, faster)."""
     a = np.asarray(a, dtype=float)
