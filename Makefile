@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 export MUJOCO_GL ?= egl
 
-.PHONY: setup demo test models
+.PHONY: setup demo test mjcf
 
 $(PY):
 	$(PYTHON) -m venv $(VENV)
@@ -27,5 +27,5 @@ demo: setup
 test: setup
 	$(PY) -m pytest -q
 
-models: setup
+mjcf: setup
 	$(PY) -m reference_motion.humanoid.builder
