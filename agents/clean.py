@@ -33,10 +33,7 @@ from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
-from reference_motion.quality import motion_quality
-
-SHOWN = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter", "self_penetration_frac")
-
+from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 
 def clean_motion(policy: MimicPolicy, reference: Motion, episode_frames: int = 300, progress: bool = True) -> Motion:
     """The simulated re-performance of ``reference`` (60 Hz, same length) by ``policy``."""
@@ -107,7 +104,7 @@ def main(argv: list[str] | None = None) -> dict:
     cleaned.save(args.out)
     before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
     print(f"{'metric':<24}{'input':>12}{'cleaned':>12}")
-    for k in SHOWN:
+    for k in ARTEFACT_METRICS:
         print(f"{k:<24}{before[k]:>12.4f}{after[k]:>12.4f}")
     kinematic = sum(b - a + 1 for a, b in cleaned.source["kinematic_frames"])
     print(f"wrote {args.out} ({cleaned.n_frames} frames; {kinematic} copied from the reference after a fall)")

@@ -28,14 +28,10 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import PolicyError, load_policy
 from agents.reporting import write_json
-from envs.config import FOOT_MODELS
+from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.library import load_motion
-from reference_motion.quality import motion_quality
-
-ARTEFACT_METRICS = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter",
-                    "self_penetration_frac")
-
+from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 
 def build_parser() -> argparse.ArgumentParser:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
@@ -82,14 +78,13 @@ def main(argv: list[str] | None = None) -> dict:
         policy = load_policy(args.policy)
     except PolicyError as err:
         raise SystemExit(f"error: {err}") from None
-    probe = gym.make(policy.env_id, clips=["deepmimic:walk"], foot=policy.foot)
+    clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig().episode_frames, args.corrupt,
+                            args.strength, args.seed)
+    env = gym.make(policy.env_id, clips=clips, artefacts=None, foot=policy.foot)
     try:
-        policy.check_env(probe)
+        policy.check_env(env)
     except PolicyError as err:
         raise SystemExit(f"error: {err}") from None
-    frames = probe.unwrapped.config.episode_frames
-    clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], frames, args.corrupt, args.strength, args.seed)
-    env = gym.make(policy.env_id, clips=clips, artefacts=None, foot=policy.foot)
     env.reset(seed=0)
     summary, runs = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,

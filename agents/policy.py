@@ -18,6 +18,7 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 from stable_baselines3 import PPO
+from stable_baselines3.common.vec_env import VecNormalize
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 
@@ -33,21 +34,17 @@ class MimicPolicy:
     Attributes:
         path: the policy directory.
         model: the SB3 PPO model.
-        obs_mean, obs_var, clip_obs, epsilon: observation normalisation (VecNormalize's).
+        normalizer: the running observation statistics it was trained with (SB3 ``VecNormalize``).
         sidecar: the sidecar's contents (``{}`` when absent).
     """
 
     path: Path
     model: PPO
-    obs_mean: np.ndarray
-    obs_var: np.ndarray
-    clip_obs: float
-    epsilon: float
+    normalizer: VecNormalize
     sidecar: dict = field(default_factory=dict)
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
-        norm = np.clip((obs - self.obs_mean) / np.sqrt(self.obs_var + self.epsilon), -self.clip_obs, self.clip_obs)
-        action, _ = self.model.predict(norm.astype(np.float32), deterministic=True)
+        action, _ = self.model.predict(self.normalizer.normalize_obs(obs), deterministic=True)
         return action
 
     @property
@@ -87,12 +84,14 @@ def load_policy(path: str | Path) -> MimicPolicy:
     try:
         with open(stats_file, "rb") as f:
             stats = pickle.load(f)
-        mean, var = stats.obs_rms.mean, stats.obs_rms.var
+        shape = stats.obs_rms.mean.shape
     except Exception as err:
         raise PolicyError(f"{stats_file}: not VecNormalize statistics: {err}") from err
-    if mean.shape != model.observation_space.shape:
-        raise PolicyError(f"{stats_file}: statistics for observations {mean.shape}, but the model takes "
+    if not isinstance(stats, VecNormalize):
+        raise PolicyError(f"{stats_file}: holds a {type(stats).__name__}, not VecNormalize statistics")
+    if shape != model.observation_space.shape:
+        raise PolicyError(f"{stats_file}: statistics for observations {shape}, but the model takes "
                           f"{model.observation_space.shape}: the two files come from different runs")
     sidecar_file = directory / SIDECAR_FILE
     sidecar = json.loads(sidecar_file.read_text()) if sidecar_file.exists() else {}
-    return MimicPolicy(directory, model, mean, var, float(stats.clip_obs), float(stats.epsilon), sidecar)
+    return MimicPolicy(directory, model, stats, sidecar)

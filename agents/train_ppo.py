@@ -28,7 +28,6 @@ if __package__ in (None, ""):  # `python agents/train_ppo.py` puts agents/ first
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import gymnasium as gym
-import numpy as np
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback
@@ -37,8 +36,10 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
+from agents.policy import MimicPolicy
 from envs import ArtefactMix
 from reference_motion.artefacts import ArtefactRecipe
+from reference_motion.library import NAMED_SETS, named_set
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -93,8 +94,6 @@ def env_kwargs(args: argparse.Namespace, clips: list[str], corrupted_fraction: f
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:
-    from reference_motion.library import NAMED_SETS, named_set
-
     if len(args.clips) == 1 and args.clips[0] in NAMED_SETS:
         clips = named_set(args.clips[0])
     else:
@@ -145,12 +144,7 @@ class CheckpointAndEvaluate(BaseCallback):
 
     def _evaluate(self) -> float:
         """Evaluate, log, keep the best; returns the SR90."""
-        norm = self.model.get_vec_normalize_env()
-
-        def policy(obs: np.ndarray) -> np.ndarray:
-            action, _ = self.model.predict(norm.normalize_obs(obs), deterministic=True)
-            return action
-
+        policy = MimicPolicy(self.run_dir, self.model, self.model.get_vec_normalize_env())
         start = time.perf_counter()
         summary, _ = evaluate(self.eval_env, policy, episodes=self.args.eval_episodes)
         for key in ("ELR_mean", "SR90", "RDE_mean", "MRR_mean"):

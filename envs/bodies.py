@@ -4,8 +4,9 @@ The environments need, for every body, its origin position and velocity, orienta
 velocity, plus the whole-body centre of mass (CoM) and its velocity. :func:`read_body_state`
 reads them from an ``MjData`` whose position- and velocity-dependent quantities are current
 (``mj_kinematics``, ``mj_comPos``, ``mj_comVel``, ``mj_subtreeVel``; :func:`update_kinematics`
-calls exactly these, which is far cheaper than ``mj_forward``). The reference track is precomputed with the same two
-functions, so simulated and reference quantities are defined identically.
+calls exactly these, which is far cheaper than ``mj_forward``). The reference track is
+precomputed with the same two functions, so simulated and reference quantities are defined
+identically.
 """
 
 from __future__ import annotations

@@ -22,13 +22,11 @@ from envs.config import (ACTION_MODES, DRECON_BODIES, FOOT_MODELS, KEY_JOINT_BOD
                          ArtefactMix, MimicConfig)
 from envs.observations import mimic_observation, observation_size, observation_slices
 from envs.reference import ReferenceTrack
-from reference_motion import rotations as rot
 from envs.rendering import GhostRenderer
-from envs.rewards import (cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
-                          unstable)
+from envs.rewards import cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward, unstable
+from reference_motion import rotations as rot
 from reference_motion.artefacts import corrupt
-from reference_motion.humanoid.builder import HEEL_CELLS, TOE_CELLS
-from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
+from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion, named_set
 from reference_motion.motion import Motion
 from reference_motion.transforms import resample
@@ -127,7 +125,6 @@ class MimicEnv(gym.Env):
         self._floor = m.geom("floor").id
         spinal = {names.index(b) + 1 for b in SPINAL_BODIES}
         self._geom_spinal_body = np.where(np.isin(m.geom_bodyid, list(spinal)), m.geom_bodyid, -1)
-        self._geom_channel = self._sole_channels()
 
         self.clips = self._load_clips(clips)
         self._tracks: dict[tuple[int, int], ReferenceTrack] = {}
@@ -161,19 +158,6 @@ class MimicEnv(gym.Env):
                 raise ValueError(f"clip {motion.name!r} has {motion.n_frames} frames at {fps:g} Hz, fewer than one "
                                  f"episode ({need}); use a longer clip or episode_frames <= {motion.n_frames - 1}")
             out.append(motion)
-        return out
-
-    def _sole_channels(self) -> np.ndarray:
-        """Per geom: the contact channel (index into CONTACT_CHANNELS) of a heel/toe sole sphere, else -1."""
-        out = np.full(self.model.ngeom, -1)
-        for g in range(self.model.ngeom):
-            name = self.model.geom(g).name
-            if "_sole" not in name:
-                continue
-            side, cell = ("left" if name[0] == "l" else "right"), int(name[-2:])
-            region = "heel" if cell in HEEL_CELLS else "toe" if cell in TOE_CELLS else None
-            if region:
-                out[g] = CONTACT_CHANNELS.index(f"{side}_{region}")
         return out
 
     def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
@@ -321,7 +305,7 @@ class MimicEnv(gym.Env):
     def _contacts(self, touching: np.ndarray) -> np.ndarray:
         """Four contact states (LT, RT, LH, RH): any sole sphere of that region among the
         floor-touching geoms ``touching``."""
-        channels = self._geom_channel[touching]
+        channels = self.humanoid.geom_contact_channel[touching]
         out = np.zeros(4, dtype=bool)
         out[channels[channels >= 0]] = True
         return out

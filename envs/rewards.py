@@ -16,6 +16,7 @@ import numpy as np
 
 from reference_motion import rotations as rot
 
+
 def cube_face_points(pos: np.ndarray, axes: np.ndarray, size: float = 1.0) -> np.ndarray:
     """Centres of the six faces of a cube of edge ``size`` (m) mounted at each body origin.
 

@@ -129,7 +129,6 @@ class LegIK:
 
     def __init__(self, model: HumanoidModel, side: str):
         names = model.body_names
-        self.model = model
         self.pelvis, self.thigh, self.shin, self.foot = (
             names.index(b) for b in ("pelvis", f"{side}_thigh", f"{side}_shin", f"{side}_foot"))
         m = model.model
@@ -140,7 +139,7 @@ class LegIK:
         self.hip_joints = model.body_joints[f"{side}_thigh"]
         self.knee_joint = model.body_joints[f"{side}_shin"]
         self.ankle_joints = model.body_joints[f"{side}_foot"]
-        lo, hi = m.jnt_range[m.jnt_qposadr.tolist().index(int(self.knee_joint.qpos_index[0]))]
+        lo, hi = m.jnt_range[m.joint(f"{side}_shin_{self.knee_joint.axes}").id]
         self.knee_limits = (max(float(lo), 0.0), float(hi))
 
     def reach(self, qpos: np.ndarray, body_pos: np.ndarray, body_quat: np.ndarray,

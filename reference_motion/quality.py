@@ -43,6 +43,11 @@ class QualityConfig:
     self_penetration_depth: float = 0.005
 
 
+ARTEFACT_METRICS = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter",
+                    "self_penetration_frac")
+"""The :class:`QualityReport` fields that measure an artefact (what cleaning should reduce)."""
+
+
 @dataclass(frozen=True)
 class QualityReport:
     """Artefact metrics of one motion (all SI).

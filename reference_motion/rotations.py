@@ -49,6 +49,15 @@ _LEVI_CIVITA[0, 2, 1] = _LEVI_CIVITA[2, 1, 0] = _LEVI_CIVITA[1, 0, 2] = -1.0
 _LEVI_CIVITA = _LEVI_CIVITA.reshape(9, 3)
 
 
+def _bilinear(a: np.ndarray, b: np.ndarray, table: np.ndarray) -> np.ndarray:
+    """``vec(a ⊗ b) @ table`` over the last axes of ``a`` and ``b`` (shapes broadcast): any product
+    bilinear in ``a`` and ``b`` as one matrix product with a constant table."""
+    a = np.asarray(a, dtype=float)
+    b = np.asarray(b, dtype=float)
+    outer = a[..., :, None] * b[..., None, :]
+    return outer.reshape(*outer.shape[:-2], table.shape[0]) @ table
+
+
 def multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Hamilton product ``a * b`` (apply ``b`` first, then ``a``); shapes broadcast, ``(..., 4)``.
 
@@ -56,10 +65,7 @@ def multiply(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     which is several times faster than component arithmetic for the small batches of a
     per-step reward.
     """
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
-    outer = a[..., :, None] * b[..., None, :]
-    return outer.reshape(*outer.shape[:-2], 16) @ _HAMILTON
+    return _bilinear(a, b, _HAMILTON)
 
 
 def skew(v: np.ndarray) -> np.ndarray:
@@ -70,10 +76,7 @@ def skew(v: np.ndarray) -> np.ndarray:
 
 def cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Cross product of 3-vectors ``a × b``; shapes broadcast, ``(..., 3)`` (as ``np.cross``, faster)."""
-    a = np.asarray(a, dtype=float)
-    b = np.asarray(b, dtype=float)
-    outer = a[..., :, None] * b[..., None, :]
-    return outer.reshape(*outer.shape[:-2], 9) @ _LEVI_CIVITA
+    return _bilinear(a, b, _LEVI_CIVITA)
 
 
 def conjugate(q: np.ndarray) -> np.ndarray:

@@ -70,6 +70,8 @@ class HumanoidModel:
             and (m.geom_contype[g] & m.geom_conaffinity[f] or m.geom_conaffinity[g] & m.geom_contype[f])])
         """Geoms that can touch the floor: the sole spheres and the body (not the foot boxes)."""
         self._sole_cell = self._sole_geom_cells()
+        self.geom_contact_channel = self._geom_contact_channels()
+        """Per geom: its :data:`CONTACT_CHANNELS` index if it is a heel- or toe-cell sole sphere, else -1."""
         self._body_cell_sites = self._cell_sites_by_body()
         self._collision_group = self._geom_groups()
 
@@ -175,6 +177,14 @@ class HumanoidModel:
             name = self.model.geom(g).name
             if "_sole" in name:
                 out[g] = (0 if name[0] == "l" else 1, int(name[-2:]))
+        return out
+
+    def _geom_contact_channels(self) -> np.ndarray:
+        out = np.full(self.model.ngeom, -1)
+        for geom, (foot, cell) in self._sole_cell.items():
+            region = "heel" if cell in HEEL_CELLS else "toe" if cell in TOE_CELLS else None
+            if region:
+                out[geom] = CONTACT_CHANNELS.index(f"{('left', 'right')[foot]}_{region}")
         return out
 
     def cell_forces(self, data: mujoco.MjData) -> np.ndarray:
