@@ -53,12 +53,13 @@ def clean_motion(policy: MimicPolicy, reference: Motion, episode_frames: int = 3
     while done < last:
         options = {"start_frame": done} if state is None else {"start_frame": done, "state": state}
         obs, _ = env.reset(seed=0, options=options)
-        base.frame_log = []
+        log: list[np.ndarray] = []
+        base.frame_hook = lambda d: log.append(d.qpos.copy())
         term = trunc = False
-        while not (term or trunc) and done + len(base.frame_log) < last:
+        while not (term or trunc) and done + len(log) < last:
             obs, _, term, trunc, _ = env.step(policy(obs))
-        frames = np.array(base.frame_log)[: last - done]
-        base.frame_log = None
+        frames = np.array(log)[: last - done]
+        base.frame_hook = None
         end = done + len(frames)
         out[done + 1:end + 1] = frames
         if term and end < last:  # fell or lagged: the rest of the segment kinematically, then restart

@@ -54,7 +54,8 @@ def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, cor
     base = env.unwrapped
     obs, info = env.reset(options={"clip": clip, "start_frame": start_frame, "corrupted": corrupted})
     track = base.current_track
-    base.frame_log = [base.data.qpos.copy()]
+    log = [base.data.qpos.copy()]
+    base.frame_hook = lambda d: log.append(d.qpos.copy())
     rewards = []
     try:
         while True:
@@ -62,9 +63,9 @@ def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, cor
             rewards.append(reward)
             if term or trunc:
                 break
-        frames = np.array(base.frame_log)
+        frames = np.array(log)
     finally:
-        base.frame_log = None
+        base.frame_hook = None
     ref = track.motion
     reference = ref.with_qpos(ref.qpos[start_frame:start_frame + len(frames)], loop=False)
     simulated = reference.with_qpos(frames, source={**ref.source, "simulated_by": "policy"})

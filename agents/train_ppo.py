@@ -38,8 +38,10 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy
 from envs import ArtefactMix
+from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.artefacts import ArtefactRecipe
-from reference_motion.library import NAMED_SETS, named_set
+from reference_motion.library import NAMED_SETS, augmented, load_motion, named_set
+from reference_motion.motion import Motion
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -58,6 +60,11 @@ def build_parser() -> argparse.ArgumentParser:
                    help="share of episodes with an IMU-corrupted reference (ADAPT's mix: 0.5; 0 = clean only)")
     g.add_argument("--strength", type=float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
                    help="IMU artefact strength range of corrupted references")
+    g.add_argument("--variants-per-clip", type=int, default=4,
+                   help="distinct corrupted references made per training clip (each ~5 MB per env)")
+    g.add_argument("--mirror", action="store_true", help="also train on every clip mirrored left/right")
+    g.add_argument("--speeds", type=float, nargs="+", default=[1.0],
+                   help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=int, default=8, help="environments stepped together (one policy batch)")
@@ -81,14 +88,17 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--checkpoint-every", type=int, default=100_000, help="steps between checkpoints")
     g.add_argument("--eval-every", type=int, default=200_000, help="steps between evaluations")
     g.add_argument("--eval-episodes", type=int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
+    g.add_argument("--eval-strength", type=float, default=None,
+                   help="evaluate on IMU-corrupted evaluation clips of this strength (default: clean)")
     g.add_argument("--stop-at-sr90", type=float, default=None,
                    help="stop early once an evaluation reaches this SR90 (and save a checkpoint)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
 
 
-def env_kwargs(args: argparse.Namespace, clips: list[str], corrupted_fraction: float) -> dict:
-    mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction)
+def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
+    mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
+                       variants_per_clip=args.variants_per_clip)
            if corrupted_fraction > 0 else None)
     return {"clips": clips, "artefacts": mix, "foot": args.foot}
 
@@ -102,6 +112,17 @@ def training_clips(args: argparse.Namespace) -> list[str]:
     if unknown:
         raise SystemExit(f"error: --exclude names clips not in the training set: {sorted(unknown)}")
     return [c for c in clips if c not in args.exclude]
+
+
+def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
+    """The training clips as the envs get them: SOURCE strings, or, with ``--mirror`` or
+    ``--speeds``, the loaded clips plus their mirrored and time-warped copies."""
+    clips = training_clips(args)
+    if not args.mirror and list(args.speeds) == [1.0]:
+        return clips
+    frames = 2 * (MimicConfig().episode_frames + 1)
+    motions = [load_motion(c, FOOT_MODELS[args.foot], min_frames=int(frames * max(args.speeds)) + 2) for c in clips]
+    return augmented(motions, mirrored=args.mirror, speeds=args.speeds)
 
 
 class CheckpointAndEvaluate(BaseCallback):
@@ -146,11 +167,13 @@ class CheckpointAndEvaluate(BaseCallback):
         """Evaluate, log, keep the best; returns the SR90."""
         policy = MimicPolicy(self.run_dir, self.model, self.model.get_vec_normalize_env())
         start = time.perf_counter()
-        summary, _ = evaluate(self.eval_env, policy, episodes=self.args.eval_episodes)
+        corrupted = getattr(self.args, "eval_strength", None) is not None
+        summary, _ = evaluate(self.eval_env, policy, episodes=self.args.eval_episodes, corrupted=corrupted)
         for key in ("ELR_mean", "SR90", "RDE_mean", "MRR_mean"):
             self.logger.record(f"eval/{key}", summary[key])
         score = summary["ELR_mean"] + 0.1 * summary["MRR_mean"]  # survive first, then track closely
         record = {"steps": self.num_timesteps, "wall_s": self._wall_before + time.time() - self._t0,
+                  "eval_strength": getattr(self.args, "eval_strength", None),
                   "eval_s": time.perf_counter() - start, "score": score, **summary}
         with open(self.run_dir / "evaluations.jsonl", "a") as f:
             f.write(json.dumps(record) + "\n")
@@ -167,8 +190,10 @@ class CheckpointAndEvaluate(BaseCallback):
         args = self.args
         return {"env_id": args.env_id, "env_kwargs": {"clips": training_clips(args), "foot": args.foot},
                 "corrupted_fraction": args.corrupted_fraction, "strength": list(args.strength),
+                "augmentation": {"mirror": args.mirror, "speeds": list(args.speeds)},
                 "eval_clips": args.eval_clips or training_clips(args),
-                "command": "python agents/train_ppo.py " + " ".join(sys.argv[1:]), "seed": args.seed,
+                "command": " ".join(["python"] + args.commands[-1]), "seed": args.seed,
+                "commands": [" ".join(["python"] + c) for c in args.commands],
                 "steps": record["steps"], "wall_s": record["wall_s"], "score": record["score"],
                 "metrics": {k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean", "rollouts")},
                 "net": args.net, "settings": {k: v for k, v in vars(args).items() if k != "command"}}
@@ -189,26 +214,36 @@ def main(argv: list[str] | None = None) -> None:
     parser = build_parser()
     args = parser.parse_args(argv)
     run_dir: Path = args.run_dir
-    if args.resume:  # the stored settings, except what this command line sets explicitly
+    if args.resume:  # the stored settings (defaults for options newer than the run), except what this
+        # command line sets explicitly
         saved = run_dir / "args.json"
         if not saved.exists():
             raise SystemExit(f"error: --resume: {saved} not found (no run to resume in {run_dir})")
         stored = json.loads(saved.read_text())
+        history = stored.get("commands", [stored["command"]] if "command" in stored else [])
         explicit = {a.dest for a in parser._actions if any(o in argv for o in a.option_strings)}
-        args = argparse.Namespace(**{**stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
+        args = argparse.Namespace(**{**vars(args), **stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
                                      "resume": True})
     elif (run_dir / "args.json").exists():
         raise SystemExit(f"error: {run_dir} already holds a run; pass --resume to continue it or pick a new --run-dir")
+    else:
+        history = []
     torch.set_num_threads(args.torch_threads)
-    clips = training_clips(args)
+    clips = training_motions(args)
     run_dir.mkdir(parents=True, exist_ok=True)
-    (run_dir / "args.json").write_text(json.dumps({**vars(args), "run_dir": str(run_dir), "command": sys.argv},
+    command = ["agents/train_ppo.py", *argv]
+    args.commands = history + [command]  # every command that trained this run, in order
+    (run_dir / "args.json").write_text(json.dumps({**vars(args), "run_dir": str(run_dir), "command": command},
                                                   indent=1, default=str))
 
     vec_cls = SubprocVecEnv if args.vec == "subproc" else DummyVecEnv
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls,
                         env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
-    eval_env = gym.make(args.env_id, **env_kwargs(args, args.eval_clips or clips, 0.0))
+    eval_kwargs = env_kwargs(args, args.eval_clips or training_clips(args), 0.0)
+    if args.eval_strength is not None:
+        eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
+                                               variants_per_clip=args.eval_episodes)
+    eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
 
     checkpoint = newest_checkpoint(run_dir) if args.resume else None

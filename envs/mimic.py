@@ -9,7 +9,7 @@ they need are precomputed per clip (:class:`envs.reference.ReferenceTrack`).
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
 
@@ -131,9 +131,9 @@ class MimicEnv(gym.Env):
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None
         self._renderer: GhostRenderer | None = None
-        self.frame_log: list[np.ndarray] | None = None
-        """Set to a list to have the simulated ``qpos`` of every 60 Hz frame appended (for
-        turning a rollout into a Motion); ``None`` (default) records nothing."""
+        self.frame_hook: Callable[[mujoco.MjData], None] | None = None
+        """Called with the simulation data after every 60 Hz frame (to record the rollout:
+        ``qpos``, contact forces); ``None`` (default) records nothing."""
         self._track: ReferenceTrack | None = None
         self._action = np.zeros(n_act)
         self._obs = np.zeros(self.observation_space.shape, dtype=np.float32)
@@ -251,8 +251,8 @@ class MimicEnv(gym.Env):
             d.ctrl[:] = track.ctrl[self._frame]
             d.ctrl[self.driven] += self._action
             mujoco.mj_step(m, d, nstep=self.substeps)
-            if self.frame_log is not None:
-                self.frame_log.append(d.qpos.copy())
+            if self.frame_hook is not None:
+                self.frame_hook(d)
         f = self._frame
         info = {"frame": f, "episode_frame": f - self._start, "clip": track.motion.name,
                 "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}

@@ -15,13 +15,14 @@ returned as saved (resampled only if asked).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from reference_motion import bvh, deepmimic
 from reference_motion.footskate import pin_contacts
 from reference_motion.motion import Motion
 from reference_motion.retarget import retarget
-from reference_motion.transforms import ENV_FPS, loop, resample
+from reference_motion.transforms import ENV_FPS, loop, mirror, resample, time_warp
 
 NAMED_SETS = {
     "deepmimic": lambda: [f"deepmimic:{n}" for n in deepmimic.clip_names()],
@@ -76,3 +77,17 @@ def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | N
     if pin_feet and path.suffix != ".npz":
         motion = pin_contacts(motion)
     return motion
+
+
+def augmented(motions: Sequence[Motion], mirrored: bool = False, speeds: Sequence[float] = (1.0,)) -> list[Motion]:
+    """Every clip of ``motions`` at each time-warp speed of ``speeds`` and, if ``mirrored``, also
+    performed by the other side of the body: ``len(motions) · len(speeds) · (2 if mirrored else 1)``
+    clips, the originals first. Warped clips are footskate-cleaned again, since resampling the
+    warped poses lets pinned feet slide by up to one frame's interpolation error."""
+    if not speeds:
+        raise ValueError("speeds is empty: give at least one time-warp speed (1.0 = unchanged)")
+    out = []
+    for motion in motions:
+        variants = [motion if s == 1.0 else pin_contacts(time_warp(motion, s)) for s in speeds]
+        out += variants + ([mirror(v) for v in variants] if mirrored else [])
+    return out

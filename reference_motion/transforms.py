@@ -1,4 +1,4 @@
-"""Whole-clip transforms of a :class:`Motion`: resampling, looping, left/right mirroring.
+"""Whole-clip transforms of a :class:`Motion`: resampling, time warping, looping, left/right mirroring.
 
 All are pure: they return a new Motion and never modify their input.
 """
@@ -32,6 +32,19 @@ def resample(motion: Motion, fps: float = ENV_FPS) -> Motion:
     new_values, new_quat = sample_poses(times, values, motion.root_quat, new_times)
     qpos = np.concatenate([new_values[:, :3], new_quat, new_values[:, 3:]], axis=1)
     return motion.with_qpos(qpos, fps=float(fps), source=dict(motion.source, resampled_from_fps=motion.fps))
+
+
+def time_warp(motion: Motion, speed: float) -> Motion:
+    """The clip played ``speed`` times as fast (1.2 = 20% faster, 0.8 = 20% slower), at its own
+    frame rate: ``n_frames`` becomes about ``n_frames / speed`` and every velocity (root speed,
+    cadence) scales by ``speed``. Poses and the path walked are unchanged."""
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"time-warp speed must be a finite number > 0, got {speed}")
+    if speed == 1.0:
+        return motion
+    played = motion.with_qpos(motion.qpos, fps=motion.fps * speed, name=f"{motion.name} (x{speed:g} speed)",
+                              source=dict(motion.source, speed=speed * motion.source.get("speed", 1.0)))
+    return resample(played, motion.fps)
 
 
 def _cycle_transform(motion: Motion) -> tuple[np.ndarray, np.ndarray]:

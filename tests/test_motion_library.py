@@ -4,11 +4,11 @@ import pytest
 from reference_motion import deepmimic
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import load_model
-from reference_motion.library import load_motion, named_set
+from reference_motion.library import augmented, load_motion, named_set
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 from reference_motion.retarget import bone_directions, model_joint_positions, retarget
-from reference_motion.transforms import loop, mirror, resample
+from reference_motion.transforms import loop, mirror, resample, time_warp
 
 CLIPS = deepmimic.clip_names()
 
@@ -94,6 +94,27 @@ def test_mirror_swaps_sides():
     assert np.allclose(km.body_pos[:, left_foot], expected, atol=1e-9)
     assert np.allclose(mirror(mm).qpos, m.qpos)
     assert rot.yaw(mm.qpos[-1, 3:7]) == pytest.approx(-rot.yaw(m.qpos[-1, 3:7]))  # turns right
+
+
+def test_time_warp_scales_duration_and_speed(walk):
+    fast, slow = time_warp(walk, 1.2), time_warp(walk, 0.8)
+    assert fast.n_frames == pytest.approx(walk.n_frames / 1.2, abs=2)
+    assert slow.n_frames == pytest.approx(walk.n_frames / 0.8, abs=2)
+    speed = lambda m: np.linalg.norm(m.qpos[-1, :2] - m.qpos[0, :2]) / m.duration  # noqa: E731
+    assert speed(fast) == pytest.approx(1.2 * speed(walk), rel=0.01)
+    assert np.allclose(fast.qpos[-1, :2], walk.qpos[-1, :2], atol=0.02)  # same path, walked faster
+    with pytest.raises(ValueError, match="speed must be a finite number > 0"):
+        time_warp(walk, 0.0)
+
+
+def test_augmented_set_mirrors_and_warps(walk):
+    clips = augmented([walk], mirrored=True, speeds=(0.8, 1.0))
+    assert [c.name for c in clips] == ["deepmimic:walk (x0.8 speed)", "deepmimic:walk",
+                                       "deepmimic:walk (x0.8 speed) (mirrored)", "deepmimic:walk (mirrored)"]
+    assert clips[1] is walk
+    assert motion_quality(clips[0]).foot_skate_mps < 0.08  # re-pinned after warping
+    with pytest.raises(ValueError, match="speeds is empty"):
+        augmented([walk], speeds=())
 
 
 def test_motion_npz_round_trip(tmp_path, walk):

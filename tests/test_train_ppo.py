@@ -5,7 +5,7 @@ import json
 import pytest
 from stable_baselines3 import PPO
 
-from agents.train_ppo import main, newest_checkpoint
+from agents.train_ppo import build_parser, main, newest_checkpoint, training_motions
 
 
 def test_train_checkpoint_evaluate_and_resume(tmp_path):
@@ -27,7 +27,19 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
 
     main(["--run-dir", str(run), "--resume", "--total-steps", "768", "--no-progress"])  # picks up at 512
     assert newest_checkpoint(run).name == "step_768.zip"
-    assert json.loads((run / "args.json").read_text())["net"] == "32,32"  # stored settings kept
+    stored = json.loads((run / "args.json").read_text())
+    assert stored["net"] == "32,32"  # stored settings kept
+    assert len(stored["commands"]) == 2 and "--resume" in stored["commands"][1]  # the run's whole history
+
+
+def test_mirror_and_speed_augmentation_of_training_clips():
+    args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walker/turn_left0", "--mirror",
+                                      "--speeds", "0.9", "1.1"])
+    clips = training_motions(args)
+    assert [round(c.duration / clips[0].duration, 2) for c in clips] == [1.0, 0.82, 1.0, 0.82]
+    assert [c.source.get("mirrored", False) for c in clips] == [False, False, True, True]
+    plain = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk"])
+    assert training_motions(plain) == ["deepmimic:walk"]  # no augmentation: the envs load the sources
 
 
 def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
