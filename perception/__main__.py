@@ -1,0 +1,221 @@
+"""Command line: ``python -m perception COMMAND ...``.
+
+Examples::
+
+    python -m perception make-dataset --out data/physics
+    python -m perception train-vgrf --dataset data/physics --run-dir runs/vgrf --out models/vgrf
+    python -m perception train-mlp --dataset data/physics --run-dir runs/contact_mlp --out models/contact_mlp
+    python -m perception evaluate-contacts --dataset data/physics --split test --json out/contacts.json
+    python -m perception contacts deepmimic:walk --plot out/walk_contacts.png --json out/walk_contacts.json
+    python -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --out out/turn_left1_clean.npz
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+import numpy as np
+
+from agents.reporting import write_json
+from tqdm import tqdm
+
+from perception.cleanup import CleanupConfig, cleanup
+from perception.contacts import CONTACT_NAMES, ContactFunction
+from perception.dataset import SPLITS, DatasetConfig, generate, load_split
+from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
+from perception.skeleton import motion_joint_positions
+from perception.training import TrainConfig, train
+from perception.underpressure_data import load_underpressure
+from perception.vgrf import estimate
+from perception.weights import load_network, ship
+from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+
+
+def _add_source(p: argparse.ArgumentParser) -> None:
+    p.add_argument("source", help="deepmimic:NAME, a .npz Motion, a .bvh file, or an UnderPressure .pth sequence")
+    p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="add synthetic IMU artefacts first")
+    p.add_argument("--strength", type=float, default=1.0, help="artefact strength")
+    p.add_argument("--seed", type=int, default=1000, help="artefact seed")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="python -m perception", description=__doc__.split("\n\n")[0],
+                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    sub = p.add_subparsers(dest="command", required=True)
+    d = DatasetConfig()
+    g = sub.add_parser("make-dataset", help="roll trained policies over the clip library, recording vGRF",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("--out", type=Path, required=True, help="dataset directory (resumes if it exists)")
+    g.add_argument("--policies", nargs="+", default=list(d.policies), help="policy directories")
+    g.add_argument("--clips", nargs="+", default=list(d.clips), help="SOURCE strings of the clip library")
+    g.add_argument("--variants", type=int, default=d.variants, help="references per clip")
+    g.add_argument("--episodes", type=int, default=d.episodes, help="windows performed per reference")
+    g.add_argument("--seed", type=int, default=d.seed)
+    g.add_argument("--no-progress", action="store_true")
+    for name, kind, default_out in (("train-vgrf", "vgrf", "models/vgrf"), ("train-mlp", "mlp", "models/contact_mlp")):
+        t = TrainConfig(kind=kind)
+        g = sub.add_parser(name, help=f"train the {'vGRF network' if kind == 'vgrf' else '3-layer MLP baseline'}",
+                           formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+        g.add_argument("--dataset", type=Path, required=True)
+        g.add_argument("--run-dir", type=Path, required=True, help="checkpoints (resumes if it exists)")
+        g.add_argument("--out", type=Path, default=Path(default_out), help="where the best weights are shipped")
+        g.add_argument("--epochs", type=int, default=t.max_epochs, help="most epochs")
+        g.add_argument("--patience", type=int, default=t.patience, help="early-stopping patience (epochs)")
+        g.add_argument("--lr", type=float, default=t.lr)
+        g.add_argument("--seed", type=int, default=t.seed)
+        g.add_argument("--no-augment", action="store_true", help="train without UnderPressure's augmentations")
+        g.add_argument("--no-progress", action="store_true")
+        g.set_defaults(kind=kind)
+    g = sub.add_parser("evaluate-contacts", help="F1 of VGRFNet+Γ, OT and MLP; vGRF RMSE",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("--dataset", type=Path, required=True)
+    g.add_argument("--split", choices=SPLITS, default="test")
+    g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
+    g.add_argument("--mlp", type=Path, default=Path("models/contact_mlp"))
+    g.add_argument("--json", type=Path)
+    g = sub.add_parser("contacts", help="per-frame vGRF per foot and the four contacts of a clip",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    _add_source(g)
+    g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
+    g.add_argument("--json", type=Path)
+    g.add_argument("--plot", type=Path, help="PNG: vGRF curves with contact bands")
+    g = sub.add_parser("cleanup", help="remove foot skate with the vGRF network (UnderPressure §6)",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    _add_source(g)
+    g.add_argument("--out", type=Path, required=True, help="the cleaned Motion (.npz)")
+    g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
+    g.add_argument("--iterations", type=int, default=CleanupConfig().iterations)
+    g.add_argument("--json", type=Path)
+    return p
+
+
+def motion_of(args: argparse.Namespace) -> Motion:
+    """The ``source`` argument as a Motion, corrupted when ``--corrupt`` is given."""
+    motion = load_motion(args.source)
+    if args.corrupt:
+        motion = corrupt(motion, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
+    return motion
+
+
+def positions_of(args: argparse.Namespace) -> tuple[np.ndarray, float, str]:
+    """Joint positions ``(T, 23, 3)``, frame rate and name of the ``source`` argument."""
+    if str(args.source).endswith(".pth"):
+        seq = load_underpressure(args.source)
+        return seq.positions, seq.fps, seq.clip
+    motion = motion_of(args)
+    return motion_joint_positions(motion), motion.fps, motion.name
+
+
+def _print_scores(result: dict) -> None:
+    names = {"vgrf": "VGRFNet + Γ", "ot": "OT baseline", "mlp": "3-layer MLP"}
+    print(f"{result['frames']} frames, {result['sequences']} sequences")
+    print(f"  {'model':<14}" + "".join(f"{c:>12}" for c in CONTACT_NAMES) + f"{'overall':>10}")
+    for key, label in names.items():
+        if key in result:
+            print(f"  {label:<14}" + "".join(f"{result[key][c]['f1']:>12.3f}" for c in CONTACT_NAMES)
+                  + f"{result[key]['overall']['f1']:>10.3f}")
+    if "vgrf_rmse_percent_bw" in result:
+        print(f"  vGRF RMSE (per-foot total): {result['vgrf_rmse_percent_bw']:.1f}% body weight")
+
+
+def plot_contacts(path: Path, forces: np.ndarray, contacts: np.ndarray, fps: float, title: str) -> Path:
+    """PNG of per-foot vGRF (body weights) over time with heel/toe contact bands."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = np.arange(len(forces)) / fps
+    fig, axes = plt.subplots(2, 1, figsize=(10, 5), sharex=True)
+    for foot, ax in enumerate(axes):
+        side = ("left", "right")[foot]
+        ax.plot(t, forces[:, foot].sum(-1), color="k", lw=1.2, label="vGRF (foot total)")
+        for ch, color, label in ((foot, "tab:orange", "toe contact"), (2 + foot, "tab:blue", "heel contact")):
+            ax.fill_between(t, 0, 1, where=contacts[:, ch], transform=ax.get_xaxis_transform(), color=color,
+                            alpha=0.25, step="mid", label=label)
+        ax.set_ylabel(f"{side} foot (BW)")
+        ax.legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(title)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def main(argv: list[str] | None = None) -> dict | None:
+    args = build_parser().parse_args(argv)
+    try:
+        return _run(args)
+    except (ValueError, FileNotFoundError, KeyError) as err:
+        raise SystemExit(f"error: {err}") from None
+
+
+def _run(args: argparse.Namespace) -> dict | None:
+    if args.command == "make-dataset":
+        config = DatasetConfig(policies=tuple(args.policies), clips=tuple(args.clips), variants=args.variants,
+                               episodes=args.episodes, seed=args.seed)
+        manifest = generate(args.out, config, progress=not args.no_progress)
+        for split, s in manifest["summary"].items():
+            print(f"{split:>5}: {s['frames']:>7} frames, {s['episodes']:>4} episodes, {len(s['clips'])} clips, "
+                  f"endings {s['endings']}")
+        return manifest
+    if args.command in ("train-vgrf", "train-mlp"):
+        config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
+                             seed=args.seed, augment=not args.no_augment)
+        sidecar = train(args.dataset, args.run_dir, config, progress=not args.no_progress)
+        ship(args.run_dir, args.out)
+        print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} (val loss {sidecar['best_val_loss']:.5f}, "
+              f"{sidecar['wall_s']:.0f} s); weights in {args.out}")
+        return sidecar
+    if args.command == "evaluate-contacts":
+        models = ContactModels(vgrf=load_network(args.vgrf, "vgrf"), ot=fit_ot(load_split(args.dataset, "train")),
+                               mlp=load_network(args.mlp, "mlp") if Path(args.mlp).exists() else None)
+        result = evaluate_contacts(load_split(args.dataset, args.split), models)
+        result = {"split": args.split, "dataset": str(args.dataset),
+                  "ot_thresholds": {"height_m": models.ot.height_m, "speed_mps": models.ot.speed_mps}, **result}
+        _print_scores(result)
+        if args.json:
+            write_json(args.json, result)
+        return result
+    if args.command == "contacts":
+        positions, fps, name = positions_of(args)
+        forces = estimate(load_network(args.vgrf, "vgrf"), positions)
+        contacts = ContactFunction()(forces, fps)
+        totals = forces.sum(-1)
+        print(f"{name}: {len(positions)} frames at {fps:g} Hz; contact share " + ", ".join(
+            f"{c} {contacts[:, i].mean():.0%}" for i, c in enumerate(CONTACT_NAMES))
+            + f"; mean vGRF left {totals[:, 0].mean():.2f} right {totals[:, 1].mean():.2f} BW")
+        result = {"source": str(args.source), "fps": fps, "channels": list(CONTACT_NAMES),
+                  "vgrf_bw": totals.round(4).tolist(), "contacts": contacts.astype(int).tolist()}
+        if args.json:
+            write_json(args.json, result)
+        if args.plot:
+            plot_contacts(args.plot, forces, contacts, fps, f"{name}: estimated vGRF and contacts")
+        return result
+    if args.command == "cleanup":
+        if str(args.source).endswith(".pth"):
+            raise ValueError(f"{args.source}: cleanup edits a Motion (joint angles); UnderPressure sequences are "
+                             "read as joint positions only")
+        motion = motion_of(args)
+        with tqdm(desc=f"cleaning {motion.name}", unit="evaluation") as bar:
+            result = cleanup(motion, load_network(args.vgrf, "vgrf"), CleanupConfig(iterations=args.iterations),
+                             progress=lambda it, loss: (bar.update(1), bar.set_postfix(loss=f"{loss:.4f}")))
+        result.motion.save(args.out)
+        reduction = 1 - result.foot_speed_after / result.foot_speed_before if result.foot_speed_before else 0.0
+        print(f"contact foot speed {result.foot_speed_before:.3f} -> {result.foot_speed_after:.3f} m/s "
+              f"({reduction:.0%} less); joints moved {100 * result.joint_shift_m:.1f} cm on average; "
+              f"written {args.out}")
+        summary = {"source": str(args.source), "corrupt": args.corrupt, "strength": args.strength if args.corrupt else 0,
+                   "foot_speed_before_mps": result.foot_speed_before, "foot_speed_after_mps": result.foot_speed_after,
+                   "reduction": reduction, "joint_shift_m": result.joint_shift_m, "out": str(args.out)}
+        if args.json:
+            write_json(args.json, summary)
+        return summary
+    raise AssertionError(args.command)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,296 @@
+"""Physics-labelled motion: trained mimic policies re-perform the clip library in MuJoCo, and every
+frame's 23 joint positions come with the exact insole-cell vGRF the simulator measured.
+
+UnderPressure (§3) captured motion with pressure insoles; here the simulator is the insole. For
+each clip of :attr:`DatasetConfig.clips`, :attr:`DatasetConfig.variants` references are made
+(every other one mirrored, time-warped by a random speed in ``speed_range``, a random share
+IMU-corrupted), a policy re-performs ``episodes`` windows of each, and the simulated frames are
+recorded at 60 Hz:
+
+=================  ==================  =====================================================
+key                shape, dtype        meaning
+=================  ==================  =====================================================
+``positions``      (N, 23, 3) float32  UnderPressure's joints on the simulated body (m, z up)
+``forces``         (N, 2, 16) float32  vGRF per insole cell, left then right (body weights)
+``contacts``       (N, 4) bool         physics heel/toe contact (≥ 5% BW on the region),
+                                       (left_toe, right_toe, left_heel, right_heel)
+``qpos``           (N, nq) float32     the simulated pose
+``episode``        (N,) int32          episode index within the shard
+``meta``           JSON string         clip, split, variant recipe, policy, episodes
+=================  ==================  =====================================================
+
+One shard per (clip, variant) in ``DIR/{train,val,test}/``; the split goes by *source clip*
+(:attr:`DatasetConfig.splits`), so no motion of a test clip is ever trained on. Generation is
+seeded and resumable: a shard is written atomically once complete and skipped when it exists.
+Frames of the last ``fall_margin_s`` before an episode ends early (a fall or lagging behind) are
+dropped, since the body is then no longer performing the clip.
+"""
+
+from __future__ import annotations
+
+import json
+import re
+from dataclasses import asdict, dataclass, field
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+from tqdm import tqdm
+
+import envs  # noqa: F401  (registers the ids)
+from agents.policy import MimicPolicy, load_policy
+from perception.skeleton import N_JOINTS, check_positions, joint_map
+from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.footskate import pin_contacts
+from reference_motion.humanoid.model import load_model
+from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+from reference_motion.transforms import mirror, time_warp
+
+SPLITS = ("train", "val", "test")
+
+DEFAULT_SPLITS = {
+    "val": ("deepmimic:walker/turn_right0",),
+    "test": ("deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left1", "deepmimic:walker/turn_right1"),
+}
+"""Held-out source clips (the rest of :attr:`DatasetConfig.clips` is ``train``); test holds
+ADAPT's three held-out walker clips, as the PPO evaluation does."""
+
+
+@dataclass(frozen=True)
+class DatasetConfig:
+    """How a physics-labelled dataset is generated (every field is recorded in ``manifest.json``).
+
+    Attributes:
+        policies: policy directories (``agents/train_ppo.py`` output); each variant uses one.
+        clips: SOURCE strings of the clip library. The locomotion clips: the shipped policies lose
+            the other DeepMimic clips (dances, spins, kicks, jumps) within about a second, which
+            would leave only falls to record.
+        splits: ``{"val": clips, "test": clips}``; every other clip is ``train``.
+        variants: references made per clip (mirrored, warped, corrupted as below).
+        episodes: windows re-performed per variant, start frames spread over the clip.
+        speed_range: time-warp speeds drawn uniformly (UnderPressure-style ±20%).
+        corrupted_share: probability that a variant's reference gets IMU artefacts.
+        strength_range: artefact strength of corrupted variants, drawn uniformly.
+        fall_margin_s: seconds dropped before an early episode end.
+        min_episode_s: shorter kept episodes are discarded.
+        seed: everything random derives from it.
+    """
+
+    policies: tuple[str, ...] = ("models/mimic_imu", "models/mimic_walk")
+    clips: tuple[str, ...] = ("deepmimic:walk", "deepmimic:run", "deepmimic:walker/0walk_forward",
+                              "deepmimic:walker/turn_left0", "deepmimic:walker/turn_left1",
+                              "deepmimic:walker/turn_right0", "deepmimic:walker/turn_right1")
+    splits: dict = field(default_factory=lambda: {k: list(v) for k, v in DEFAULT_SPLITS.items()})
+    variants: int = 24
+    episodes: int = 4
+    speed_range: tuple[float, float] = (0.8, 1.2)
+    corrupted_share: float = 0.5
+    strength_range: tuple[float, float] = (0.25, 1.0)
+    fall_margin_s: float = 0.5
+    min_episode_s: float = 1.5
+    seed: int = 0
+
+    def split_of(self, clip: str) -> str:
+        for split in ("val", "test"):
+            if clip in self.splits.get(split, ()):
+                return split
+        return "train"
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One reference made from a library clip: ``mirrored``, played at ``speed``, corrupted at
+    ``strength`` with ``artefact_seed`` (``strength`` 0 = clean), performed by ``policy``."""
+
+    clip: str
+    index: int
+    mirrored: bool
+    speed: float
+    strength: float
+    artefact_seed: int
+    policy: str
+
+    @property
+    def shard_name(self) -> str:
+        slug = re.sub(r"[^A-Za-z0-9]+", "_", self.clip.removeprefix("deepmimic:")).strip("_")
+        return f"{slug}_v{self.index:03d}.npz"
+
+
+def plan(config: DatasetConfig) -> list[Variant]:
+    """Every variant of the dataset, in generation order (a pure function of ``config``)."""
+    out = []
+    for c, clip in enumerate(config.clips):
+        for k in range(config.variants):
+            rng = np.random.default_rng([config.seed, c, k])
+            corrupted = rng.random() < config.corrupted_share
+            out.append(Variant(clip=clip, index=k, mirrored=bool(k % 2), speed=float(rng.uniform(*config.speed_range)),
+                               strength=float(rng.uniform(*config.strength_range)) if corrupted else 0.0,
+                               artefact_seed=int(rng.integers(2**31)),
+                               policy=config.policies[(k // 2) % len(config.policies)]))
+    return out
+
+
+def reference_for(variant: Variant, model: str, min_frames: int) -> Motion:
+    """The reference motion of ``variant`` (loaded, warped, mirrored, corrupted)."""
+    motion = load_motion(variant.clip, model, min_frames=int(min_frames * 1.25) + 2)
+    if variant.speed != 1.0:
+        motion = pin_contacts(time_warp(motion, variant.speed))
+    if variant.mirrored:
+        motion = mirror(motion)
+    if variant.strength > 0:
+        motion = corrupt(motion, ArtefactRecipe.imu(variant.strength), variant.artefact_seed)
+    return motion
+
+
+class FrameRecorder:
+    """``env.frame_hook`` that records joint positions, cell vGRF, contacts and qpos per frame."""
+
+    def __init__(self, model_name: str):
+        self.humanoid = load_model(model_name)
+        self.joints = joint_map(model_name)
+        self.frames: dict[str, list] = {"positions": [], "forces": [], "contacts": [], "qpos": []}
+
+    def __call__(self, data) -> None:
+        # xpos/xquat and the contacts both come from the last substep's position stage.
+        cells = self.humanoid.cell_forces(data)
+        self.frames["positions"].append(self.joints.positions(data.xpos[1:], data.xquat[1:]))
+        self.frames["forces"].append(cells)
+        self.frames["contacts"].append(self.humanoid.foot_contacts(data, cells))
+        self.frames["qpos"].append(data.qpos.copy())
+
+    def take(self, n: int) -> dict[str, np.ndarray]:
+        """The first ``n`` recorded frames as arrays; then start afresh."""
+        out = {k: np.array(v[:n]) for k, v in self.frames.items()}
+        self.frames = {k: [] for k in self.frames}
+        return out
+
+
+def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tuple[dict[str, np.ndarray], list[dict]]:
+    """Re-perform ``config.episodes`` windows of ``variant`` with ``policy``; the kept frames
+    (concatenated, ``episode`` numbering them) and one record per episode."""
+    model = {"one": "humanoid_1seg", "two": "humanoid_2seg"}[policy.foot]
+    reference = reference_for(variant, model, 2 * 301)
+    fps = reference.fps
+    episode_frames = min(300, reference.n_frames - 1)
+    env = gym.make(policy.env_id, clips=[reference], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
+    policy.check_env(env)
+    base = env.unwrapped
+    recorder = FrameRecorder(model)
+    base.frame_hook = recorder
+    starts = np.linspace(0, reference.n_frames - 1 - episode_frames, config.episodes).astype(int)
+    chunks, records = [], []
+    rng = np.random.default_rng([config.seed, variant.artefact_seed])
+    for e, start in enumerate(starts):
+        obs, _ = env.reset(seed=int(rng.integers(2**31)), options={"start_frame": int(start)})
+        recorder.take(0)
+        term = trunc = False
+        info: dict = {}
+        while not (term or trunc):
+            obs, _, term, trunc, info = env.step(policy(obs))
+        n = len(recorder.frames["qpos"])
+        keep = n if info.get("ended_by") == "time_limit" else max(0, n - int(round(config.fall_margin_s * fps)))
+        frames = recorder.take(keep)
+        records.append({"start_frame": int(start), "frames": int(keep), "ended_by": info.get("ended_by", "")})
+        if keep >= config.min_episode_s * fps:
+            frames["episode"] = np.full(keep, e, dtype=np.int32)
+            chunks.append(frames)
+    env.close()
+    if not chunks:
+        return {}, records
+    return {k: np.concatenate([c[k] for c in chunks]) for k in chunks[0]}, records
+
+
+def generate(out: Path, config: DatasetConfig = DatasetConfig(), progress: bool = True) -> dict:
+    """Generate (or finish generating) the dataset in ``out``; returns the manifest."""
+    out = Path(out)
+    manifest_path = out / "manifest.json"
+    wanted = {"config": json.loads(json.dumps(asdict(config)))}
+    if manifest_path.exists():
+        stored = json.loads(manifest_path.read_text())
+        if stored.get("config") != wanted["config"]:
+            raise ValueError(f"{manifest_path}: this directory holds a dataset made with other settings; "
+                             f"use a new --out or the same settings to resume")
+    out.mkdir(parents=True, exist_ok=True)
+    manifest_path.write_text(json.dumps(wanted, indent=1))
+    for path in config.policies:
+        if not Path(path).exists():
+            raise FileNotFoundError(f"policy {path}: no such directory (train one with agents/train_ppo.py)")
+    policies: dict[str, MimicPolicy] = {}
+    variants = plan(config)
+    todo = [v for v in variants if not (out / config.split_of(v.clip) / v.shard_name).exists()]
+    bar = tqdm(todo, desc="performing clips", unit="variant", disable=not progress)
+    for variant in bar:
+        if variant.policy not in policies:
+            policies[variant.policy] = load_policy(variant.policy)
+        frames, records = perform(variant, policies[variant.policy], config)
+        split = config.split_of(variant.clip)
+        meta = {**asdict(variant), "split": split, "episodes": records, "fps": 60.0}
+        shard = out / split / variant.shard_name
+        shard.parent.mkdir(parents=True, exist_ok=True)
+        tmp = shard.with_suffix(".tmp.npz")
+        if not frames:  # every episode too short: an empty shard marks the variant as done
+            frames = {"positions": np.zeros((0, N_JOINTS, 3), np.float32), "forces": np.zeros((0, 2, 16), np.float32),
+                      "contacts": np.zeros((0, 4), bool), "qpos": np.zeros((0, 0), np.float32),
+                      "episode": np.zeros(0, np.int32)}
+        np.savez_compressed(tmp, positions=frames["positions"].astype(np.float32),
+                            forces=frames["forces"].astype(np.float32), contacts=frames["contacts"].astype(bool),
+                            qpos=frames["qpos"].astype(np.float32), episode=frames["episode"].astype(np.int32),
+                            meta=json.dumps(meta))
+        tmp.replace(shard)
+        bar.set_postfix(frames=len(frames["episode"]))
+    summary = summarize(out)
+    manifest_path.write_text(json.dumps({**wanted, "summary": summary}, indent=1))
+    return {**wanted, "summary": summary}
+
+
+@dataclass
+class Sequence:
+    """One recorded episode: ``positions (T, 23, 3)`` m, ``forces (T, 2, 16)`` BW, physics
+    ``contacts (T, 4)`` (CONTACT_CHANNELS order), ``fps`` and the source ``clip``."""
+
+    positions: np.ndarray
+    forces: np.ndarray
+    contacts: np.ndarray
+    fps: float
+    clip: str
+
+
+def load_split(root: Path, split: str) -> list[Sequence]:
+    """Every episode of ``split`` in the dataset at ``root``, as :class:`Sequence` objects."""
+    if split not in SPLITS:
+        raise ValueError(f"unknown split {split!r}; expected one of {', '.join(SPLITS)}")
+    folder = Path(root) / split
+    shards = sorted(folder.glob("*.npz"))
+    if not shards:
+        raise FileNotFoundError(f"{folder}: no shards (run `python -m perception make-dataset --out {root}` first)")
+    out = []
+    for shard in shards:
+        with np.load(shard) as z:
+            for key in ("positions", "forces", "contacts", "episode", "meta"):
+                if key not in z.files:
+                    raise ValueError(f"{shard}: not a physmimic dataset shard (missing field {key!r})")
+            meta = json.loads(str(z["meta"]))
+            positions = check_positions(z["positions"], str(shard)) if len(z["episode"]) else None
+            for e in np.unique(z["episode"]):
+                rows = z["episode"] == e
+                out.append(Sequence(positions[rows], z["forces"][rows], z["contacts"][rows], meta["fps"], meta["clip"]))
+    return out
+
+
+def summarize(root: Path) -> dict:
+    """Frames, episodes and clips per split, and how episodes ended."""
+    out = {}
+    for split in SPLITS:
+        frames = episodes = 0
+        clips, endings = set(), {}
+        for shard in sorted((Path(root) / split).glob("*.npz")):
+            with np.load(shard) as z:
+                meta = json.loads(str(z["meta"]))
+                frames += len(z["episode"])
+                episodes += len(np.unique(z["episode"]))
+            clips.add(meta["clip"])
+            for rec in meta["episodes"]:
+                endings[rec["ended_by"]] = endings.get(rec["ended_by"], 0) + 1
+        out[split] = {"frames": frames, "episodes": episodes, "clips": sorted(clips), "endings": endings}
+    return out

@@ -1,0 +1,54 @@
+"""Shipped contact networks: ``DIR/model.pt`` (kind, joint set, frame rate, weights) with a
+``DIR/sidecar.json`` (command, seed, epochs, wall time, metrics), and loading them with clear errors."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import torch
+from torch import nn
+
+from perception.skeleton import JOINTS
+from perception.vgrf import ContactMLP, VGRFNet
+
+KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP}
+WEIGHTS_FILE, SIDECAR_FILE = "model.pt", "sidecar.json"
+
+
+def ship(run_dir: Path, out: Path, extra: dict | None = None) -> Path:
+    """Copy ``run_dir``'s best weights to ``out/model.pt`` with its sidecar (plus ``extra``)."""
+    run_dir, out = Path(run_dir), Path(out)
+    sidecar = json.loads((run_dir / SIDECAR_FILE).read_text())
+    out.mkdir(parents=True, exist_ok=True)
+    torch.save({"kind": sidecar["kind"], "joints": sidecar["joints"], "fps": sidecar["fps"],
+                "state_dict": torch.load(run_dir / "best.pt")}, out / WEIGHTS_FILE)
+    (out / SIDECAR_FILE).write_text(json.dumps({**sidecar, **(extra or {})}, indent=1))
+    return out
+
+
+def load_network(path: Path, kind: str = "vgrf") -> nn.Module:
+    """A shipped network (a directory with ``model.pt``, or the file) in eval mode; a clear
+    ``ValueError`` when the file is not one, is another kind, or is for another joint set."""
+    path = Path(path)
+    file = path / WEIGHTS_FILE if path.is_dir() else path
+    if not file.exists():
+        raise FileNotFoundError(f"{file}: no such weights file (train one with `python -m perception train-vgrf`)")
+    try:
+        saved = torch.load(file, weights_only=False, map_location="cpu")
+    except Exception as err:  # noqa: BLE001 (torch raises many types for a corrupt file)
+        raise ValueError(f"{file}: not a readable PyTorch weights file ({err.__class__.__name__}: {err})") from None
+    if not isinstance(saved, dict) or "state_dict" not in saved:
+        raise ValueError(f"{file}: not a physmimic network file (expected a dict with 'kind', 'joints', 'state_dict')")
+    if saved.get("kind") != kind:
+        raise ValueError(f"{file}: holds a {saved.get('kind')!r} network, expected {kind!r}")
+    if tuple(saved.get("joints", ())) != JOINTS:
+        raise ValueError(f"{file}: weights are for a {len(saved.get('joints', ()))}-joint skeleton "
+                         f"({', '.join(saved.get('joints', ())[:3])}, ...), this network reads UnderPressure's "
+                         f"{len(JOINTS)} joints")
+    net = KINDS[kind](fps=saved.get("fps", 60.0))
+    try:
+        net.load_state_dict(saved["state_dict"])
+    except RuntimeError as err:
+        raise ValueError(f"{file}: weights do not fit {KINDS[kind].__name__}: {str(err).splitlines()[0]}") from None
+    return net.eval()

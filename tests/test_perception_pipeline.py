@@ -1,0 +1,158 @@
+"""Perception end to end on a tiny physics-labelled dataset made with the shipped walk policy:
+generation (seeded, resumable, split by clip), training (resumable), shipping and loading
+weights, evaluation, the CLI, cleanup, and clear errors for bad input."""
+
+import json
+
+import numpy as np
+import pytest
+import torch
+
+from perception.__main__ import main
+from perception.cleanup import cleanup, contact_targets, contact_windows
+from perception.contacts import ContactFunction
+from perception.dataset import DatasetConfig, generate, load_split
+from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
+from perception.training import TrainConfig, train
+from perception.vgrf import VGRFNet
+from perception.weights import load_network, ship
+from reference_motion.artefacts import ArtefactRecipe, corrupt
+
+TINY = DatasetConfig(policies=("models/mimic_walk",),
+                     clips=("deepmimic:walk", "deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left0"),
+                     splits={"val": ["deepmimic:walker/0walk_forward"], "test": ["deepmimic:walker/turn_left0"]},
+                     variants=1, episodes=1, min_episode_s=1.0, corrupted_share=0.0)
+
+
+@pytest.fixture(scope="module")
+def dataset(tmp_path_factory):
+    root = tmp_path_factory.mktemp("physics")
+    generate(root, TINY, progress=False)
+    return root
+
+
+def test_dataset_records_physics_per_frame(dataset):
+    train_seqs = load_split(dataset, "train")
+    assert len(train_seqs) == 1 and train_seqs[0].clip == "deepmimic:walk"
+    seq = train_seqs[0]
+    assert seq.positions.shape == (300, 23, 3) and seq.forces.shape == (300, 2, 16) and seq.fps == 60.0
+    totals = seq.forces.sum(axis=(1, 2))
+    assert 0.85 < totals[30:].mean() < 1.15  # walking: on average the feet carry the body weight
+    assert (seq.forces >= 0).all()
+    gamma = ContactFunction()(seq.forces, seq.fps)
+    assert 0.9 < (gamma == seq.contacts).mean()  # Γ agrees with the raw physics contact states
+    single_or_double = gamma[:, :].reshape(-1, 2, 2).any(axis=1)  # (toe or heel) per foot
+    assert single_or_double.any(axis=1).mean() > 0.95  # some foot is down nearly always
+    assert {s.clip for s in load_split(dataset, "test")} == {"deepmimic:walker/turn_left0"}
+    manifest = json.loads((dataset / "manifest.json").read_text())
+    assert manifest["summary"]["train"]["frames"] == 300
+
+
+def test_dataset_generation_resumes_and_refuses_other_settings(dataset):
+    shard = next((dataset / "train").glob("*.npz"))
+    stamp = shard.stat().st_mtime_ns
+    generate(dataset, TINY, progress=False)  # nothing left to do
+    assert shard.stat().st_mtime_ns == stamp
+    with pytest.raises(ValueError, match="other settings"):
+        generate(dataset, DatasetConfig(**{**TINY.__dict__, "seed": 1}), progress=False)
+
+
+def test_dataset_generation_bad_input(tmp_path):
+    with pytest.raises(FileNotFoundError, match="policy models/none: no such directory"):
+        generate(tmp_path / "a", DatasetConfig(policies=("models/none",), clips=("deepmimic:walk",)), progress=False)
+    with pytest.raises(KeyError, match="unknown DeepMimic clip 'nonesuch'"):
+        generate(tmp_path / "b", DatasetConfig(policies=("models/mimic_walk",), clips=("deepmimic:nonesuch",),
+                                               variants=1, episodes=1), progress=False)
+    with pytest.raises(FileNotFoundError, match="no shards"):
+        load_split(tmp_path / "empty", "train")
+
+
+def test_bad_shards_are_named(tmp_path):
+    (tmp_path / "train").mkdir()
+    np.savez(tmp_path / "train" / "x.npz", positions=np.zeros((5, 17, 3)), forces=np.zeros((5, 2, 16)),
+             contacts=np.zeros((5, 4), bool), episode=np.zeros(5, int), meta=json.dumps({"fps": 60.0, "clip": "x"}))
+    with pytest.raises(ValueError, match=r"x.npz: joint positions must have shape \(frames, 23, 3\).*got \(5, 17, 3\)"):
+        load_split(tmp_path, "train")
+    bad = np.zeros((5, 23, 3))
+    bad[2, 4, 1] = np.nan
+    np.savez(tmp_path / "train" / "x.npz", positions=bad, forces=np.zeros((5, 2, 16)),
+             contacts=np.zeros((5, 4), bool), episode=np.zeros(5, int), meta=json.dumps({"fps": 60.0, "clip": "x"}))
+    with pytest.raises(ValueError, match="x.npz: joint positions contain NaN or inf \\(first at frame 2\\)"):
+        load_split(tmp_path, "train")
+
+
+def test_training_resumes_ships_and_loads(dataset, tmp_path):
+    config = TrainConfig(window=48, windows_per_epoch=64, batch_size=32, max_epochs=1)
+    run = tmp_path / "run"
+    first = train(dataset, run, config, progress=False)
+    assert first["epochs"] == 1 and first["best_val_loss"] > 0 and first["kind"] == "vgrf"
+    second = train(dataset, run, TrainConfig(**{**config.__dict__, "max_epochs": 2}), progress=False)
+    assert second["epochs"] == 2 and [h["epoch"] for h in second["history"]] == [1, 2]
+    with pytest.raises(ValueError, match="other settings"):
+        train(dataset, run, TrainConfig(**{**config.__dict__, "lr": 0.1}), progress=False)
+    shipped = ship(run, tmp_path / "vgrf")
+    net = load_network(shipped, "vgrf")
+    assert isinstance(net, VGRFNet) and not net.training
+    with pytest.raises(ValueError, match="holds a 'vgrf' network, expected 'mlp'"):
+        load_network(shipped, "mlp")
+
+
+def test_weights_for_another_skeleton_or_garbage_are_refused(tmp_path):
+    torch.save({"kind": "vgrf", "joints": ["hip", "knee"], "state_dict": {}}, tmp_path / "other.pt")
+    with pytest.raises(ValueError, match="weights are for a 2-joint skeleton"):
+        load_network(tmp_path / "other.pt")
+    (tmp_path / "junk.pt").write_bytes(b"\x00garbage")
+    with pytest.raises(ValueError, match="junk.pt: not a readable PyTorch weights file"):
+        load_network(tmp_path / "junk.pt")
+    with pytest.raises(FileNotFoundError, match="no such weights file"):
+        load_network(tmp_path / "missing")
+
+
+def test_evaluation_scores_all_three_models(dataset):
+    test = load_split(dataset, "test")
+    ot = fit_ot(load_split(dataset, "train"))
+    assert 0.0 < ot.height_m < 0.4 and 0.0 < ot.speed_mps < 4.0
+    result = evaluate_contacts(test, ContactModels(vgrf=VGRFNet().eval(), ot=ot))
+    assert result["frames"] == sum(len(s.positions) for s in test)
+    assert result["ot"]["overall"]["f1"] > 0.7  # thresholds fitted on walking work on another walk
+    assert result["vgrf_rmse_percent_bw"] > 0
+
+
+def test_contact_windows_and_targets_by_hand():
+    contacts = np.zeros((12, 4), bool)
+    contacts[2:10, 0] = True
+    w = contact_windows(contacts, edge_frames=2)
+    assert w[2, 0] == pytest.approx(0.5) and np.allclose(w[3:9, 0], 1.0) and w[9, 0] == pytest.approx(0.5)
+    assert not w[:, 1:].any() and w[0, 0] == 0
+    soles = np.zeros((12, 4, 3))
+    soles[:, 0, 0] = np.arange(12) * 0.01  # the toe slides 1 cm per frame
+    pins = contact_targets(soles, contacts, np.array([0.01, 0.01, 0.02, 0.02]))
+    assert np.allclose(pins[2:10, 0], [0.055, 0.0, 0.01]) and np.isnan(pins[0, 0]).all()
+
+
+def test_cleanup_rejects_bad_motion(walk):
+    net = VGRFNet()
+    with pytest.raises(ValueError, match="needs at least 3 frames"):
+        cleanup(walk.with_qpos(walk.qpos[:2]), net)
+    bad = walk.qpos[:10].copy()
+    bad[4, 9] = np.nan
+    with pytest.raises(ValueError, match=r"qpos has NaN/inf \(first at frame 4, column 9\)"):
+        cleanup(walk.with_qpos(bad), net)  # a Motion never holds NaN: the error comes before cleanup
+
+
+def test_cli_errors_are_one_line(tmp_path, capsys):
+    with pytest.raises(SystemExit, match="error: .*no such weights file"):
+        main(["contacts", "deepmimic:walk", "--vgrf", str(tmp_path / "none")])
+    with pytest.raises(SystemExit, match="unknown DeepMimic clip"):
+        main(["contacts", "deepmimic:nonesuch", "--vgrf", str(tmp_path / "none")])
+
+
+def test_corrupted_clip_skates_more_for_the_cleanup_measure(walk):
+    from perception.cleanup import contact_speed
+    from perception.kinematics import torch_kinematics
+    kin = torch_kinematics(walk.model)
+    bad = corrupt(walk, ArtefactRecipe.only("skate"), 1)
+    contacts = np.ones((walk.n_frames, 4), bool)
+    speeds = [contact_speed(kin.points(torch.tensor(m.qpos, dtype=torch.float32))[1].numpy(), contacts, 60.0)
+              for m in (walk, bad)]
+    assert speeds[1] > speeds[0]
