@@ -19,6 +19,7 @@ import torch
 
 from perception.dataset import Sequence
 from perception.skeleton import N_JOINTS, PARENTS, check_positions
+from perception.weights import read_torch_file
 from reference_motion import rotations as rot
 
 SOURCE_FPS = 100.0
@@ -66,12 +67,7 @@ def load_underpressure(path: str | Path, fps: float = 60.0) -> Sequence:
     """One UnderPressure ``.pth`` sequence as a :class:`~perception.dataset.Sequence` at ``fps``:
     joint positions, cell forces, and contacts in CONTACT_CHANNELS order."""
     path = Path(path)
-    if not path.exists():
-        raise FileNotFoundError(f"{path}: no such UnderPressure sequence")
-    try:
-        item = torch.load(path, weights_only=False, map_location="cpu")
-    except Exception as err:  # noqa: BLE001 (torch raises many types for a corrupt file)
-        raise ValueError(f"{path}: not a readable .pth file ({err.__class__.__name__}: {err})") from None
+    item = read_torch_file(path, ".pth sequence", "UnderPressure's preprocessed S*/preprocessed/*.pth files")
     if not isinstance(item, dict):
         raise ValueError(f"{path}: expected a dict of tensors, got {type(item).__name__}")
     angles, forces, contacts = (_field(item, k, path) for k in ("angles", "forces", "contacts"))

@@ -27,17 +27,22 @@ def ship(run_dir: Path, out: Path, extra: dict | None = None) -> Path:
     return out
 
 
+def read_torch_file(file: Path, what: str, missing_hint: str) -> object:
+    """``torch.load`` of ``file`` (a ``what``), or a one-line error naming the file."""
+    if not file.exists():
+        raise FileNotFoundError(f"{file}: no such {what} ({missing_hint})")
+    try:
+        return torch.load(file, weights_only=False, map_location="cpu")
+    except Exception as err:  # noqa: BLE001 (torch raises many types for a corrupt file)
+        raise ValueError(f"{file}: not a readable {what} ({err.__class__.__name__}: {err})") from None
+
+
 def load_network(path: Path, kind: str = "vgrf") -> nn.Module:
     """A shipped network (a directory with ``model.pt``, or the file) in eval mode; a clear
     ``ValueError`` when the file is not one, is another kind, or is for another joint set."""
     path = Path(path)
     file = path / WEIGHTS_FILE if path.is_dir() else path
-    if not file.exists():
-        raise FileNotFoundError(f"{file}: no such weights file (train one with `python -m perception train-vgrf`)")
-    try:
-        saved = torch.load(file, weights_only=False, map_location="cpu")
-    except Exception as err:  # noqa: BLE001 (torch raises many types for a corrupt file)
-        raise ValueError(f"{file}: not a readable PyTorch weights file ({err.__class__.__name__}: {err})") from None
+    saved = read_torch_file(file, "weights file", "train one with `python -m perception train-vgrf`")
     if not isinstance(saved, dict) or "state_dict" not in saved:
         raise ValueError(f"{file}: not a physmimic network file (expected a dict with 'kind', 'joints', 'state_dict')")
     if saved.get("kind") != kind:

@@ -199,5 +199,5 @@ def test_underpressure_loader_errors(tmp_path):
     with pytest.raises(ValueError, match="nan.pth: field 'forces' contains NaN"):
         load_underpressure(tmp_path / "nan.pth")
     (tmp_path / "junk.pth").write_bytes(b"not a pickle")
-    with pytest.raises(ValueError, match="junk.pth: not a readable .pth file"):
+    with pytest.raises(ValueError, match="junk.pth: not a readable .pth sequence"):
         load_underpressure(tmp_path / "junk.pth")
