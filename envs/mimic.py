@@ -134,6 +134,8 @@ class MimicEnv(gym.Env):
         self.frame_hook: Callable[[mujoco.MjData], None] | None = None
         """Called with the simulation data after every 60 Hz frame (to record the rollout:
         ``qpos``, contact forces); ``None`` (default) records nothing."""
+        self.substep_hook: Callable[[mujoco.MjData], None] | None = None
+        """Called after every physics substep (to average contact forces over a frame)."""
         self._track: ReferenceTrack | None = None
         self._action = np.zeros(n_act)
         self._obs = np.zeros(self.observation_space.shape, dtype=np.float32)
@@ -250,7 +252,12 @@ class MimicEnv(gym.Env):
             self._frame += 1
             d.ctrl[:] = track.ctrl[self._frame]
             d.ctrl[self.driven] += self._action
-            mujoco.mj_step(m, d, nstep=self.substeps)
+            if self.substep_hook is None:
+                mujoco.mj_step(m, d, nstep=self.substeps)
+            else:
+                for _ in range(self.substeps):
+                    mujoco.mj_step(m, d)
+                    self.substep_hook(d)
             if self.frame_hook is not None:
                 self.frame_hook(d)
         f = self._frame

@@ -11,9 +11,13 @@ recorded at 60 Hz:
 key                shape, dtype        meaning
 =================  ==================  =====================================================
 ``positions``      (N, 23, 3) float32  UnderPressure's joints on the simulated body (m, z up)
-``forces``         (N, 2, 16) float32  vGRF per insole cell, left then right (body weights)
-``contacts``       (N, 4) bool         physics heel/toe contact (≥ 5% BW on the region),
-                                       (left_toe, right_toe, left_heel, right_heel)
+``forces``         (N, 2, 16) float32  vGRF per insole cell, left then right (body weights),
+                                       as an insole reads it (:func:`insole`)
+``forces_raw``     (N, 2, 16) float32  the simulator's cell vGRF averaged over each frame's
+                                       physics substeps
+``contacts``       (N, 4) bool         physics heel/toe contact (≥ 5% BW on the region in
+                                       ``forces_raw``), (left_toe, right_toe, left_heel,
+                                       right_heel)
 ``qpos``           (N, nq) float32     the simulated pose
 ``episode``        (N,) int32          episode index within the shard
 ``meta``           JSON string         clip, split, variant recipe, policy, episodes
@@ -22,7 +26,11 @@ key                shape, dtype        meaning
 One shard per (clip, variant) in ``DIR/{train,val,test}/``; the split goes by *source clip*
 (:attr:`DatasetConfig.splits`), so no motion of a test clip is ever trained on. Generation is
 seeded and resumable: a shard is written atomically once complete and skipped when it exists.
-Frames of the last ``fall_margin_s`` before an episode ends early (a fall or lagging behind) are
+MuJoCo's soft contacts chatter: the raw per-frame foot load of a walking stance swings by 0.35 BW
+RMS from one frame to the next (the sole spheres make and break contact within a few
+milliseconds). A pressure insole integrates that away, so ``forces`` models one: the frame means
+low-passed with a Gaussian of :attr:`DatasetConfig.insole_smoothing_s`. Frames of the last
+``fall_margin_s`` before an episode ends early (a fall or lagging behind) are
 dropped, since the body is then no longer performing the clip.
 """
 
@@ -35,6 +43,7 @@ from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
+from scipy.ndimage import gaussian_filter1d
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
@@ -72,6 +81,7 @@ class DatasetConfig:
         speed_range: time-warp speeds drawn uniformly (UnderPressure-style ±20%).
         corrupted_share: probability that a variant's reference gets IMU artefacts.
         strength_range: artefact strength of corrupted variants, drawn uniformly.
+        insole_smoothing_s: σ of the insole model's Gaussian low-pass (s).
         fall_margin_s: seconds dropped before an early episode end.
         min_episode_s: shorter kept episodes are discarded.
         seed: everything random derives from it.
@@ -86,7 +96,8 @@ class DatasetConfig:
     episodes: int = 4
     speed_range: tuple[float, float] = (0.8, 1.2)
     corrupted_share: float = 0.5
-    strength_range: tuple[float, float] = (0.25, 1.0)
+    strength_range: tuple[float, float] = (0.1, 0.6)
+    insole_smoothing_s: float = 0.025
     fall_margin_s: float = 0.5
     min_episode_s: float = 1.5
     seed: int = 0
@@ -144,26 +155,36 @@ def reference_for(variant: Variant, model: str, min_frames: int) -> Motion:
 
 
 class FrameRecorder:
-    """``env.frame_hook`` that records joint positions, cell vGRF, contacts and qpos per frame."""
+    """Records joint positions, cell vGRF, contacts and qpos per frame: install it as both
+    ``env.substep_hook`` (it sums each substep's cell forces) and ``env.frame_hook``."""
 
     def __init__(self, model_name: str):
         self.humanoid = load_model(model_name)
         self.joints = joint_map(model_name)
-        self.frames: dict[str, list] = {"positions": [], "forces": [], "contacts": [], "qpos": []}
+        self.frames: dict[str, list] = {"positions": [], "forces": [], "qpos": []}
+        self._force_sum, self._substeps = np.zeros((2, 16)), 0
+
+    def substep(self, data) -> None:
+        self._force_sum += self.humanoid.cell_forces(data)
+        self._substeps += 1
 
     def __call__(self, data) -> None:
-        # xpos/xquat and the contacts both come from the last substep's position stage.
-        cells = self.humanoid.cell_forces(data)
         self.frames["positions"].append(self.joints.positions(data.xpos[1:], data.xquat[1:]))
-        self.frames["forces"].append(cells)
-        self.frames["contacts"].append(self.humanoid.foot_contacts(data, cells))
+        self.frames["forces"].append(self._force_sum / max(self._substeps, 1))
         self.frames["qpos"].append(data.qpos.copy())
+        self._force_sum, self._substeps = np.zeros((2, 16)), 0
 
     def take(self, n: int) -> dict[str, np.ndarray]:
         """The first ``n`` recorded frames as arrays; then start afresh."""
         out = {k: np.array(v[:n]) for k, v in self.frames.items()}
         self.frames = {k: [] for k in self.frames}
         return out
+
+
+def insole(forces: np.ndarray, fps: float, smoothing_s: float) -> np.ndarray:
+    """What a pressure insole would read from per-frame cell forces ``(T, 2, 16)``: a Gaussian
+    low-pass of ``smoothing_s`` (s) over time (:attr:`DatasetConfig.insole_smoothing_s`)."""
+    return gaussian_filter1d(forces, sigma=smoothing_s * fps, axis=0, mode="nearest") if smoothing_s > 0 else forces
 
 
 def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tuple[dict[str, np.ndarray], list[dict]]:
@@ -175,9 +196,10 @@ def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tup
     episode_frames = min(300, reference.n_frames - 1)
     env = gym.make(policy.env_id, clips=[reference], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
     policy.check_env(env)
+    humanoid = load_model(model)
     base = env.unwrapped
     recorder = FrameRecorder(model)
-    base.frame_hook = recorder
+    base.frame_hook, base.substep_hook = recorder, recorder.substep
     starts = np.linspace(0, reference.n_frames - 1 - episode_frames, config.episodes).astype(int)
     chunks, records = [], []
     rng = np.random.default_rng([config.seed, variant.artefact_seed])
@@ -191,6 +213,9 @@ def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tup
         n = len(recorder.frames["qpos"])
         keep = n if info.get("ended_by") == "time_limit" else max(0, n - int(round(config.fall_margin_s * fps)))
         frames = recorder.take(keep)
+        frames["forces_raw"] = frames["forces"]
+        frames["forces"] = insole(frames["forces_raw"], fps, config.insole_smoothing_s)
+        frames["contacts"] = np.array([humanoid.foot_contacts(None, c) for c in frames["forces_raw"]]).reshape(-1, 4)
         records.append({"start_frame": int(start), "frames": int(keep), "ended_by": info.get("ended_by", "")})
         if keep >= config.min_episode_s * fps:
             frames["episode"] = np.full(keep, e, dtype=np.int32)
@@ -231,10 +256,12 @@ def generate(out: Path, config: DatasetConfig = DatasetConfig(), progress: bool 
         tmp = shard.with_suffix(".tmp.npz")
         if not frames:  # every episode too short: an empty shard marks the variant as done
             frames = {"positions": np.zeros((0, N_JOINTS, 3), np.float32), "forces": np.zeros((0, 2, 16), np.float32),
+                      "forces_raw": np.zeros((0, 2, 16), np.float32),
                       "contacts": np.zeros((0, 4), bool), "qpos": np.zeros((0, 0), np.float32),
                       "episode": np.zeros(0, np.int32)}
         np.savez_compressed(tmp, positions=frames["positions"].astype(np.float32),
-                            forces=frames["forces"].astype(np.float32), contacts=frames["contacts"].astype(bool),
+                            forces=frames["forces"].astype(np.float32),
+                            forces_raw=frames["forces_raw"].astype(np.float32), contacts=frames["contacts"].astype(bool),
                             qpos=frames["qpos"].astype(np.float32), episode=frames["episode"].astype(np.int32),
                             meta=json.dumps(meta))
         tmp.replace(shard)
