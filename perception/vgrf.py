@@ -1,12 +1,13 @@
 """The UnderPressure vGRF network and the 3-layer MLP contact baseline (underpressure §4, §5.2).
 
 Both read joint positions ``(B, T, 23, 3)`` (world frame, z up, m; UnderPressure's joint order,
-:mod:`perception.skeleton`) at 60 Hz. Before the first layer they re-express the positions
-translation-free (:func:`canonical_input`): every joint's horizontal coordinates relative to the
-pelvis of the same frame, its height kept as is, and the pelvis' own horizontal coordinates
-replaced by its velocity. Nothing is lost but the global horizontal placement, to which vGRF are
-invariant; UnderPressure taught its network that invariance by random translations, which leaves
-clips that wander far from the origin outside the training range.
+:mod:`perception.skeleton`) at 60 Hz. Before the first layer they re-express the positions free of
+global placement and heading (:func:`canonical_input`): every joint relative to the pelvis of the
+same frame in the body's heading frame, heights kept as they are, and the pelvis' own entry
+replaced by its velocity in that frame. Nothing is lost but where the body is and which way it
+faces, to which vGRF are invariant. UnderPressure taught its network those invariances with random
+translations and rotations; building them in spares a small CPU-trained network from learning
+them, and keeps clips that wander far from the origin inside the training range.
 """
 
 from __future__ import annotations
@@ -20,15 +21,24 @@ from perception.skeleton import JOINTS, MIRROR, N_JOINTS, PARENTS
 N_CELLS = 16
 
 
+_LEFT_HIP, _RIGHT_HIP = JOINTS.index("left_hip"), JOINTS.index("right_hip")
+
+
 def canonical_input(positions: torch.Tensor, fps: float) -> torch.Tensor:
-    """Translation-free features ``(B, T, 69)`` of joint positions ``(B, T, 23, 3)`` (module doc)."""
-    pelvis_xy = positions[:, :, :1, :2]
-    rel = torch.cat([positions[..., :2] - pelvis_xy, positions[..., 2:]], dim=-1)
-    vel = torch.diff(positions[:, :, 0, :2], dim=1, prepend=positions[:, :1, 0, :2]) * fps
+    """Translation- and heading-free features ``(B, T, 69)`` of joint positions ``(B, T, 23, 3)``:
+    per frame, each joint relative to the pelvis in the body's heading frame (forward, left, up;
+    "left" along the line from the right hip to the left hip, levelled), heights kept absolute, and
+    the pelvis entry replaced by the pelvis velocity in that frame (m/s; forward, left, up)."""
+    left = positions[:, :, _LEFT_HIP, :2] - positions[:, :, _RIGHT_HIP, :2]
+    left = left / left.norm(dim=-1, keepdim=True).clamp_min(1e-6)
+    forward = torch.stack([left[..., 1], -left[..., 0]], dim=-1)
+    rel = positions[..., :2] - positions[:, :, :1, :2]
+    x = torch.stack([(rel * forward[:, :, None]).sum(-1), (rel * left[:, :, None]).sum(-1), positions[..., 2]], -1)
+    vel = torch.diff(positions[:, :, 0], dim=1, prepend=positions[:, :1, 0]) * fps
     if positions.shape[1] > 1:  # first frame: the forward difference instead of zero
         vel = torch.cat([vel[:, 1:2], vel[:, 1:]], dim=1)
-    rel[:, :, 0, :2] = vel
-    return rel.flatten(2)
+    x[:, :, 0] = torch.stack([(vel[..., :2] * forward).sum(-1), (vel[..., :2] * left).sum(-1), vel[..., 2]], -1)
+    return x.flatten(2)
 
 
 class VGRFNet(nn.Module):

@@ -116,7 +116,7 @@ def test_ot_baseline_finds_the_thresholds_that_made_the_labels():
 
 
 # ----------------------------------------------------------------------------- networks
-def test_vgrf_net_shape_size_and_translation_invariance():
+def test_vgrf_net_shape_size_and_invariance_to_placement_and_heading():
     net = VGRFNet().eval()
     assert 0.9e6 < count_parameters(net) < 1.2e6
     x = torch.randn(2, 37, 23, 3)
@@ -124,6 +124,9 @@ def test_vgrf_net_shape_size_and_translation_invariance():
     assert out.shape == (2, 37, 2, 16) and (out >= 0).all()
     shifted = x + torch.tensor([3.0, -2.0, 0.0])
     assert torch.allclose(net(shifted), out, atol=1e-5)
+    c, s = np.cos(2.0), np.sin(2.0)
+    turned = x @ torch.tensor([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]], dtype=torch.float32)
+    assert torch.allclose(net(turned), out, atol=1e-4)
     assert (net(x + torch.tensor([0.0, 0.0, 0.3])) - out).abs().max() > 1e-5  # height is seen
     assert ContactMLP()(x).shape == (2, 37, 4)
 
