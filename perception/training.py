@@ -152,8 +152,10 @@ def train(dataset: Path, run_dir: Path, config: TrainConfig = TrainConfig(), pro
             state["best"], state["best_epoch"] = val, state["epoch"]
             torch.save(net.state_dict(), run_dir / "best.pt")
         state["wall_s"] = time.time() - start
+        tmp = checkpoint.with_suffix(".tmp")  # written whole, then renamed: a kill never leaves half a file
         torch.save({"net": net.state_dict(), "optimiser": optimiser.state_dict(), "state": state, "rng": rng,
-                    "generator": generator.get_state(), "torch_rng": torch.get_rng_state()}, checkpoint)
+                    "generator": generator.get_state(), "torch_rng": torch.get_rng_state()}, tmp)
+        tmp.replace(checkpoint)
         bar.update(1)
         bar.set_postfix(train=f"{np.mean(losses):.4f}", val=f"{val:.4f}", best=state["best_epoch"])
     bar.close()
