@@ -107,12 +107,21 @@ _BONE_ORDER = list(range(1, N_JOINTS))  # parents always come before their child
 
 def augment(positions: torch.Tensor, forces: torch.Tensor, contacts: torch.Tensor, generator: torch.Generator,
             bone_scale_std: float = 0.05, scale_range: tuple[float, float] = (0.9, 1.1),
-            translation_m: float = 2.0) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
-    """UnderPressure's vGRF-invariant augmentations (§4.3) of a batch ``(B, T, 23, 3)`` with its
-    forces ``(B, T, 2, 16)`` and contacts ``(B, T, 4)``: left/right mirroring (half the batch;
-    feet and contact channels swap), a random rotation about the vertical axis, a random
-    horizontal translation, a global scale, and skeleton variation: each bone's length scaled by
-    ``1 + N(0, bone_scale_std)`` (the same on both sides) with the joint angles kept."""
+            translation_m: float = 2.0, noise_m: float = 0.02, drift_mps: float = 0.2,
+            height_m: float = 0.05) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+    """Augmentations of a batch ``(B, T, 23, 3)`` with its forces ``(B, T, 2, 16)`` and contacts
+    ``(B, T, 4)``.
+
+    UnderPressure's vGRF-invariant ones (§4.3): left/right mirroring (half the batch; feet and
+    contact channels swap), a random rotation about the vertical axis, a random horizontal
+    translation, a global scale, and skeleton variation: each bone's length scaled by
+    ``1 + N(0, bone_scale_std)`` (the same on both sides) with the joint angles kept.
+
+    And the artefacts of the clips the network is used on (IMU mocap, blends), with the labels
+    kept, since our training motion comes from a simulator and has none of them: per window, white
+    noise of σ ~ U(0, ``noise_m``) on every joint, a constant horizontal drift of the whole body
+    at N(0, ``drift_mps``) m/s (foot skate), and a vertical offset ~ U(±``height_m``) (floating or
+    penetration)."""
     B = positions.shape[0]
     x = positions.clone()
     flip = torch.rand(B, generator=generator) < 0.5
@@ -144,7 +153,16 @@ def augment(positions: torch.Tensor, forces: torch.Tensor, contacts: torch.Tenso
                            s[:, None, None] * xy[..., 0] + c[:, None, None] * xy[..., 1]], dim=-1)
     shift = (torch.rand(B, 2, generator=generator) * 2 - 1) * translation_m
     x = torch.cat([rotated + shift[:, None, None], x[..., 2:]], dim=-1) * scale[:, None, None, None]
-    return x, forces, contacts
+    # artefacts: noise, drift, height offset
+    T = x.shape[1]
+    sigma = torch.rand(B, generator=generator) * noise_m
+    x = x + sigma[:, None, None, None] * torch.randn(x.shape, generator=generator)
+    drift = torch.randn(B, 2, generator=generator) * drift_mps
+    t = torch.arange(T, dtype=x.dtype) / 60.0
+    offset = torch.zeros(B, T, 1, 3)
+    offset[..., :2] = (drift[:, None, :] * t[None, :, None])[:, :, None, :]
+    offset[..., 2] = ((torch.rand(B, generator=generator) * 2 - 1) * height_m)[:, None, None]
+    return x + offset, forces, contacts
 
 
 @torch.no_grad()

@@ -142,7 +142,7 @@ def test_augment_mirrors_feet_and_keeps_bone_symmetry(walk):
     forces[:, :, 0] = 1.0  # all weight on the left foot
     contacts = torch.zeros(64, 20, 4, dtype=torch.bool)
     contacts[..., 0] = True
-    x, f, c = augment(pos, forces, contacts, torch.Generator().manual_seed(0))
+    x, f, c = augment(pos, forces, contacts, torch.Generator().manual_seed(0), noise_m=0.0)
     flipped = f[:, 0, 1].sum(-1) > 0
     assert 10 < int(flipped.sum()) < 54
     assert (c[flipped][..., 1]).all() and not c[flipped][..., 0].any() and c[~flipped][..., 0].all()
@@ -155,6 +155,13 @@ def test_augment_mirrors_feet_and_keeps_bone_symmetry(walk):
     ratio = torch.where(flipped, right, left) / original
     other = torch.where(flipped, left, right) / (pos[0, 0, rknee] - pos[0, 0, rhip]).norm()
     assert torch.allclose(ratio, other, atol=1e-4) and ratio.std() > 0.01
+    # the artefact augmentations: noise makes the joints jitter, height offsets move the feet
+    # off the floor, the labels stay as they were
+    noisy, f2, c2 = augment(pos, forces, contacts, torch.Generator().manual_seed(0), noise_m=0.05)
+    jerk = lambda p: (p[:, 2:] - 2 * p[:, 1:-1] + p[:, :-2]).norm(dim=-1).mean()  # noqa: E731
+    assert jerk(noisy) > 5 * jerk(x)
+    lowest = noisy[..., 2].amin(dim=(1, 2))
+    assert lowest.std() > 0.02 and torch.equal(c2.sum(), c.sum())
 
 
 # ----------------------------------------------------------------------------- UnderPressure data
