@@ -28,7 +28,7 @@ from perception.skeleton import motion_joint_positions
 from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
 from perception.vgrf import estimate
-from perception.weights import load_network, ship
+from perception.weights import load_network, record_metrics, ship
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
@@ -64,7 +64,9 @@ def build_parser() -> argparse.ArgumentParser:
         g.add_argument("--out", type=Path, default=Path(default_out), help="where the best weights are shipped")
         g.add_argument("--epochs", type=int, default=t.max_epochs, help="most epochs")
         g.add_argument("--patience", type=int, default=t.patience, help="early-stopping patience (epochs)")
-        g.add_argument("--lr", type=float, default=t.lr)
+        g.add_argument("--lr", type=float, default=t.lr, help="initial Adam learning rate")
+        g.add_argument("--lr-patience", type=int, default=t.lr_patience,
+                       help="halve the learning rate after this many epochs without improvement")
         g.add_argument("--seed", type=int, default=t.seed)
         g.add_argument("--no-augment", action="store_true", help="train without UnderPressure's augmentations")
         g.add_argument("--no-progress", action="store_true")
@@ -76,6 +78,8 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
     g.add_argument("--mlp", type=Path, default=Path("models/contact_mlp"))
     g.add_argument("--json", type=Path)
+    g.add_argument("--record", action="store_true",
+                   help="also store each network's scores as 'metrics' in its sidecar.json (when shipping)")
     g = sub.add_parser("contacts", help="per-frame vGRF per foot and the four contacts of a clip",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     _add_source(g)
@@ -164,6 +168,7 @@ def _run(args: argparse.Namespace) -> dict | None:
         return manifest
     if args.command in ("train-vgrf", "train-mlp"):
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
+                             lr_patience=args.lr_patience,
                              seed=args.seed, augment=not args.no_augment)
         sidecar = train(args.dataset, args.run_dir, config, progress=not args.no_progress)
         ship(args.run_dir, args.out)
@@ -179,6 +184,14 @@ def _run(args: argparse.Namespace) -> dict | None:
         _print_scores(result)
         if args.json:
             write_json(args.json, result)
+        if args.record:
+            for key, folder in (("vgrf", args.vgrf), ("mlp", args.mlp)):
+                if key in result:
+                    metrics = {"split": args.split, "dataset": str(args.dataset), "frames": result["frames"],
+                               "f1": {c: v["f1"] for c, v in result[key].items()}}
+                    if key == "vgrf":
+                        metrics["vgrf_rmse_percent_bw"] = result["vgrf_rmse_percent_bw"]
+                    record_metrics(folder, metrics)
         return result
     if args.command == "contacts":
         positions, fps, name = positions_of(args)

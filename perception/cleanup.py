@@ -3,7 +3,7 @@
 1. Ψ estimates the clip's cell vGRF F̃ and Γ turns them into contacts C (CONTACT_CHANNELS order).
 2. Each contact phase of a channel pins that channel's *contact joint* (the sole point under the
    ball or the heel, :class:`~perception.kinematics.TorchKinematics`) to one position: its mean
-   horizontal position over the phase, at floor height.
+   position over the phase.
 3. Hinge angles, root position and root quaternion are optimised with L-BFGS for
    ``L = ω_q L_quat + ω_f L_foot + ω_t L_traj + ω_v L_vGRF``: L_quat keeps the root quaternion
    unit-norm (eq. 3); L_foot pulls contact joints to their pins, weighted by a rectangular window
@@ -25,7 +25,6 @@ from torch import nn
 from perception.contacts import ContactFunction
 from perception.kinematics import torch_kinematics
 from perception.vgrf import msle
-from reference_motion.humanoid.model import load_model
 from reference_motion.motion import Motion
 
 
@@ -80,15 +79,16 @@ def contact_windows(contacts: np.ndarray, edge_frames: int) -> np.ndarray:
     return out
 
 
-def contact_targets(soles: np.ndarray, contacts: np.ndarray, floor_height: np.ndarray) -> np.ndarray:
+def contact_targets(soles: np.ndarray, contacts: np.ndarray) -> np.ndarray:
     """Pin positions ``(T, 4, 3)`` for the sole points ``(T, 4, 3)``: in each contact phase, the
-    phase's mean horizontal position at ``floor_height (4,)``; NaN outside contact."""
+    phase's mean position; NaN outside contact. (Moving the pins to the floor would also remove
+    floating and penetration, at the price of shifting the whole body; that is the physics
+    cleanup's job, :mod:`agents.clean`.)"""
     out = np.full(soles.shape, np.nan)
     for c in range(contacts.shape[1]):
         edges = np.flatnonzero(np.diff(np.concatenate([[0], contacts[:, c].astype(np.int8), [0]])))
         for start, stop in zip(edges[::2], edges[1::2]):
-            out[start:stop, c, :2] = soles[start:stop, c, :2].mean(axis=0)
-            out[start:stop, c, 2] = floor_height[c]
+            out[start:stop, c] = soles[start:stop, c].mean(axis=0)
     return out
 
 
@@ -113,8 +113,7 @@ def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfi
         joints0, soles0 = kin.points(q0)
         forces0 = net(joints0[None])[0]
     contacts = gamma(forces0.numpy(), fps)
-    rest_soles = load_model(motion.model).forward_kinematics(load_model(motion.model).rest_qpos()).foot_points[0]
-    targets = contact_targets(soles0.numpy(), contacts, rest_soles[:, 2])
+    targets = contact_targets(soles0.numpy(), contacts)
     window = torch.tensor(contact_windows(contacts, int(round(config.edge_s * fps))), dtype=torch.float32)
     pins = torch.tensor(np.nan_to_num(targets), dtype=torch.float32)
     root_speed0 = torch.linalg.norm(torch.diff(q0[:, :3], dim=0), dim=-1) * fps

@@ -27,6 +27,13 @@ def ship(run_dir: Path, out: Path, extra: dict | None = None) -> Path:
     return out
 
 
+def record_metrics(folder: Path, metrics: dict) -> None:
+    """Store ``metrics`` under ``"metrics"`` in the sidecar of the shipped network in ``folder``."""
+    path = Path(folder) / SIDECAR_FILE
+    sidecar = json.loads(path.read_text()) if path.exists() else {}
+    path.write_text(json.dumps({**sidecar, "metrics": metrics}, indent=1))
+
+
 def read_torch_file(file: Path, what: str, missing_hint: str) -> object:
     """``torch.load`` of ``file`` (a ``what``), or a one-line error naming the file."""
     if not file.exists():

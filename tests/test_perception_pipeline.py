@@ -126,7 +126,8 @@ def test_contact_windows_and_targets_by_hand():
     assert not w[:, 1:].any() and w[0, 0] == 0
     soles = np.zeros((12, 4, 3))
     soles[:, 0, 0] = np.arange(12) * 0.01  # the toe slides 1 cm per frame
-    pins = contact_targets(soles, contacts, np.array([0.01, 0.01, 0.02, 0.02]))
+    soles[:, 0, 2] = 0.01
+    pins = contact_targets(soles, contacts)
     assert np.allclose(pins[2:10, 0], [0.055, 0.0, 0.01]) and np.isnan(pins[0, 0]).all()
 
 
