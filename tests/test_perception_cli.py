@@ -41,14 +41,14 @@ def test_contacts_of_an_underpressure_sequence(tmp_path):
     assert len(result["vgrf_bw"]) == int(np.floor((n - 1) * 0.6 + 1e-6)) + 1  # resampled 100 → 60 Hz
 
 
-def test_cleanup_removes_most_skate_from_a_skating_walk(tmp_path):
+def test_cleanup_stills_the_planted_feet_of_a_jittery_walk(tmp_path):
     out = tmp_path / "clean.npz"
-    result = main(["cleanup", "deepmimic:walk", "--corrupt", "skate", "--strength", "1", "--seed", "3",
+    result = main(["cleanup", "deepmimic:walk", "--corrupt", "noise", "--strength", "1", "--seed", "3",
                    "--out", str(out), "--json", str(tmp_path / "r.json")])
-    assert result["foot_speed_before_mps"] > 0.15
-    assert result["reduction"] > 0.6
-    assert result["joint_shift_m"] < 0.05
-    assert out.exists()
+    assert result["foot_speed_before_mps"] > 0.5  # per-frame joint noise shakes the planted feet
+    assert result["reduction"] > 0.8
+    assert result["joint_shift_m"] < 0.03
+    assert out.exists() and json.loads((tmp_path / "r.json").read_text())["reduction"] == result["reduction"]
     with pytest.raises(SystemExit, match="cleanup edits a Motion"):
         main(["cleanup", str(tmp_path / "x.pth"), "--out", str(out)])
 
