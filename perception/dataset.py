@@ -195,6 +195,10 @@ def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tup
     model = {"one": "humanoid_1seg", "two": "humanoid_2seg"}[policy.foot]
     reference = reference_for(variant, model, 2 * 301)
     fps = reference.fps
+    if reference.n_frames <= config.min_episode_s * fps:
+        raise ValueError(f"clip {variant.clip!r} has {reference.n_frames} frames at {fps:g} Hz after a "
+                         f"{variant.speed:.2f}x time warp, not more than min_episode_s = {config.min_episode_s} s: "
+                         "no episode could be kept")
     episode_frames = min(300, reference.n_frames - 1)
     env = gym.make(policy.env_id, clips=[reference], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
     policy.check_env(env)

@@ -18,6 +18,11 @@ from perception.vgrf import VGRFNet
 from perception.weights import load_network, ship
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 
+def walk_clip():
+    from reference_motion.library import load_motion
+    return load_motion("deepmimic:walk")
+
+
 TINY = DatasetConfig(policies=("models/mimic_walk",),
                      clips=("deepmimic:walk", "deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left0"),
                      splits={"val": ["deepmimic:walker/0walk_forward"], "test": ["deepmimic:walker/turn_left0"]},
@@ -65,6 +70,18 @@ def test_dataset_generation_bad_input(tmp_path):
                                                variants=1, episodes=1), progress=False)
     with pytest.raises(FileNotFoundError, match="no shards"):
         load_split(tmp_path / "empty", "train")
+    short = walk_clip().with_qpos(walk_clip().qpos[:40], loop=False)
+    short.save(tmp_path / "short.npz")
+    with pytest.raises(ValueError, match="short.npz' has 43 frames at 60 Hz after a 0.91x time warp.*no episode could be kept"):
+        generate(tmp_path / "c", DatasetConfig(policies=("models/mimic_walk",), clips=(str(tmp_path / "short.npz"),),
+                                               variants=1, episodes=1), progress=False)
+    bad = walk_clip().qpos.copy()
+    bad[5, 10] = np.nan
+    np.savez(tmp_path / "nan.npz", format="physmimic.motion/1", qpos=bad, fps=60.0, model="humanoid_1seg",
+             name="nan", loop=False, source="{}")
+    with pytest.raises(ValueError, match="nan.npz"):
+        generate(tmp_path / "d", DatasetConfig(policies=("models/mimic_walk",), clips=(str(tmp_path / "nan.npz"),),
+                                               variants=1, episodes=1), progress=False)
 
 
 def test_bad_shards_are_named(tmp_path):
