@@ -50,13 +50,13 @@ def main() -> None:
     hm = load_model("humanoid_1seg")
     head = hm.body_names.index("head")
     n = config.episode_frames + 1
+    cleans = [load_motion(clip, min_frames=STARTS[-1] + n + 1) for clip in CLIPS]
+    clean_heads = [hm.forward_kinematics(clean.qpos).body_pos[:, head] for clean in cleans]
     rows = []
     for recipe_name in ("imu", "skate"):
         for strength in args.strengths:
             elrs = []
-            for c, clip in enumerate(CLIPS):
-                clean = load_motion(clip, min_frames=STARTS[-1] + n + 1)
-                clean_head = hm.forward_kinematics(clean.qpos).body_pos[:, head]
+            for c, (clean, clean_head) in enumerate(zip(cleans, clean_heads)):
                 for seed in range(1000 + 100 * c, 1000 + 100 * c + args.seeds):
                     bad = corrupt(clean, ArtefactRecipe.named(recipe_name, strength), seed)
                     bad_head = hm.forward_kinematics(bad.qpos).body_pos[:, head]

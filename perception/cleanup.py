@@ -25,6 +25,7 @@ from torch import nn
 from perception.contacts import ContactFunction
 from perception.kinematics import torch_kinematics
 from perception.vgrf import msle
+from reference_motion.footskate import contact_windows
 from reference_motion.motion import Motion
 
 
@@ -65,13 +66,12 @@ class CleanupResult:
     joint_shift_m: float
 
 
-def contact_windows(contacts: np.ndarray, edge_frames: int) -> np.ndarray:
+def contact_weights(contacts: np.ndarray, edge_frames: int) -> np.ndarray:
     """Per-frame weights ``(T, 4)`` in [0, 1]: 1 inside each contact phase, smoothstep ramps over
     its first and last ``edge_frames`` frames, 0 outside (the Π of underpressure eq. 4)."""
     out = np.zeros(contacts.shape)
     for c in range(contacts.shape[1]):
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], contacts[:, c].astype(np.int8), [0]])))
-        for start, stop in zip(edges[::2], edges[1::2]):
+        for start, stop in contact_windows(contacts[:, c]):
             n = stop - start
             k = np.arange(n)
             ramp = np.minimum(np.minimum(k + 1, n - k) / max(edge_frames, 1), 1.0)
@@ -86,8 +86,7 @@ def contact_targets(soles: np.ndarray, contacts: np.ndarray) -> np.ndarray:
     cleanup's job, :mod:`agents.clean`.)"""
     out = np.full(soles.shape, np.nan)
     for c in range(contacts.shape[1]):
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], contacts[:, c].astype(np.int8), [0]])))
-        for start, stop in zip(edges[::2], edges[1::2]):
+        for start, stop in contact_windows(contacts[:, c]):
             out[start:stop, c] = soles[start:stop, c].mean(axis=0)
     return out
 
@@ -114,7 +113,7 @@ def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfi
         forces0 = net(joints0[None])[0]
     contacts = gamma(forces0.numpy(), fps)
     targets = contact_targets(soles0.numpy(), contacts)
-    window = torch.tensor(contact_windows(contacts, int(round(config.edge_s * fps))), dtype=torch.float32)
+    window = torch.tensor(contact_weights(contacts, int(round(config.edge_s * fps))), dtype=torch.float32)
     pins = torch.tensor(np.nan_to_num(targets), dtype=torch.float32)
     root_speed0 = torch.linalg.norm(torch.diff(q0[:, :3], dim=0), dim=-1) * fps
 

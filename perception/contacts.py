@@ -13,6 +13,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from perception.skeleton import FOOT_JOINTS
+from reference_motion.footskate import contact_windows
 from reference_motion.humanoid.builder import HEEL_CELLS, TOE_CELLS
 from reference_motion.humanoid.model import CONTACT_CHANNELS
 
@@ -61,11 +62,9 @@ def drop_short_phases(contacts: np.ndarray, min_frames: int) -> np.ndarray:
     """``contacts (T, C)`` with every run of ``True`` shorter than ``min_frames`` set to ``False``."""
     out = np.array(contacts, dtype=bool)
     for c in range(out.shape[1]):
-        col = out[:, c]
-        edges = np.flatnonzero(np.diff(np.concatenate([[0], col.astype(np.int8), [0]])))
-        for start, stop in zip(edges[::2], edges[1::2]):
+        for start, stop in contact_windows(out[:, c]):
             if stop - start < min_frames:
-                col[start:stop] = False
+                out[start:stop, c] = False
     return out
 
 

@@ -48,13 +48,13 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.policy import MimicPolicy, load_policy
+from envs.config import FOOT_MODELS, MimicConfig
 from perception.skeleton import N_JOINTS, check_positions, joint_map
 from reference_motion.artefacts import ArtefactRecipe, corrupt
-from reference_motion.footskate import pin_contacts
 from reference_motion.humanoid.model import load_model
-from reference_motion.library import load_motion
+from reference_motion.library import load_motion, warped
 from reference_motion.motion import Motion
-from reference_motion.transforms import mirror, time_warp
+from reference_motion.transforms import ENV_FPS, mirror
 
 SPLITS = ("train", "val", "test")
 
@@ -146,9 +146,7 @@ def plan(config: DatasetConfig) -> list[Variant]:
 
 def reference_for(variant: Variant, model: str, min_frames: int) -> Motion:
     """The reference motion of ``variant`` (loaded, warped, mirrored, corrupted)."""
-    motion = load_motion(variant.clip, model, min_frames=int(min_frames * 1.25) + 2)
-    if variant.speed != 1.0:
-        motion = pin_contacts(time_warp(motion, variant.speed))
+    motion = warped(load_motion(variant.clip, model, min_frames=int(min_frames * 1.25) + 2), variant.speed)
     if variant.mirrored:
         motion = mirror(motion)
     if variant.strength > 0:
@@ -157,7 +155,7 @@ def reference_for(variant: Variant, model: str, min_frames: int) -> Motion:
 
 
 class FrameRecorder:
-    """Records joint positions, cell vGRF, contacts and qpos per frame: install it as both
+    """Records joint positions, cell vGRF and qpos per frame: install it as both
     ``env.substep_hook`` (it sums each substep's cell forces) and ``env.frame_hook``."""
 
     def __init__(self, model_name: str):
@@ -192,17 +190,17 @@ def insole(forces: np.ndarray, fps: float, smoothing_s: float) -> np.ndarray:
 def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tuple[dict[str, np.ndarray], list[dict]]:
     """Re-perform ``config.episodes`` windows of ``variant`` with ``policy``; the kept frames
     (concatenated, ``episode`` numbering them) and one record per episode."""
-    model = {"one": "humanoid_1seg", "two": "humanoid_2seg"}[policy.foot]
-    reference = reference_for(variant, model, 2 * 301)
+    model = FOOT_MODELS[policy.foot]
+    longest = MimicConfig().episode_frames
+    reference = reference_for(variant, model, 2 * (longest + 1))
     fps = reference.fps
     if reference.n_frames <= config.min_episode_s * fps:
         raise ValueError(f"clip {variant.clip!r} has {reference.n_frames} frames at {fps:g} Hz after a "
                          f"{variant.speed:.2f}x time warp, not more than min_episode_s = {config.min_episode_s} s: "
                          "no episode could be kept")
-    episode_frames = min(300, reference.n_frames - 1)
+    episode_frames = min(longest, reference.n_frames - 1)
     env = gym.make(policy.env_id, clips=[reference], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
     policy.check_env(env)
-    humanoid = load_model(model)
     base = env.unwrapped
     recorder = FrameRecorder(model)
     base.frame_hook, base.substep_hook = recorder, recorder.substep
@@ -221,7 +219,8 @@ def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tup
         frames = recorder.take(keep)
         frames["forces_raw"] = frames["forces"]
         frames["forces"] = insole(frames["forces_raw"], fps, config.insole_smoothing_s)
-        frames["contacts"] = np.array([humanoid.foot_contacts(None, c) for c in frames["forces_raw"]]).reshape(-1, 4)
+        frames["contacts"] = np.array([recorder.humanoid.foot_contacts(None, c)
+                                       for c in frames["forces_raw"]]).reshape(-1, 4)
         records.append({"start_frame": int(start), "frames": int(keep), "ended_by": info.get("ended_by", "")})
         if keep >= config.min_episode_s * fps:
             frames["episode"] = np.full(keep, e, dtype=np.int32)
@@ -256,7 +255,7 @@ def generate(out: Path, config: DatasetConfig = DatasetConfig(), progress: bool 
             policies[variant.policy] = load_policy(variant.policy)
         frames, records = perform(variant, policies[variant.policy], config)
         split = config.split_of(variant.clip)
-        meta = {**asdict(variant), "split": split, "episodes": records, "fps": 60.0}
+        meta = {**asdict(variant), "split": split, "episodes": records, "fps": ENV_FPS}
         shard = out / split / variant.shard_name
         shard.parent.mkdir(parents=True, exist_ok=True)
         tmp = shard.with_suffix(".tmp.npz")

@@ -24,10 +24,12 @@ class ContactModels:
     ot: OptimalThresholds | None = None
     mlp: nn.Module | None = None
 
-    def predict(self, name: str, positions: np.ndarray, fps: float, gamma: ContactFunction) -> np.ndarray:
-        """Contacts ``(T, 4)`` (CONTACT_CHANNELS order) of model ``name`` on ``positions (T, 23, 3)``."""
+    def predict(self, name: str, positions: np.ndarray, fps: float, gamma: ContactFunction,
+                forces: np.ndarray | None = None) -> np.ndarray:
+        """Contacts ``(T, 4)`` (CONTACT_CHANNELS order) of model ``name`` on ``positions (T, 23, 3)``;
+        for ``vgrf``, ``forces`` are VGRFNet's estimate when already computed."""
         if name == "vgrf":
-            return gamma(estimate(self.vgrf, positions), fps)
+            return gamma(estimate(self.vgrf, positions) if forces is None else forces, fps)
         if name == "ot":
             return self.ot.predict(positions, fps)
         return estimate(self.mlp, positions) > 0.5
@@ -53,10 +55,12 @@ def evaluate_contacts(sequences: list[Sequence], models: ContactModels,
     truth = np.concatenate([gamma(s.forces, s.fps) for s in sequences])
     out: dict = {"frames": int(len(truth)), "sequences": len(sequences)}
     inputs = [perturb(s.positions) if perturb else s.positions for s in sequences]
+    estimates = [estimate(models.vgrf, x) for x in inputs] if models.vgrf is not None else [None] * len(inputs)
     for name in models.names:
-        pred = np.concatenate([models.predict(name, x, s.fps, gamma) for x, s in zip(inputs, sequences)])
+        pred = np.concatenate([models.predict(name, x, s.fps, gamma, f)
+                               for x, s, f in zip(inputs, sequences, estimates)])
         out[name] = detection_scores(pred, truth)
     if models.vgrf is not None:
-        est = np.concatenate([estimate(models.vgrf, x) for x in inputs])
-        out["vgrf_rmse_percent_bw"] = vgrf_rmse_percent(est, np.concatenate([s.forces for s in sequences]))
+        out["vgrf_rmse_percent_bw"] = vgrf_rmse_percent(np.concatenate(estimates),
+                                                        np.concatenate([s.forces for s in sequences]))
     return out

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import functools
 
+import mujoco
 import numpy as np
 import torch
 
@@ -49,10 +50,11 @@ class TorchKinematics:
         self.model_name = model_name
         self.parent = [int(m.body_parentid[b]) - 1 for b in range(1, m.nbody)]   # -1: the world
         self.offset = torch.tensor(m.body_pos[1:], dtype=torch.float32)
-        self.hinges = [[(int(m.jnt_qposadr[j]), int(np.argmax(np.abs(m.jnt_axis[j]))), float(m.jnt_axis[j].max()
-                         if m.jnt_axis[j].max() > 0 else -1.0))
-                        for j in range(m.njnt) if m.jnt_bodyid[j] == b and m.jnt_type[j] == 3]
-                       for b in range(1, m.nbody)]
+        hinges = [j for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_HINGE]
+        axes = {j: int(np.argmax(np.abs(m.jnt_axis[j]))) for j in hinges}
+        self.hinges = [[(int(m.jnt_qposadr[j]), axes[j], float(m.jnt_axis[j][axes[j]]))
+                        for j in hinges if m.jnt_bodyid[j] == b] for b in range(1, m.nbody)]
+        """Per body: (qpos column, coordinate axis, ±1) of its hinges in MJCF order."""
         jm = joint_map(model_name)
         self.joint_body, self.joint_offset = list(jm.body), torch.tensor(jm.offset, dtype=torch.float32)
         sites = hm.foot_point_sites

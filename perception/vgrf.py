@@ -16,7 +16,7 @@ import numpy as np
 import torch
 from torch import nn
 
-from perception.skeleton import JOINTS, MIRROR, N_JOINTS, PARENTS
+from perception.skeleton import FOOT_JOINTS, JOINTS, MIRROR, N_JOINTS, PARENTS
 
 N_CELLS = 16
 
@@ -141,8 +141,8 @@ def augment(positions: torch.Tensor, forces: torch.Tensor, contacts: torch.Tenso
         rebuilt.append(rebuilt[PARENTS[j]] + offsets[:, :, j - 1] * bone[:, None, j, None])
     x = torch.stack(rebuilt, dim=2)
     # keep the lowest foot joint of the clip on the floor it stood on
-    feet_before = positions[:, :, [JOINTS.index(j) for j in ("left_foot", "right_foot", "left_ankle", "right_ankle")], 2]
-    feet_after = x[:, :, [JOINTS.index(j) for j in ("left_foot", "right_foot", "left_ankle", "right_ankle")], 2]
+    feet_before = positions[:, :, list(FOOT_JOINTS), 2]
+    feet_after = x[:, :, list(FOOT_JOINTS), 2]
     x[..., 2] += (feet_before.amin(dim=(1, 2)) - feet_after.amin(dim=(1, 2)))[:, None, None]
     # global scale, yaw rotation, horizontal translation
     scale = torch.empty(B).uniform_(*scale_range, generator=generator)

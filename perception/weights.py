@@ -16,14 +16,14 @@ KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP}
 WEIGHTS_FILE, SIDECAR_FILE = "model.pt", "sidecar.json"
 
 
-def ship(run_dir: Path, out: Path, extra: dict | None = None) -> Path:
-    """Copy ``run_dir``'s best weights to ``out/model.pt`` with its sidecar (plus ``extra``)."""
+def ship(run_dir: Path, out: Path) -> Path:
+    """Copy ``run_dir``'s best weights to ``out/model.pt`` with its sidecar."""
     run_dir, out = Path(run_dir), Path(out)
     sidecar = json.loads((run_dir / SIDECAR_FILE).read_text())
     out.mkdir(parents=True, exist_ok=True)
     torch.save({"kind": sidecar["kind"], "joints": sidecar["joints"], "fps": sidecar["fps"],
                 "state_dict": torch.load(run_dir / "best.pt")}, out / WEIGHTS_FILE)
-    (out / SIDECAR_FILE).write_text(json.dumps({**sidecar, **(extra or {})}, indent=1))
+    (out / SIDECAR_FILE).write_text(json.dumps(sidecar, indent=1))
     return out
 
 

@@ -79,15 +79,21 @@ def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | N
     return motion
 
 
+def warped(motion: Motion, speed: float) -> Motion:
+    """``motion`` played ``speed`` times as fast (:func:`~reference_motion.transforms.time_warp`)
+    and footskate-cleaned again, since resampling the warped poses lets pinned feet slide by up to
+    one frame's interpolation error; ``motion`` itself at speed 1."""
+    return motion if speed == 1.0 else pin_contacts(time_warp(motion, speed))
+
+
 def augmented(motions: Sequence[Motion], mirrored: bool = False, speeds: Sequence[float] = (1.0,)) -> list[Motion]:
-    """Every clip of ``motions`` at each time-warp speed of ``speeds`` and, if ``mirrored``, also
-    performed by the other side of the body: ``len(motions) · len(speeds) · (2 if mirrored else 1)``
-    clips, the originals first. Warped clips are footskate-cleaned again, since resampling the
-    warped poses lets pinned feet slide by up to one frame's interpolation error."""
+    """Every clip of ``motions`` at each speed of ``speeds`` (:func:`warped`) and, if ``mirrored``,
+    also performed by the other side of the body: ``len(motions) · len(speeds) · (2 if mirrored
+    else 1)`` clips; per clip, the speeds in the order given, then their mirrored copies."""
     if not speeds:
         raise ValueError("speeds is empty: give at least one time-warp speed (1.0 = unchanged)")
     out = []
     for motion in motions:
-        variants = [motion if s == 1.0 else pin_contacts(time_warp(motion, s)) for s in speeds]
+        variants = [warped(motion, s) for s in speeds]
         out += variants + ([mirror(v) for v in variants] if mirrored else [])
     return out

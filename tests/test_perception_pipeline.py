@@ -9,7 +9,7 @@ import pytest
 import torch
 
 from perception.__main__ import main
-from perception.cleanup import cleanup, contact_targets, contact_windows
+from perception.cleanup import cleanup, contact_targets, contact_weights
 from perception.contacts import ContactFunction
 from perception.dataset import DatasetConfig, generate, load_split
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
@@ -135,10 +135,10 @@ def test_evaluation_scores_all_three_models(dataset):
     assert result["vgrf_rmse_percent_bw"] > 0
 
 
-def test_contact_windows_and_targets_by_hand():
+def test_contact_weights_and_targets_by_hand():
     contacts = np.zeros((12, 4), bool)
     contacts[2:10, 0] = True
-    w = contact_windows(contacts, edge_frames=2)
+    w = contact_weights(contacts, edge_frames=2)
     assert w[2, 0] == pytest.approx(0.5) and np.allclose(w[3:9, 0], 1.0) and w[9, 0] == pytest.approx(0.5)
     assert not w[:, 1:].any() and w[0, 0] == 0
     soles = np.zeros((12, 4, 3))
