@@ -6,6 +6,8 @@ Examples::
     python -m perception train-vgrf --dataset data/physics --run-dir runs/vgrf --out models/vgrf
     python -m perception train-mlp --dataset data/physics --run-dir runs/contact_mlp --out models/contact_mlp
     python -m perception evaluate-contacts --dataset data/physics --split test --json out/contacts.json
+    python -m perception train-keypoints --dataset data/physics --run-dir runs/contact_transformer
+    python -m perception evaluate-keypoints --dataset data/physics --split test --json out/keypoints.json
     python -m perception contacts deepmimic:walk --plot out/walk_contacts.png --json out/walk_contacts.json
     python -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --out out/turn_left1_clean.npz
 """
@@ -24,6 +26,10 @@ from perception.cleanup import CleanupConfig, cleanup
 from perception.contacts import CONTACT_NAMES, ContactFunction
 from perception.dataset import SPLITS, DatasetConfig, generate, load_split
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
+from perception.keypoint_data import load_keypoint_split, held_out_views
+from perception.keypoint_evaluation import GAIT_RATIOS, evaluate_keypoint_contacts, film_split
+from perception.keypoint_training import SAMPLINGS, KeypointTrainConfig, train_keypoints
+from perception.keypoints import KEYPOINT_SETS
 from perception.skeleton import motion_joint_positions
 from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
@@ -71,6 +77,34 @@ def build_parser() -> argparse.ArgumentParser:
         g.add_argument("--no-augment", action="store_true", help="train without UnderPressure's augmentations")
         g.add_argument("--no-progress", action="store_true")
         g.set_defaults(kind=kind)
+    k = KeypointTrainConfig()
+    g = sub.add_parser("train-keypoints", help="train the ContactTransformer on filmed physics data (ContactVision)",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("--dataset", type=Path, required=True)
+    g.add_argument("--run-dir", type=Path, required=True, help="checkpoints (resumes if it exists)")
+    g.add_argument("--out", type=Path, default=Path("models/contact_transformer"),
+                   help="where the best weights are shipped")
+    g.add_argument("--keypoints", choices=tuple(KEYPOINT_SETS), default=k.keypoints,
+                   help="lower body (13, ContactVision) or full body (25; ablation)")
+    g.add_argument("--positional", choices=("learnable", "sinusoidal"), default=k.positional)
+    g.add_argument("--sampling", choices=SAMPLINGS, default=k.sampling,
+                   help="random subsequences (ContactVision) or stride-1 sliding windows (ablation)")
+    g.add_argument("--epochs", type=int, default=k.max_epochs, help="most epochs")
+    g.add_argument("--patience", type=int, default=k.patience, help="early-stopping patience (epochs)")
+    g.add_argument("--lr", type=float, default=k.lr, help="Adam learning rate")
+    g.add_argument("--windows-per-epoch", type=int, default=k.windows_per_epoch)
+    g.add_argument("--seed", type=int, default=k.seed)
+    g.add_argument("--no-progress", action="store_true")
+    g = sub.add_parser("evaluate-keypoints", help="contact F1 and gait-ratio errors of the ContactTransformer on "
+                       "views never used in training", formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("--dataset", type=Path, required=True)
+    g.add_argument("--split", choices=SPLITS, default="test")
+    g.add_argument("--net", type=Path, default=Path("models/contact_transformer"))
+    g.add_argument("--views", choices=("rig", "handheld"), nargs="+", default=["rig", "handheld"],
+                   help="static test cameras and/or hand-held ones, at the test azimuths")
+    g.add_argument("--seed", type=int, default=0, help="detector noise seed")
+    g.add_argument("--json", type=Path)
+    g.add_argument("--record", action="store_true", help="also store the scores as 'metrics' in the net's sidecar.json")
     g = sub.add_parser("evaluate-contacts", help="F1 of VGRFNet+Γ, OT and MLP; vGRF RMSE",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     g.add_argument("--dataset", type=Path, required=True)
@@ -125,6 +159,15 @@ def _print_scores(result: dict) -> None:
         print(f"  vGRF RMSE (per-foot total): {result['vgrf_rmse_percent_bw']:.1f}% body weight")
 
 
+def _print_keypoint_scores(kind: str, result: dict) -> None:
+    overall = result["scores"]["overall"]
+    print(f"{kind} views: {result['frames']} frames in {result['sequences']} filmed sequences: precision "
+          f"{overall['precision']:.3f}, recall {overall['recall']:.3f}, F1 {overall['f1']:.3f}")
+    print("  F1 per channel: " + ", ".join(f"{c} {result['scores'][c]['f1']:.3f}" for c in CONTACT_NAMES))
+    print("  gait-ratio MAE (pp): " + ", ".join(f"{g} {result['gait'][f'{g}_mae_pp']:.1f}" for g in GAIT_RATIOS)
+          + f" over {result['gait']['sequences']} sequences")
+
+
 def plot_contacts(path: Path, forces: np.ndarray, contacts: np.ndarray, fps: float, title: str) -> Path:
     """PNG of per-foot vGRF (body weights) over time with heel/toe contact bands."""
     import matplotlib
@@ -166,13 +209,35 @@ def _run(args: argparse.Namespace) -> dict | None:
             print(f"{split:>5}: {s['frames']:>7} frames, {s['episodes']:>4} episodes, {len(s['clips'])} clips, "
                   f"endings {s['endings']}")
         return manifest
+    if args.command == "train-keypoints":
+        config = KeypointTrainConfig(keypoints=args.keypoints, positional=args.positional, sampling=args.sampling,
+                                     max_epochs=args.epochs, patience=args.patience, lr=args.lr,
+                                     windows_per_epoch=args.windows_per_epoch, seed=args.seed)
+        sidecar = train_keypoints(args.dataset, args.run_dir, config, progress=not args.no_progress)
+        ship(args.run_dir, args.out)
+        print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} (val F1 {1 - sidecar['best_val']:.3f}, "
+              f"{sidecar['wall_s']:.0f} s); shipped to {args.out}")
+        return sidecar
+    if args.command == "evaluate-keypoints":
+        net = load_network(args.net, "keypoints")
+        sequences = load_keypoint_split(args.dataset, args.split)
+        result = {"split": args.split, "net": str(args.net)}
+        for kind in args.views:
+            filmed = film_split(sequences, held_out_views(kind=kind), net.config["keypoints"], args.seed, test=True)
+            result[kind] = evaluate_keypoint_contacts(net, filmed, progress=True)
+            _print_keypoint_scores(kind, result[kind])
+        if args.json:
+            write_json(args.json, result)
+        if args.record:
+            record_metrics(args.net, result)
+        return result
     if args.command in ("train-vgrf", "train-mlp"):
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                              lr_patience=args.lr_patience,
                              seed=args.seed, augment=not args.no_augment)
         sidecar = train(args.dataset, args.run_dir, config, progress=not args.no_progress)
         ship(args.run_dir, args.out)
-        print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} (val loss {sidecar['best_val_loss']:.5f}, "
+        print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} (val loss {sidecar['best_val']:.5f}, "
               f"{sidecar['wall_s']:.0f} s); weights in {args.out}")
         return sidecar
     if args.command == "evaluate-contacts":

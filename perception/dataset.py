@@ -53,7 +53,7 @@ from perception.skeleton import N_JOINTS, check_positions, joint_map
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion, warped
-from reference_motion.motion import Motion
+from reference_motion.motion import MODEL_NQ, Motion
 from reference_motion.transforms import ENV_FPS, mirror
 
 SPLITS = ("train", "val", "test")
@@ -279,13 +279,16 @@ def generate(out: Path, config: DatasetConfig = DatasetConfig(), progress: bool 
 @dataclass
 class Sequence:
     """One recorded episode: ``positions (T, 23, 3)`` m, ``forces (T, 2, 16)`` BW, physics
-    ``contacts (T, 4)`` (CONTACT_CHANNELS order), ``fps`` and the source ``clip``."""
+    ``contacts (T, 4)`` (CONTACT_CHANNELS order), ``fps``, the source ``clip``, and the simulated
+    character's ``qpos (T, nq)`` on humanoid ``model`` (``None`` for data not from our simulator)."""
 
     positions: np.ndarray
     forces: np.ndarray
     contacts: np.ndarray
     fps: float
     clip: str
+    qpos: np.ndarray | None = None
+    model: str | None = None
 
 
 def load_split(root: Path, split: str) -> list[Sequence]:
@@ -299,14 +302,22 @@ def load_split(root: Path, split: str) -> list[Sequence]:
     out = []
     for shard in shards:
         with np.load(shard) as z:
-            for key in ("positions", "forces", "contacts", "episode", "meta"):
+            for key in ("positions", "forces", "contacts", "qpos", "episode", "meta"):
                 if key not in z.files:
                     raise ValueError(f"{shard}: not a physmimic dataset shard (missing field {key!r})")
             meta = json.loads(str(z["meta"]))
-            positions = check_positions(z["positions"], str(shard)) if len(z["episode"]) else None
+            if not len(z["episode"]):
+                continue
+            positions = check_positions(z["positions"], str(shard))
+            qpos = z["qpos"]
+            model = next((m for m, nq in MODEL_NQ.items() if qpos.shape[1] == nq), None)
+            if model is None:
+                raise ValueError(f"{shard}: field 'qpos' has {qpos.shape[1]} columns; expected one of "
+                                 + ", ".join(f"{nq} ({m})" for m, nq in MODEL_NQ.items()))
             for e in np.unique(z["episode"]):
                 rows = z["episode"] == e
-                out.append(Sequence(positions[rows], z["forces"][rows], z["contacts"][rows], meta["fps"], meta["clip"]))
+                out.append(Sequence(positions[rows], z["forces"][rows], z["contacts"][rows], meta["fps"], meta["clip"],
+                                    qpos[rows], model))
     return out
 
 

@@ -24,21 +24,43 @@ from reference_motion.motion import Motion
 
 KEYPOINTS = ("mid_hip", "right_hip", "right_knee", "right_ankle", "left_hip", "left_knee", "left_ankle",
              "left_big_toe", "left_small_toe", "left_heel", "right_big_toe", "right_small_toe", "right_heel")
+"""The 13 lower-body keypoints ContactVision reads (mid hip first: inputs are relative to it)."""
+
+FULL_BODY_KEYPOINTS = KEYPOINTS + ("nose", "neck", "right_shoulder", "right_elbow", "right_wrist", "left_shoulder",
+                                   "left_elbow", "left_wrist", "right_eye", "left_eye", "right_ear", "left_ear")
+"""All 25 of OpenPose BODY_25 (lower body first), for ContactVision's full-body ablation."""
+
+KEYPOINT_SETS = {"lower": KEYPOINTS, "full": FULL_BODY_KEYPOINTS}
 
 # foot keypoints in the foot body's rest frame (m): toe tip 2 cm above the sole, medial / lateral
 # edge; heel 1 cm in front of the back of the sole
 _TOE_TIP_X, _TOE_EDGE_Y, _HEEL_X, _ABOVE_SOLE = 0.205, 0.03, -0.045, 0.02
+# upper-body keypoints: (body, offset in its frame, m); the head is a 10 cm sphere centred
+# (0.01, 0, 0.1) in the head frame, x forward
+_UPPER_BODY = {"nose": ("head", (0.11, 0.0, 0.1)), "neck": ("neck", (0.0, 0.0, 0.0)),
+               "right_eye": ("head", (0.09, -0.035, 0.13)), "left_eye": ("head", (0.09, 0.035, 0.13)),
+               "right_ear": ("head", (0.01, -0.1, 0.1)), "left_ear": ("head", (0.01, 0.1, 0.1))}
+for _side, _s in (("right", "r"), ("left", "l")):
+    _UPPER_BODY.update({f"{_side}_shoulder": (f"{_s}_upper_arm", (0.0, 0.0, 0.0)),
+                        f"{_side}_elbow": (f"{_s}_forearm", (0.0, 0.0, 0.0)),
+                        f"{_side}_wrist": (f"{_s}_hand", (0.0, 0.0, 0.0))})
 
 
 @functools.lru_cache(maxsize=None)
-def keypoint_map(model_name: str) -> JointMap:
-    """Where each keypoint sits on ``humanoid_1seg`` or ``humanoid_2seg`` (body and offset)."""
+def keypoint_map(model_name: str, keypoints: tuple[str, ...] = KEYPOINTS) -> JointMap:
+    """Where each of ``keypoints`` (names from :data:`FULL_BODY_KEYPOINTS`) sits on
+    ``humanoid_1seg`` or ``humanoid_2seg`` (body and offset)."""
     hm = load_model(model_name)
     m = hm.model
     names = hm.body_names
     kin = hm.forward_kinematics(hm.rest_qpos())
     bodies, offsets = [], []
-    for key in KEYPOINTS:
+    for key in keypoints:
+        if key in _UPPER_BODY:
+            body, offset = _UPPER_BODY[key]
+            bodies.append(names.index(body))
+            offsets.append(np.array(offset))
+            continue
         if key == "mid_hip":
             bodies.append(names.index("pelvis"))
             offsets.append(0.5 * (m.body_pos[m.body("l_thigh").id] + m.body_pos[m.body("r_thigh").id]))
@@ -64,10 +86,10 @@ def keypoint_map(model_name: str) -> JointMap:
     return JointMap(model_name, np.array(bodies), np.array(offsets, dtype=float))
 
 
-def motion_keypoints(motion: Motion) -> np.ndarray:
-    """The 13 keypoints ``(T, 13, 3)`` of every frame of ``motion`` (world, m)."""
+def motion_keypoints(motion: Motion, keypoints: tuple[str, ...] = KEYPOINTS) -> np.ndarray:
+    """The ``keypoints`` ``(T, K, 3)`` of every frame of ``motion`` (world, m)."""
     kin = load_model(motion.model).forward_kinematics(motion.qpos)
-    return keypoint_map(motion.model).positions(kin.body_pos, kin.body_quat)
+    return keypoint_map(motion.model, keypoints).positions(kin.body_pos, kin.body_quat)
 
 
 # ----------------------------------------------------------------------------- cameras
@@ -118,37 +140,46 @@ def _follow(pelvis: np.ndarray, azimuth: float, distance: float, height: float, 
     return position, target
 
 
+def follow_camera(pelvis: np.ndarray, azimuth: float, distance: float = 4.0, height: float = 1.0,
+                  aim_height: float = 0.6, focal_px: float = 1000.0, width: int = 1280, height_px: int = 720) -> Camera:
+    """A camera ``distance`` m from the subject horizontally, in world direction ``azimuth`` (rad,
+    from +x towards +y), ``height`` m above the floor, aimed at ``aim_height`` above the pelvis'
+    ground point, following the pelvis trajectory ``(T, 3)`` horizontally (a dolly, not a pan)."""
+    position, target = _follow(pelvis, azimuth, distance, height, aim_height)
+    return Camera(position, look_at(position, target), focal_px, width, height_px)
+
+
 def ring_cameras(pelvis: np.ndarray, n: int = 8, distance: float = 4.0, height: float = 1.0,
                  focal_px: float = 1000.0, width: int = 1280, height_px: int = 720) -> list[Camera]:
-    """``n`` views at azimuths 0, 360/n, ... degrees around the subject (ContactVision Fig. 2),
-    ``distance`` m away horizontally at ``height`` m, aimed at the lower body (0.6 m) and
-    following the pelvis trajectory ``(T, 3)`` horizontally (a dolly, not a pan)."""
-    out = []
-    for k in range(n):
-        position, target = _follow(pelvis, 2 * np.pi * k / n, distance, height, 0.6)
-        out.append(Camera(position, look_at(position, target), focal_px, width, height_px))
-    return out
+    """``n`` :func:`follow_camera` views at azimuths 0, 360/n, ... degrees around the subject
+    (ContactVision Fig. 2), aimed at the lower body (0.6 m)."""
+    return [follow_camera(pelvis, 2 * np.pi * k / n, distance, height, 0.6, focal_px, width, height_px)
+            for k in range(n)]
 
 
-def _random_view(rng: np.random.Generator) -> dict:
-    """Azimuth, distance (2.5–6 m), height (0.3–2 m), aim height (0.3–0.9 m), focal (700–1500 px)."""
-    return {"azimuth": rng.uniform(0, 2 * np.pi), "distance": rng.uniform(2.5, 6.0), "height": rng.uniform(0.3, 2.0),
-            "aim_height": rng.uniform(0.3, 0.9), "focal_px": float(rng.uniform(700, 1500))}
+def _random_view(rng: np.random.Generator, azimuth: float | None) -> dict:
+    """Azimuth (rad; uniform unless given), distance (2.5–6 m), height (0.3–2 m), aim height
+    (0.3–0.9 m), focal length (700–1500 px)."""
+    return {"azimuth": rng.uniform(0, 2 * np.pi) if azimuth is None else azimuth, "distance": rng.uniform(2.5, 6.0),
+            "height": rng.uniform(0.3, 2.0), "aim_height": rng.uniform(0.3, 0.9), "focal_px": float(rng.uniform(700, 1500))}
 
 
-def random_camera(pelvis: np.ndarray, rng: np.random.Generator, width: int = 1280, height_px: int = 720) -> Camera:
-    """A random view following the pelvis trajectory ``(T, 3)`` (:func:`_random_view`)."""
-    v = _random_view(rng)
-    position, target = _follow(pelvis, v["azimuth"], v["distance"], v["height"], v["aim_height"])
-    return Camera(position, look_at(position, target), v["focal_px"], width, height_px)
+def random_camera(pelvis: np.ndarray, rng: np.random.Generator, azimuth: float | None = None, width: int = 1280,
+                  height_px: int = 720) -> Camera:
+    """A random view (:func:`_random_view`; at ``azimuth`` rad when given) following the pelvis
+    trajectory ``(T, 3)``."""
+    v = _random_view(rng, azimuth)
+    return follow_camera(pelvis, v["azimuth"], v["distance"], v["height"], v["aim_height"], v["focal_px"], width,
+                         height_px)
 
 
-def handheld_camera(pelvis: np.ndarray, rng: np.random.Generator, fps: float = 60.0, lag_s: float = 0.5,
-                    shake_m: float = 0.03, shake_rad: float = 0.01, width: int = 1280, height_px: int = 720) -> Camera:
-    """A hand-held random view: the operator walks after the subject with ``lag_s`` of smoothing
-    and keeps it aimed, with positional (``shake_m``, m) and angular (``shake_rad``) hand shake
-    varying over ~0.1 s."""
-    v = _random_view(rng)
+def handheld_camera(pelvis: np.ndarray, rng: np.random.Generator, azimuth: float | None = None, fps: float = 60.0,
+                    lag_s: float = 0.5, shake_m: float = 0.03, shake_rad: float = 0.01, width: int = 1280,
+                    height_px: int = 720) -> Camera:
+    """A hand-held random view (at ``azimuth`` rad when given): the operator walks after the
+    subject with ``lag_s`` of smoothing and keeps it aimed, with positional (``shake_m``, m) and
+    angular (``shake_rad``) hand shake varying over ~0.1 s."""
+    v = _random_view(rng, azimuth)
     lagged = gaussian_filter1d(pelvis, sigma=lag_s * fps, axis=0, mode="nearest")
     position, _ = _follow(lagged, v["azimuth"], v["distance"], v["height"], v["aim_height"])
     _, target = _follow(pelvis, v["azimuth"], v["distance"], v["height"], v["aim_height"])
@@ -162,7 +193,7 @@ def handheld_camera(pelvis: np.ndarray, rng: np.random.Generator, fps: float = 6
 # ----------------------------------------------------------------------------- observing
 def observe(points: np.ndarray, camera: Camera, rng: np.random.Generator, noise_px: float = 2.0,
             drop_prob: float = 0.02) -> np.ndarray:
-    """Detector-like keypoints ``(T, 13, 3)`` = (u, v, confidence) of world points ``(T, 13, 3)``:
+    """Detector-like keypoints ``(T, K, 3)`` = (u, v, confidence) of world points ``(T, K, 3)``:
     Gaussian pixel noise of ``noise_px``, confidence falling with the noise drawn (0.5–1), and
     points dropped (confidence 0, u = v = 0) with probability ``drop_prob`` or when behind the
     camera or outside the image."""

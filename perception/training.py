@@ -1,5 +1,8 @@
 """Training the contact networks on a physics-labelled dataset: seeded, resumable, early-stopped.
 
+:func:`fit` is the loop every network here is trained with (a :class:`TrainingTask` supplies the
+network, its batches and its validation score); this module's task is the force-side one:
+
 ``kind="vgrf"`` trains :class:`~perception.vgrf.VGRFNet` on the cell vGRF with MSLE
 (underpressure eq. 1); ``kind="mlp"`` trains the :class:`~perception.vgrf.ContactMLP` baseline on
 Γ's contact labels with binary cross-entropy. Each epoch draws fresh random windows from the
@@ -15,6 +18,7 @@ import sys
 import time
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Protocol
 
 import numpy as np
 import torch
@@ -24,8 +28,10 @@ from tqdm import tqdm
 from perception.contacts import ContactFunction
 from perception.dataset import Sequence, load_split
 from perception.skeleton import JOINTS
-from perception.vgrf import augment, count_parameters, msle
-from perception.weights import KINDS, SIDECAR_FILE
+from perception.vgrf import ContactMLP, VGRFNet, augment, count_parameters, msle
+from perception.weights import SIDECAR_FILE
+
+FORCE_KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP}
 
 
 @dataclass(frozen=True)
@@ -87,38 +93,75 @@ def loss_fn(kind: str, net: nn.Module, positions: torch.Tensor, forces: torch.Te
     return nn.functional.binary_cross_entropy_with_logits(out, contacts.float())
 
 
-@torch.no_grad()
-def validation_loss(kind: str, net: nn.Module, data: Tensors) -> float:
-    """Frame-weighted mean loss over whole validation sequences."""
-    net.eval()
-    total = 0.0
-    for p, f, c in zip(data.positions, data.forces, data.contacts):
-        total += float(loss_fn(kind, net, p[None], f[None], c[None])) * len(p)
-    net.train()
-    return total / float(data.lengths.sum())
+class TrainingTask(Protocol):
+    """What :func:`fit` trains: a network, a loss on one fresh training batch, and a validation
+    score (lower is better) that picks the best epoch and stops training."""
+
+    def network(self) -> nn.Module: ...
+
+    def training_loss(self, net: nn.Module, rng: np.random.Generator, generator: torch.Generator) -> torch.Tensor: ...
+
+    def validation_score(self, net: nn.Module) -> float: ...
+
+    def sidecar(self, net: nn.Module) -> dict:
+        """Entries of the shipped sidecar: ``kind``, ``joints`` (input point names), ``fps``,
+        ``network`` (constructor arguments), ``dataset``."""
 
 
-def train(dataset: Path, run_dir: Path, config: TrainConfig = TrainConfig(), progress: bool = True) -> dict:
-    """Train (or resume training) in ``run_dir``; returns the sidecar of the best epoch."""
-    if config.kind not in KINDS:
-        raise ValueError(f"unknown network kind {config.kind!r}; expected one of {', '.join(KINDS)}")
+class ForceTask:
+    """VGRFNet (MSLE on cell vGRF) or the contact MLP (BCE on Γ labels) on a physics dataset;
+    validation by the loss over whole ``val`` sequences."""
+
+    def __init__(self, dataset: Path, config: TrainConfig):
+        if config.kind not in FORCE_KINDS:
+            raise ValueError(f"unknown network kind {config.kind!r}; expected one of {', '.join(FORCE_KINDS)}")
+        self.dataset, self.config = dataset, config
+        gamma = ContactFunction()
+        self.train_data = Tensors(load_split(dataset, "train"), gamma)
+        self.val_data = Tensors(load_split(dataset, "val"), gamma)
+        for name, data in (("train", self.train_data), ("val", self.val_data)):
+            if not data.lengths.sum():
+                raise ValueError(f"{dataset}/{name}: no frames (every episode was shorter than the dataset's minimum)")
+
+    def network(self) -> nn.Module:
+        return FORCE_KINDS[self.config.kind]()
+
+    def training_loss(self, net: nn.Module, rng: np.random.Generator, generator: torch.Generator) -> torch.Tensor:
+        p, f, c = self.train_data.windows(self.config.batch_size, self.config.window, rng)
+        if self.config.augment:
+            p, f, c = augment(p, f, c, generator)
+        return loss_fn(self.config.kind, net, p, f, c)
+
+    @torch.no_grad()
+    def validation_score(self, net: nn.Module) -> float:
+        """Frame-weighted mean loss over whole validation sequences."""
+        total = 0.0
+        for p, f, c in zip(self.val_data.positions, self.val_data.forces, self.val_data.contacts):
+            total += float(loss_fn(self.config.kind, net, p[None], f[None], c[None])) * len(p)
+        return total / float(self.val_data.lengths.sum())
+
+    def sidecar(self, net: nn.Module) -> dict:
+        return {"kind": self.config.kind, "joints": list(JOINTS), "fps": net.fps, "network": {"fps": net.fps},
+                "dataset": str(self.dataset)}
+
+
+def fit(task: TrainingTask, run_dir: Path, config, progress: bool = True) -> dict:
+    """Train ``task`` (or resume its training) in ``run_dir`` with Adam, the learning rate halved
+    after ``config.lr_patience`` epochs without a better validation score and training stopped
+    after ``config.patience``; ``config`` is a dataclass with ``lr``, ``max_epochs``,
+    ``lr_patience``, ``patience``, ``batch_size``, ``windows_per_epoch`` and ``seed``, all
+    recorded. Every epoch ends with an atomic checkpoint; returns the sidecar of the best epoch."""
     run_dir = Path(run_dir)
     run_dir.mkdir(parents=True, exist_ok=True)
     settings = run_dir / "config.json"
     extendable = ("max_epochs", "patience", "lr_patience")  # a resumed run may be given more epochs or patience
     if settings.exists():
         stored = {k: v for k, v in json.loads(settings.read_text()).items() if k not in extendable}
-        if stored != {k: v for k, v in asdict(config).items() if k not in extendable}:
+        if stored != {k: v for k, v in json.loads(json.dumps(asdict(config))).items() if k not in extendable}:
             raise ValueError(f"{settings}: {run_dir} holds a run with other settings; use a new run directory")
     settings.write_text(json.dumps(asdict(config), indent=1))
-    gamma = ContactFunction()
-    train_data = Tensors(load_split(dataset, "train"), gamma)
-    val_data = Tensors(load_split(dataset, "val"), gamma)
-    for name, data in (("train", train_data), ("val", val_data)):
-        if not data.lengths.sum():
-            raise ValueError(f"{dataset}/{name}: no frames (every episode was shorter than the dataset's minimum)")
     torch.manual_seed(config.seed)
-    net = KINDS[config.kind]()
+    net = task.network()
     optimiser = torch.optim.Adam(net.parameters(), lr=config.lr)
     schedule = torch.optim.lr_scheduler.ReduceLROnPlateau(optimiser, factor=0.5, patience=config.lr_patience)
     state = {"epoch": 0, "best": float("inf"), "best_epoch": 0, "wall_s": 0.0, "history": []}
@@ -135,24 +178,23 @@ def train(dataset: Path, run_dir: Path, config: TrainConfig = TrainConfig(), pro
         torch.set_rng_state(saved["torch_rng"])
         print(f"resuming {run_dir} after epoch {state['epoch']}", flush=True)
     start = time.time() - state["wall_s"]
-    bar = tqdm(total=config.max_epochs, initial=state["epoch"], desc=f"training {config.kind}", unit="epoch",
+    name = task.sidecar(net)["kind"]
+    bar = tqdm(total=config.max_epochs, initial=state["epoch"], desc=f"training {name}", unit="epoch",
                disable=not progress)
     while state["epoch"] < config.max_epochs and state["epoch"] - state["best_epoch"] < config.patience:
         net.train()
         losses = []
         for _ in range(config.windows_per_epoch // config.batch_size):
-            p, f, c = train_data.windows(config.batch_size, config.window, rng)
-            if config.augment:
-                p, f, c = augment(p, f, c, generator)
-            loss = loss_fn(config.kind, net, p, f, c)
+            loss = task.training_loss(net, rng, generator)
             optimiser.zero_grad()
             loss.backward()
             optimiser.step()
             losses.append(loss.item())
         state["epoch"] += 1
-        val = validation_loss(config.kind, net, val_data)
+        net.eval()
+        val = task.validation_score(net)
         schedule.step(val)
-        state["history"].append({"epoch": state["epoch"], "train_loss": float(np.mean(losses)), "val_loss": val,
+        state["history"].append({"epoch": state["epoch"], "train_loss": float(np.mean(losses)), "val": val,
                                  "lr": optimiser.param_groups[0]["lr"]})
         if val < state["best"]:
             state["best"], state["best_epoch"] = val, state["epoch"]
@@ -166,9 +208,14 @@ def train(dataset: Path, run_dir: Path, config: TrainConfig = TrainConfig(), pro
         bar.update(1)
         bar.set_postfix(train=f"{np.mean(losses):.4f}", val=f"{val:.4f}", best=state["best_epoch"])
     bar.close()
-    sidecar = {"kind": config.kind, "joints": list(JOINTS), "fps": 60.0, "parameters": count_parameters(net),
-               "dataset": str(dataset), "config": asdict(config), "epochs": state["epoch"],
-               "best_epoch": state["best_epoch"], "best_val_loss": state["best"], "wall_s": state["wall_s"],
-               "command": "python -m perception " + " ".join(sys.argv[1:]), "history": state["history"]}
+    sidecar = {**task.sidecar(net), "parameters": count_parameters(net), "config": asdict(config),
+               "epochs": state["epoch"], "best_epoch": state["best_epoch"], "best_val": state["best"],
+               "wall_s": state["wall_s"], "command": "python -m perception " + " ".join(sys.argv[1:]),
+               "history": state["history"]}
     (run_dir / SIDECAR_FILE).write_text(json.dumps(sidecar, indent=1))
     return sidecar
+
+
+def train(dataset: Path, run_dir: Path, config: TrainConfig = TrainConfig(), progress: bool = True) -> dict:
+    """Train (or resume training) a VGRFNet or contact MLP in ``run_dir``; returns the sidecar of the best epoch."""
+    return fit(ForceTask(Path(dataset), config), run_dir, config, progress)

@@ -54,6 +54,7 @@ class VGRFNet(nn.Module):
                  kernel: int = 7, dropout: float = 0.2):
         super().__init__()
         self.fps = float(fps)
+        self.input_names = JOINTS
         layers: list[nn.Module] = []
         width = 3 * N_JOINTS
         for c in channels:
@@ -81,6 +82,7 @@ class ContactMLP(nn.Module):
     def __init__(self, fps: float = 60.0, hidden: int = 128):
         super().__init__()
         self.fps = float(fps)
+        self.input_names = JOINTS
         self.net = nn.Sequential(nn.Linear(6 * N_JOINTS, hidden), nn.ReLU(), nn.Linear(hidden, hidden), nn.ReLU(),
                                  nn.Linear(hidden, hidden), nn.ReLU(), nn.Linear(hidden, 4))
 

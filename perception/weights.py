@@ -1,5 +1,6 @@
-"""Shipped contact networks: ``DIR/model.pt`` (kind, joint set, frame rate, weights) with a
-``DIR/sidecar.json`` (command, seed, epochs, wall time, metrics), and loading them with clear errors."""
+"""Shipped contact networks: ``DIR/model.pt`` (kind, input points, frame rate, constructor
+arguments, weights) with a ``DIR/sidecar.json`` (command, seed, epochs, wall time, metrics), and
+loading them with clear errors."""
 
 from __future__ import annotations
 
@@ -9,10 +10,12 @@ from pathlib import Path
 import torch
 from torch import nn
 
-from perception.skeleton import JOINTS
+from perception.contact_transformer import ContactTransformer
 from perception.vgrf import ContactMLP, VGRFNet
 
-KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP}
+KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP, "keypoints": ContactTransformer}
+"""Network classes by kind; each has ``input_names`` (the points it reads, in order) and ``fps``."""
+TRAIN_COMMANDS = {"vgrf": "train-vgrf", "mlp": "train-mlp", "keypoints": "train-keypoints"}
 WEIGHTS_FILE, SIDECAR_FILE = "model.pt", "sidecar.json"
 
 
@@ -22,6 +25,7 @@ def ship(run_dir: Path, out: Path) -> Path:
     sidecar = json.loads((run_dir / SIDECAR_FILE).read_text())
     out.mkdir(parents=True, exist_ok=True)
     torch.save({"kind": sidecar["kind"], "joints": sidecar["joints"], "fps": sidecar["fps"],
+                "network": sidecar.get("network", {"fps": sidecar["fps"]}),
                 "state_dict": torch.load(run_dir / "best.pt")}, out / WEIGHTS_FILE)
     (out / SIDECAR_FILE).write_text(json.dumps(sidecar, indent=1))
     return out
@@ -46,19 +50,24 @@ def read_torch_file(file: Path, what: str, missing_hint: str) -> object:
 
 def load_network(path: Path, kind: str = "vgrf") -> nn.Module:
     """A shipped network (a directory with ``model.pt``, or the file) in eval mode; a clear
-    ``ValueError`` when the file is not one, is another kind, or is for another joint set."""
+    ``ValueError`` when the file is not one, is another kind, or reads other input points."""
+    if kind not in KINDS:
+        raise ValueError(f"unknown network kind {kind!r}; expected one of {', '.join(KINDS)}")
     path = Path(path)
     file = path / WEIGHTS_FILE if path.is_dir() else path
-    saved = read_torch_file(file, "weights file", "train one with `python -m perception train-vgrf`")
+    saved = read_torch_file(file, "weights file", f"train one with `python -m perception {TRAIN_COMMANDS[kind]}`")
     if not isinstance(saved, dict) or "state_dict" not in saved:
         raise ValueError(f"{file}: not a physmimic network file (expected a dict with 'kind', 'joints', 'state_dict')")
     if saved.get("kind") != kind:
         raise ValueError(f"{file}: holds a {saved.get('kind')!r} network, expected {kind!r}")
-    if tuple(saved.get("joints", ())) != JOINTS:
-        raise ValueError(f"{file}: weights are for a {len(saved.get('joints', ()))}-joint skeleton "
-                         f"({', '.join(saved.get('joints', ())[:3])}, ...), this network reads UnderPressure's "
-                         f"{len(JOINTS)} joints")
-    net = KINDS[kind](fps=saved.get("fps", 60.0))
+    try:
+        net = KINDS[kind](**saved.get("network", {"fps": saved.get("fps", 60.0)}))
+    except (TypeError, ValueError) as err:
+        raise ValueError(f"{file}: field 'network' does not configure a {KINDS[kind].__name__}: {err}") from None
+    joints = tuple(saved.get("joints", ()))
+    if joints != tuple(net.input_names):
+        raise ValueError(f"{file}: weights are for {len(joints)} input points ({', '.join(joints[:3])}, ...), "
+                         f"this network reads {len(net.input_names)} ({', '.join(net.input_names[:3])}, ...)")
     try:
         net.load_state_dict(saved["state_dict"])
     except RuntimeError as err:

@@ -1,9 +1,30 @@
 import pytest
 
+from perception.dataset import DatasetConfig, generate
 from reference_motion.library import load_motion
+
+TINY = DatasetConfig(policies=("models/mimic_walk",),
+                     clips=("deepmimic:walk", "deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left0"),
+                     splits={"val": ["deepmimic:walker/0walk_forward"], "test": ["deepmimic:walker/turn_left0"]},
+                     variants=1, episodes=1, min_episode_s=1.0, corrupted_share=0.0)
+"""A tiny physics-labelled dataset: one walk episode per split, performed by the shipped walk policy."""
 
 
 @pytest.fixture(scope="session")
 def walk():
     """DeepMimic walk on humanoid_1seg, 60 Hz, looped to 5 s."""
     return load_motion("deepmimic:walk", min_frames=300)
+
+
+@pytest.fixture(scope="session")
+def dataset(tmp_path_factory):
+    """:data:`TINY` generated once per test session."""
+    root = tmp_path_factory.mktemp("physics")
+    generate(root, TINY, progress=False)
+    return root
+
+
+@pytest.fixture(scope="session")
+def tiny_config():
+    """The configuration :func:`dataset` was generated with."""
+    return TINY

@@ -18,22 +18,6 @@ from perception.vgrf import VGRFNet
 from perception.weights import load_network, ship
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 
-def walk_clip():
-    from reference_motion.library import load_motion
-    return load_motion("deepmimic:walk")
-
-
-TINY = DatasetConfig(policies=("models/mimic_walk",),
-                     clips=("deepmimic:walk", "deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left0"),
-                     splits={"val": ["deepmimic:walker/0walk_forward"], "test": ["deepmimic:walker/turn_left0"]},
-                     variants=1, episodes=1, min_episode_s=1.0, corrupted_share=0.0)
-
-
-@pytest.fixture(scope="module")
-def dataset(tmp_path_factory):
-    root = tmp_path_factory.mktemp("physics")
-    generate(root, TINY, progress=False)
-    return root
 
 
 def test_dataset_records_physics_per_frame(dataset):
@@ -53,16 +37,16 @@ def test_dataset_records_physics_per_frame(dataset):
     assert manifest["summary"]["train"]["frames"] == 300
 
 
-def test_dataset_generation_resumes_and_refuses_other_settings(dataset):
+def test_dataset_generation_resumes_and_refuses_other_settings(dataset, tiny_config):
     shard = next((dataset / "train").glob("*.npz"))
     stamp = shard.stat().st_mtime_ns
-    generate(dataset, TINY, progress=False)  # nothing left to do
+    generate(dataset, tiny_config, progress=False)  # nothing left to do
     assert shard.stat().st_mtime_ns == stamp
     with pytest.raises(ValueError, match="other settings"):
-        generate(dataset, DatasetConfig(**{**TINY.__dict__, "seed": 1}), progress=False)
+        generate(dataset, DatasetConfig(**{**tiny_config.__dict__, "seed": 1}), progress=False)
 
 
-def test_dataset_generation_bad_input(tmp_path):
+def test_dataset_generation_bad_input(tmp_path, walk):
     with pytest.raises(FileNotFoundError, match="policy models/none: no such directory"):
         generate(tmp_path / "a", DatasetConfig(policies=("models/none",), clips=("deepmimic:walk",)), progress=False)
     with pytest.raises(KeyError, match="unknown DeepMimic clip 'nonesuch'"):
@@ -70,12 +54,12 @@ def test_dataset_generation_bad_input(tmp_path):
                                                variants=1, episodes=1), progress=False)
     with pytest.raises(FileNotFoundError, match="no shards"):
         load_split(tmp_path / "empty", "train")
-    short = walk_clip().with_qpos(walk_clip().qpos[:40], loop=False)
+    short = walk.with_qpos(walk.qpos[:40], loop=False)
     short.save(tmp_path / "short.npz")
     with pytest.raises(ValueError, match="short.npz' has 43 frames at 60 Hz after a 0.91x time warp.*no episode could be kept"):
         generate(tmp_path / "c", DatasetConfig(policies=("models/mimic_walk",), clips=(str(tmp_path / "short.npz"),),
                                                variants=1, episodes=1), progress=False)
-    bad = walk_clip().qpos.copy()
+    bad = walk.qpos.copy()
     bad[5, 10] = np.nan
     np.savez(tmp_path / "nan.npz", format="physmimic.motion/1", qpos=bad, fps=60.0, model="humanoid_1seg",
              name="nan", loop=False, source="{}")
@@ -87,13 +71,15 @@ def test_dataset_generation_bad_input(tmp_path):
 def test_bad_shards_are_named(tmp_path):
     (tmp_path / "train").mkdir()
     np.savez(tmp_path / "train" / "x.npz", positions=np.zeros((5, 17, 3)), forces=np.zeros((5, 2, 16)),
-             contacts=np.zeros((5, 4), bool), episode=np.zeros(5, int), meta=json.dumps({"fps": 60.0, "clip": "x"}))
+             contacts=np.zeros((5, 4), bool), qpos=np.zeros((5, 50)), episode=np.zeros(5, int),
+             meta=json.dumps({"fps": 60.0, "clip": "x"}))
     with pytest.raises(ValueError, match=r"x.npz: joint positions must have shape \(frames, 23, 3\).*got \(5, 17, 3\)"):
         load_split(tmp_path, "train")
     bad = np.zeros((5, 23, 3))
     bad[2, 4, 1] = np.nan
     np.savez(tmp_path / "train" / "x.npz", positions=bad, forces=np.zeros((5, 2, 16)),
-             contacts=np.zeros((5, 4), bool), episode=np.zeros(5, int), meta=json.dumps({"fps": 60.0, "clip": "x"}))
+             contacts=np.zeros((5, 4), bool), qpos=np.zeros((5, 50)), episode=np.zeros(5, int),
+             meta=json.dumps({"fps": 60.0, "clip": "x"}))
     with pytest.raises(ValueError, match="x.npz: joint positions contain NaN or inf \\(first at frame 2\\)"):
         load_split(tmp_path, "train")
 
@@ -102,7 +88,7 @@ def test_training_resumes_ships_and_loads(dataset, tmp_path):
     config = TrainConfig(window=48, windows_per_epoch=64, batch_size=32, max_epochs=1)
     run = tmp_path / "run"
     first = train(dataset, run, config, progress=False)
-    assert first["epochs"] == 1 and first["best_val_loss"] > 0 and first["kind"] == "vgrf"
+    assert first["epochs"] == 1 and first["best_val"] > 0 and first["kind"] == "vgrf"
     second = train(dataset, run, TrainConfig(**{**config.__dict__, "max_epochs": 2}), progress=False)
     assert second["epochs"] == 2 and [h["epoch"] for h in second["history"]] == [1, 2]
     with pytest.raises(ValueError, match="other settings"):
@@ -116,7 +102,7 @@ def test_training_resumes_ships_and_loads(dataset, tmp_path):
 
 def test_weights_for_another_skeleton_or_garbage_are_refused(tmp_path):
     torch.save({"kind": "vgrf", "joints": ["hip", "knee"], "state_dict": {}}, tmp_path / "other.pt")
-    with pytest.raises(ValueError, match="weights are for a 2-joint skeleton"):
+    with pytest.raises(ValueError, match="weights are for 2 input points"):
         load_network(tmp_path / "other.pt")
     (tmp_path / "junk.pt").write_bytes(b"\x00garbage")
     with pytest.raises(ValueError, match="junk.pt: not a readable weights file"):
