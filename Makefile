@@ -15,6 +15,11 @@ $(PY):
 
 setup: $(PY)
 
+# the `video` extra (MediaPipe) for the video front end; `make test` installs it so CI runs the video test
+$(VENV)/.video-extra: $(PY)
+	$(PY) -m pip install --quiet -e ".[dev,video]"
+	touch $@
+
 # Main job on built-in data: a held-out clip (walker/turn_left1, never seen in training), corrupted with
 # IMU artefacts (seed 1000, never used in training), cleaned by the shipped policy: before/after metrics,
 # the cleaned motion (.npz, .bvh) and a side-by-side video (reference | cleaned) in out/.
@@ -24,7 +29,7 @@ demo: setup
 		--seed 1000 --min-frames 600 --out out/turn_left1_cleaned.npz --bvh out/turn_left1_cleaned.bvh \
 		--video out/turn_left1_imu_vs_cleaned.mp4 --json out/turn_left1_metrics.json
 
-test: setup
+test: setup $(VENV)/.video-extra
 	$(PY) -m pytest -q
 
 mjcf: setup

@@ -10,6 +10,7 @@ Examples::
     python -m perception evaluate-keypoints --dataset data/physics --split test --json out/keypoints.json
     python -m perception contacts deepmimic:walk --plot out/walk_contacts.png --json out/walk_contacts.json
     python -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --out out/turn_left1_clean.npz
+    python -m perception gait walk.mp4 --json out/gait.json --plot out/gait.png
 """
 
 from __future__ import annotations
@@ -25,15 +26,19 @@ from tqdm import tqdm
 from perception.cleanup import CleanupConfig, cleanup
 from perception.contacts import CONTACT_NAMES, ContactFunction
 from perception.dataset import SPLITS, DatasetConfig, generate, load_split
+from perception.contact_transformer import contact_probabilities
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
+from perception.gait import gait_phases, gait_report
 from perception.keypoint_data import load_keypoint_split, held_out_views
 from perception.keypoint_evaluation import GAIT_RATIOS, evaluate_keypoint_contacts, film_split
 from perception.keypoint_training import SAMPLINGS, KeypointTrainConfig, train_keypoints
 from perception.keypoints import KEYPOINT_SETS
+from perception.plots import plot_contacts, plot_gait
 from perception.skeleton import motion_joint_positions
 from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
 from perception.vgrf import estimate
+from perception.video import VIDEO_SUFFIXES, video_keypoints
 from perception.weights import load_network, record_metrics, ship
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.library import load_motion
@@ -120,6 +125,16 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
     g.add_argument("--json", type=Path)
     g.add_argument("--plot", type=Path, help="PNG: vGRF curves with contact bands")
+    g = sub.add_parser("gait", help="per-frame contacts, gait phases and parameters, and a timeline plot",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("source", help="a video (MediaPipe, `video` extra), a keypoint .npz (fields keypoints (T, 13, 3) "
+                   "= pixels and confidence, fps), or a 3D motion (deepmimic:NAME, Motion .npz, .bvh; contacts "
+                   "from VGRFNet + Γ)")
+    g.add_argument("--net", type=Path, default=Path("models/contact_transformer"), help="keypoint contact network")
+    g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"), help="vGRF network for 3D motions")
+    g.add_argument("--keypoints-out", type=Path, help="also save a video's keypoints (.npz) for later runs")
+    g.add_argument("--json", type=Path)
+    g.add_argument("--plot", type=Path, help="PNG timeline: contacts, gait phases, toe reference angles")
     g = sub.add_parser("cleanup", help="remove foot skate with the vGRF network (UnderPressure §6)",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     _add_source(g)
@@ -159,6 +174,34 @@ def _print_scores(result: dict) -> None:
         print(f"  vGRF RMSE (per-foot total): {result['vgrf_rmse_percent_bw']:.1f}% body weight")
 
 
+def keypoint_file(path: Path) -> tuple[np.ndarray, float] | None:
+    """``(keypoints, fps)`` of a keypoint ``.npz``; ``None`` when ``path`` is another kind of file."""
+    if Path(path).suffix != ".npz" or not Path(path).exists():
+        return None
+    with np.load(path) as z:
+        if "keypoints" not in z.files:
+            return None
+        if "fps" not in z.files:
+            raise ValueError(f"{path}: keypoint file has no field 'fps'")
+        return z["keypoints"], float(z["fps"])
+
+
+def source_contacts(args: argparse.Namespace) -> tuple[np.ndarray, float, str]:
+    """Contacts ``(T, 4)``, frame rate, and how they were found, for the ``gait`` command's source."""
+    keypoints = keypoint_file(args.source)
+    if keypoints is None and Path(args.source).suffix.lower() in VIDEO_SUFFIXES:
+        keypoints = video_keypoints(args.source, progress=True)
+        if args.keypoints_out:
+            args.keypoints_out.parent.mkdir(parents=True, exist_ok=True)
+            np.savez(args.keypoints_out, keypoints=keypoints[0], fps=keypoints[1])
+    if keypoints is not None:
+        net = load_network(args.net, "keypoints")
+        return contact_probabilities(net, *keypoints) > 0.5, keypoints[1], f"keypoints ({args.net})"
+    motion = load_motion(args.source)
+    forces = estimate(load_network(args.vgrf, "vgrf"), motion_joint_positions(motion))
+    return ContactFunction()(forces, motion.fps), motion.fps, f"VGRFNet + Γ ({args.vgrf})"
+
+
 def _print_keypoint_scores(kind: str, result: dict) -> None:
     overall = result["scores"]["overall"]
     print(f"{kind} views: {result['frames']} frames in {result['sequences']} filmed sequences: precision "
@@ -166,30 +209,6 @@ def _print_keypoint_scores(kind: str, result: dict) -> None:
     print("  F1 per channel: " + ", ".join(f"{c} {result['scores'][c]['f1']:.3f}" for c in CONTACT_NAMES))
     print("  gait-ratio MAE (pp): " + ", ".join(f"{g} {result['gait'][f'{g}_mae_pp']:.1f}" for g in GAIT_RATIOS)
           + f" over {result['gait']['sequences']} sequences")
-
-
-def plot_contacts(path: Path, forces: np.ndarray, contacts: np.ndarray, fps: float, title: str) -> Path:
-    """PNG of per-foot vGRF (body weights) over time with heel/toe contact bands."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    t = np.arange(len(forces)) / fps
-    fig, axes = plt.subplots(2, 1, figsize=(10, 5), sharex=True)
-    for foot, ax in enumerate(axes):
-        side = ("left", "right")[foot]
-        ax.plot(t, forces[:, foot].sum(-1), color="k", lw=1.2, label="vGRF (foot total)")
-        for ch, color, label in ((foot, "tab:orange", "toe contact"), (2 + foot, "tab:blue", "heel contact")):
-            ax.fill_between(t, 0, 1, where=contacts[:, ch], transform=ax.get_xaxis_transform(), color=color,
-                            alpha=0.25, step="mid", label=label)
-        ax.set_ylabel(f"{side} foot (BW)")
-        ax.legend(loc="upper right", fontsize=8)
-    axes[-1].set_xlabel("time (s)")
-    fig.suptitle(title)
-    fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
 
 
 def main(argv: list[str] | None = None) -> dict | None:
@@ -273,6 +292,21 @@ def _run(args: argparse.Namespace) -> dict | None:
         if args.plot:
             plot_contacts(args.plot, forces, contacts, fps, f"{name}: estimated vGRF and contacts")
         return result
+    if args.command == "gait":
+        contacts, fps, method = source_contacts(args)
+        report = {"source": str(args.source), "contacts_from": method, "channels": list(CONTACT_NAMES),
+                  "contacts": contacts.astype(int).tolist(), **gait_report(contacts, fps)}
+        p = report["parameters"]
+        print(f"{args.source}: {len(contacts)} frames at {fps:g} Hz, contacts from {method}")
+        print(f"  stance {p['stance']:.1%}, swing {p['swing']:.1%}, single support {p['single_support']:.1%}, "
+              f"double support {p['double_support']:.1%} ({p['valid_frames']} gait frames, "
+              f"{len(report['cycles'])} complete cycles)")
+        if args.json:
+            write_json(args.json, report)
+        if args.plot:
+            plot_gait(args.plot, contacts, gait_phases(contacts), np.radians(report["toe_reference_deg"]), fps,
+                      f"{Path(str(args.source)).name}: gait from {method.split(' (')[0]}")
+        return report
     if args.command == "cleanup":
         if str(args.source).endswith(".pth"):
             raise ValueError(f"{args.source}: cleanup edits a Motion (joint angles); UnderPressure sequences are "

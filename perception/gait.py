@@ -115,3 +115,16 @@ def gait_cycles(phases: np.ndarray) -> list[tuple[int, int]]:
 def gait_parameters_per_cycle(phases: np.ndarray) -> list[GaitParameters]:
     """:func:`gait_parameters` of each complete cycle of ``phases`` (:func:`gait_cycles`)."""
     return [gait_parameters(phases[a:b]) for a, b in gait_cycles(phases)]
+
+
+def gait_report(contacts: np.ndarray, fps: float) -> dict:
+    """Everything the ``gait`` command reports about contacts ``(T, 4)`` at ``fps``: per-frame
+    phase names and toe reference angles (degrees; left, right), the parameters over the whole
+    sequence and per complete cycle (with start and stop times in s)."""
+    contacts = _check(contacts)
+    phases = gait_phases(contacts)
+    cycles = [{"start_s": a / fps, "stop_s": b / fps, **gait_parameters(phases[a:b]).as_dict()}
+              for a, b in gait_cycles(phases)]
+    return {"fps": fps, "frames": len(contacts), "phases": [PHASES[p] for p in phases],
+            "toe_reference_deg": np.degrees(toe_reference_angles(contacts)).round(2).tolist(),
+            "parameters": gait_parameters(phases).as_dict(), "cycles": cycles}

@@ -92,6 +92,18 @@ class KeypointTask:
         picks = rng.choice(len(self.train), c.batch_size, p=self.lengths / self.lengths.sum())
         return [(int(i), int(rng.integers(max(1, self.lengths[i] - c.window // 2)))) for i in picks]
 
+    def _film(self, points: np.ndarray, fps: float, rng: np.random.Generator, tries: int = 20) -> np.ndarray:
+        """Features of ``points`` filmed from a random training view that shows a whole leg at
+        least once (a close, low camera can crop the legs out of a whole window)."""
+        c = self.config
+        for _ in range(tries):
+            try:
+                return keypoint_features(film(points, draw_train_view(rng, c.views), rng, fps, c.keypoints,
+                                              config=c.views))
+            except ValueError:
+                continue
+        raise ValueError(f"no training view out of {tries} showed a whole leg; check ViewConfig")
+
     def batch(self, rng: np.random.Generator) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
         """Features ``(B, L, 3K)``, labels ``(B, L, 4)`` and padding ``(B, L)`` of fresh windows."""
         c = self.config
@@ -99,8 +111,7 @@ class KeypointTask:
         for i, s in self._starts(rng):
             seq: KeypointSequence = self.train[i]
             points = seq.points[s:s + c.window]
-            view = draw_train_view(rng, c.views)
-            f = keypoint_features(film(points, view, rng, seq.fps, c.keypoints, config=c.views))
+            f = self._film(points, seq.fps, rng)
             n = len(f)
             feats.append(np.pad(f, ((0, c.window - n), (0, 0))))
             labels.append(np.pad(seq.labels[s:s + c.window], ((0, c.window - n), (0, 0))))

@@ -1,0 +1,84 @@
+"""Figures: estimated vGRF with contact bands, and gait timelines like contactvision Fig. 13."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from perception.contacts import CONTACT_NAMES
+from perception.gait import PHASES, TOE_PEAK_RAD
+
+
+def _pyplot():
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    return plt
+
+
+def _save(fig, path: Path) -> Path:
+    path = Path(path)
+    fig.tight_layout()
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    _pyplot().close(fig)
+    return path
+
+
+def plot_contacts(path: Path, forces: np.ndarray, contacts: np.ndarray, fps: float, title: str) -> Path:
+    """PNG of per-foot vGRF (body weights) over time with heel/toe contact bands."""
+    plt = _pyplot()
+    t = np.arange(len(forces)) / fps
+    fig, axes = plt.subplots(2, 1, figsize=(10, 5), sharex=True)
+    for foot, ax in enumerate(axes):
+        side = ("left", "right")[foot]
+        ax.plot(t, forces[:, foot].sum(-1), color="k", lw=1.2, label="vGRF (foot total)")
+        for ch, color, label in ((foot, "tab:orange", "toe contact"), (2 + foot, "tab:blue", "heel contact")):
+            ax.fill_between(t, 0, 1, where=contacts[:, ch], transform=ax.get_xaxis_transform(), color=color,
+                            alpha=0.25, step="mid", label=label)
+        ax.set_ylabel(f"{side} foot (BW)")
+        ax.legend(loc="upper right", fontsize=8)
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(title)
+    return _save(fig, path)
+
+
+
+PHASE_COLOURS = ("#bbbbbb", "#d62728", "#ff7f0e", "#2ca02c", "#17becf", "#9467bd", "#1f77b4", "#8c564b", "#ffffff")
+"""One colour per gait phase of :data:`~perception.gait.PHASES` (undefined: white)."""
+
+
+def plot_gait(path: Path, contacts: np.ndarray, phases: np.ndarray, toe_angles: np.ndarray, fps: float,
+              title: str) -> Path:
+    """PNG timeline: the four contacts ``(T, 4)`` as bars, the gait phase ``(T,)`` as a coloured
+    band, and the ToeRefEstimator's toe angles ``(T, 2)`` (rad) below."""
+    plt = _pyplot()
+    from matplotlib.patches import Patch
+
+    t = np.arange(len(contacts)) / fps
+    fig, axes = plt.subplots(3, 1, figsize=(11, 5.5), sharex=True, gridspec_kw={"height_ratios": [2, 0.6, 1.4]})
+    for row, name in enumerate(CONTACT_NAMES):
+        axes[0].fill_between(t, row + 0.1, row + 0.9, where=contacts[:, row], step="mid", color="tab:green")
+    axes[0].set_yticks(np.arange(4) + 0.5, [n.replace("_", " ") for n in CONTACT_NAMES])
+    axes[0].set_ylim(0, 4)
+    axes[0].set_title("contacts", fontsize=9, loc="left")
+    colours = np.array([PHASE_COLOURS[p] for p in phases])
+    dt = 1.0 / fps
+    for k in range(len(PHASES)):
+        mask = phases == k
+        if mask.any():
+            axes[1].bar(t[mask], 1.0, width=dt, color=colours[mask], align="edge", linewidth=0)
+    axes[1].set_yticks([])
+    axes[1].set_title("gait phase (right foot, contactvision Table 2)", fontsize=9, loc="left")
+    axes[1].legend(handles=[Patch(color=PHASE_COLOURS[k], label=PHASES[k].replace("_", " "))
+                            for k in sorted(set(phases.tolist()))], fontsize=7, ncol=5, loc="upper center",
+                   bbox_to_anchor=(0.5, -0.35), frameon=False)
+    for foot, colour in ((0, "tab:blue"), (1, "tab:red")):
+        axes[2].plot(t, np.degrees(toe_angles[:, foot]), color=colour, label=("left", "right")[foot] + " toe")
+    axes[2].set_ylim(-2, np.degrees(TOE_PEAK_RAD) + 5)
+    axes[2].set_ylabel("toe reference (°)")
+    axes[2].set_xlabel("time (s)")
+    axes[2].legend(fontsize=8, loc="upper right")
+    fig.suptitle(title)
+    return _save(fig, path)
