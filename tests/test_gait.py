@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from perception.gait import (PHASES, TOE_PEAK_RAD, gait_cycles, gait_parameters, gait_parameters_per_cycle,
-                             gait_phases, toe_reference_angles)
+                             gait_phases, gait_report, toe_reference_angles)
 
 LT, RT, LH, RH = range(4)
 
@@ -68,3 +68,18 @@ def test_table2_phases_and_parameters():
 def test_bad_contacts_shape():
     with pytest.raises(ValueError, match=r"shape \(frames, 4\)"):
         toe_reference_angles(np.zeros((10, 2)))
+
+
+def test_gait_report_of_two_cycles():
+    rows = {"heel_strike": (1, 0, 0, 1), "loading_response": (1, 1, 0, 1), "mid_stance": (0, 1, 0, 1),
+            "terminal_stance": (0, 1, 1, 0), "pre_swing": (1, 1, 1, 0), "toe_off_mid_swing": (1, 0, 1, 0),
+            "terminal_swing": (1, 0, 0, 0)}
+    cycle = [rows[k] for k, n in zip(rows, (2, 4, 6, 3, 2, 5, 3)) for _ in range(n)]
+    contacts = np.array(cycle + cycle + [rows["heel_strike"]], bool)
+    report = gait_report(contacts, fps=50.0)
+    assert report["frames"] == 51 and report["phases"][0] == "heel_strike" and report["phases"][-1] == "heel_strike"
+    assert [(c["start_s"], c["stop_s"]) for c in report["cycles"]] == [(0.0, 0.5), (0.5, 1.0)]
+    assert report["cycles"][0]["stance"] == pytest.approx(17 / 25)
+    assert report["parameters"]["valid_frames"] == 51
+    toe = np.array(report["toe_reference_deg"])
+    assert toe.shape == (51, 2) and toe[:, 1].max() == pytest.approx(42.0)   # the right foot pushes off
