@@ -11,7 +11,7 @@ from tqdm import tqdm
 
 from perception.contact_transformer import ContactTransformer, contact_probabilities
 from perception.contacts import detection_scores
-from perception.gait import gait_parameters, gait_phases
+from perception.gait import gait_cycles, gait_parameters, gait_phases
 from perception.keypoint_data import KeypointSequence, View, ViewConfig, film
 
 GAIT_RATIOS = ("stance", "swing", "single_support", "double_support")
@@ -48,17 +48,30 @@ def predict_contacts(net: ContactTransformer, filmed: list[FilmedSequence], prog
 
 
 def gait_errors(predicted: list[np.ndarray], truth: list[np.ndarray]) -> dict:
-    """Mean absolute error (percentage points) of each gait ratio between predicted and true
-    contacts, over the sequences whose true contacts show a gait (valid frames in both)."""
-    errors: dict[str, list[float]] = {k: [] for k in GAIT_RATIOS}
+    """Mean absolute errors (percentage points) of each gait ratio between predicted and true
+    contacts: ``sequence`` compares the ratios over whole sequences whose truth shows a gait;
+    ``cycle`` compares them over each complete true gait cycle (heel strike to heel strike of the
+    right foot, as ContactVision measures one cycle per video), the predicted ratios taken over
+    the same frames. ``count`` spans are compared, out of ``truth_count`` where the truth shows a
+    gait (the rest had no valid predicted frame)."""
+    errors: dict[str, dict[str, list[float]]] = {"sequence": {k: [] for k in GAIT_RATIOS},
+                                                 "cycle": {k: [] for k in GAIT_RATIOS}}
+    totals = {"sequence": 0, "cycle": 0}
     for p, t in zip(predicted, truth):
-        gp, gt = gait_parameters(gait_phases(p)).as_dict(), gait_parameters(gait_phases(t)).as_dict()
-        if gt["valid_frames"] == 0 or gp["valid_frames"] == 0:
-            continue
-        for k in GAIT_RATIOS:
-            errors[k].append(100.0 * abs(gp[k] - gt[k]))
-    return {**{f"{k}_mae_pp": float(np.mean(v)) if v else float("nan") for k, v in errors.items()},
-            "sequences": len(errors["stance"])}
+        pp, tp = gait_phases(p), gait_phases(t)
+        spans = {"sequence": [(0, len(t))], "cycle": gait_cycles(tp)}
+        for scope, ranges in spans.items():
+            for a, b in ranges:
+                gp, gt = gait_parameters(pp[a:b]).as_dict(), gait_parameters(tp[a:b]).as_dict()
+                if gt["valid_frames"] == 0:
+                    continue
+                totals[scope] += 1
+                if gp["valid_frames"] == 0:
+                    continue
+                for k in GAIT_RATIOS:
+                    errors[scope][k].append(100.0 * abs(gp[k] - gt[k]))
+    return {scope: {**{f"{k}_mae_pp": float(np.mean(v)) if v else float("nan") for k, v in e.items()},
+                    "count": len(e["stance"]), "truth_count": totals[scope]} for scope, e in errors.items()}
 
 
 def evaluate_keypoint_contacts(net: ContactTransformer, filmed: list[FilmedSequence], progress: bool = False) -> dict:

@@ -67,20 +67,23 @@ def test_labels_are_gamma_of_the_simulated_forces(dataset):
 
 
 def test_gait_errors_by_hand():
-    walk = np.zeros((8, 4), bool)
-    # right-foot cycle by Table 2 rows (LT, RT, LH, RH): heel strike, loading, mid stance x2, terminal, pre-swing,
-    # toe-off/mid swing, terminal swing
+    # one right-foot cycle by Table 2 rows (LT, RT, LH, RH): heel strike, loading response, mid stance ×2,
+    # terminal stance, pre-swing, toe-off/mid swing, terminal swing; then the next heel strike
     rows = [(1, 0, 0, 1), (1, 1, 0, 1), (0, 1, 0, 1), (0, 1, 0, 1), (0, 1, 1, 0), (1, 1, 1, 0), (1, 0, 1, 0),
             (1, 0, 0, 0)]
-    walk[:] = np.array(rows, bool)
-    assert gait_errors([walk], [walk]) == {"stance_mae_pp": 0.0, "swing_mae_pp": 0.0, "single_support_mae_pp": 0.0,
-                                           "double_support_mae_pp": 0.0, "sequences": 1}
+    walk = np.array(rows + rows + rows[:1], bool)
+    zero = {"stance_mae_pp": 0.0, "swing_mae_pp": 0.0, "single_support_mae_pp": 0.0, "double_support_mae_pp": 0.0}
+    assert gait_errors([walk], [walk]) == {"sequence": {**zero, "count": 1, "truth_count": 1},
+                                           "cycle": {**zero, "count": 2, "truth_count": 2}}
     late = walk.copy()
-    late[6] = (1, 1, 1, 0)          # toe-off one frame late: 7 of 8 frames in stance instead of 6, 3 in double support
+    late[6] = (1, 1, 1, 0)          # toe-off one frame late in the first cycle: 7 of 8 frames in stance, not 6
     err = gait_errors([late], [walk])
-    assert err["stance_mae_pp"] == pytest.approx(100 * (7 / 8 - 6 / 8))
-    assert err["double_support_mae_pp"] == pytest.approx(100 * (3 / 8 - 2 / 8))
-    assert gait_errors([late], [np.zeros((8, 4), bool)])["sequences"] == 0   # no gait in the truth: not scored
+    assert err["cycle"]["stance_mae_pp"] == pytest.approx(100 * (7 / 8 - 6 / 8) / 2)       # the second cycle is right
+    assert err["cycle"]["double_support_mae_pp"] == pytest.approx(100 * (3 / 8 - 2 / 8) / 2)
+    assert err["sequence"]["stance_mae_pp"] == pytest.approx(100 * (14 / 17 - 13 / 17))
+    assert gait_errors([late], [np.zeros((17, 4), bool)])["sequence"]["truth_count"] == 0   # no gait in the truth
+    missed = gait_errors([np.zeros((17, 4), bool)], [walk])["cycle"]     # nothing predicted: counted, not scored
+    assert missed["count"] == 0 and missed["truth_count"] == 2 and np.isnan(missed["stance_mae_pp"])
 
 
 def test_training_resumes_ships_and_evaluates(dataset, tmp_path):

@@ -83,3 +83,17 @@ def test_video_of_a_rollout_gives_the_simulators_contacts(dataset, tmp_path):
     truth = seq.contacts[np.minimum(np.arange(len(predicted)) * 2, len(seq.contacts) - 1)]
     scores = detection_scores(predicted, truth)
     assert scores["overall"]["f1"] > 0.8, scores
+
+
+def test_clothed_rendering_dresses_the_character_and_leaves_the_model_as_it_was(walk):
+    from reference_motion.humanoid.model import load_model
+
+    model = load_model(walk.model).model
+    before = model.geom_rgba.copy()
+    short = walk.with_qpos(walk.qpos[:2], loop=False)
+    grey = render_frames(short, 160, 120, azimuth=180, elevation=0, distance=3.0)[0]
+    dressed = render_frames(short, 160, 120, azimuth=180, elevation=0, distance=3.0, clothed=True)[0]
+    assert np.array_equal(model.geom_rgba, before)
+    # the middle of the image (the torso, seen from the front) turns shirt-red
+    centre = dressed[45:60, 75:85].reshape(-1, 3).mean(0)
+    assert centre[0] > 2 * centre[2] and abs(int(grey[50, 80, 0]) - int(grey[50, 80, 2])) < 30
