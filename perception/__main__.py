@@ -213,6 +213,16 @@ def _print_keypoint_scores(kind: str, result: dict) -> None:
               + f" over {gait['count']} {what}")
 
 
+def _train_and_ship(args: argparse.Namespace, trainer, config, describe) -> dict:
+    """Run ``trainer(dataset, run_dir, config)``, ship the best epoch to ``--out`` and say so;
+    ``describe(best_val)`` words the validation score."""
+    sidecar = trainer(args.dataset, args.run_dir, config, progress=not args.no_progress)
+    ship(args.run_dir, args.out)
+    print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} ({describe(sidecar['best_val'])}, "
+          f"{sidecar['wall_s']:.0f} s); shipped to {args.out}")
+    return sidecar
+
+
 def main(argv: list[str] | None = None) -> dict | None:
     args = build_parser().parse_args(argv)
     try:
@@ -234,11 +244,7 @@ def _run(args: argparse.Namespace) -> dict | None:
         config = KeypointTrainConfig(keypoints=args.keypoints, positional=args.positional, sampling=args.sampling,
                                      max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                                      windows_per_epoch=args.windows_per_epoch, seed=args.seed)
-        sidecar = train_keypoints(args.dataset, args.run_dir, config, progress=not args.no_progress)
-        ship(args.run_dir, args.out)
-        print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} (val F1 {1 - sidecar['best_val']:.3f}, "
-              f"{sidecar['wall_s']:.0f} s); shipped to {args.out}")
-        return sidecar
+        return _train_and_ship(args, train_keypoints, config, lambda best: f"val F1 {1 - best:.3f}")
     if args.command == "evaluate-keypoints":
         net = load_network(args.net, "keypoints")
         sequences = load_keypoint_split(args.dataset, args.split)
@@ -256,11 +262,7 @@ def _run(args: argparse.Namespace) -> dict | None:
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                              lr_patience=args.lr_patience,
                              seed=args.seed, augment=not args.no_augment)
-        sidecar = train(args.dataset, args.run_dir, config, progress=not args.no_progress)
-        ship(args.run_dir, args.out)
-        print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} (val loss {sidecar['best_val']:.5f}, "
-              f"{sidecar['wall_s']:.0f} s); weights in {args.out}")
-        return sidecar
+        return _train_and_ship(args, train, config, lambda best: f"val loss {best:.5f}")
     if args.command == "evaluate-contacts":
         models = ContactModels(vgrf=load_network(args.vgrf, "vgrf"), ot=fit_ot(load_split(args.dataset, "train")),
                                mlp=load_network(args.mlp, "mlp") if Path(args.mlp).exists() else None)
