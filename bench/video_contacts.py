@@ -1,0 +1,71 @@
+"""The video path end to end on rendered MuJoCo rollouts: contacts from MediaPipe keypoints and the
+ContactTransformer against the simulator's (``video`` extra).
+
+Usage: ``python bench/video_contacts.py --dataset data/physics [--net models/contact_transformer] [--episodes 4] [--json [OUT]]``
+
+The ``--episodes`` longest test-split episodes (held-out clips, performed by ``mimic_imu`` in
+MuJoCo) are rendered dressed at 30 fps, 640×480, from MuJoCo camera azimuths 90° (side), 135°
+(front-oblique) and 180° (front), 3.5 m away; each video goes through
+:func:`~perception.video.video_keypoints` and the network, and its contacts are scored against
+Γ of the simulated insole forces at the video's frames. Reported: detection rate, precision,
+recall and F1 per azimuth.
+"""
+
+from __future__ import annotations
+
+import argparse
+import tempfile
+from pathlib import Path
+
+import imageio.v2 as imageio
+import numpy as np
+
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from perception.contact_transformer import contact_probabilities
+from perception.contacts import ContactFunction, detection_scores
+from perception.dataset import load_split
+from perception.video import video_keypoints
+from perception.weights import load_network
+from reference_motion.motion import Motion
+from reference_motion.render import render_frames
+
+AZIMUTHS = (90.0, 135.0, 180.0)
+VIDEO_FPS = 30.0
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--dataset", type=Path, required=True)
+    p.add_argument("--net", type=Path, default=Path("models/contact_transformer"))
+    p.add_argument("--episodes", type=int, default=4)
+    p.add_argument("--json", nargs="?", const="-", default=None)
+    args = p.parse_args()
+    net = load_network(args.net, "keypoints")
+    episodes = sorted(load_split(args.dataset, "test"), key=lambda s: -len(s.qpos))[:args.episodes]
+    result = {"episodes": [f"{s.clip} ({len(s.qpos)} frames)" for s in episodes], "video_fps": VIDEO_FPS,
+              "azimuths": {}}
+    with tempfile.TemporaryDirectory() as tmp:
+        for azimuth in AZIMUTHS:
+            predicted, truth, detected = [], [], []
+            for k, s in enumerate(episodes):
+                frames = render_frames(Motion(s.clip, s.fps, s.qpos, s.model), 640, 480, fps=VIDEO_FPS,
+                                       azimuth=azimuth, elevation=-8, distance=3.5, clothed=True)
+                video = Path(tmp) / f"{k}.mp4"
+                imageio.mimsave(video, frames, fps=VIDEO_FPS, macro_block_size=1)
+                keypoints, fps = video_keypoints(video)
+                labels = ContactFunction()(s.forces, s.fps)
+                at = np.minimum(np.round(np.arange(len(keypoints)) * s.fps / fps).astype(int), len(labels) - 1)
+                predicted.append(contact_probabilities(net, keypoints, fps) > 0.5)
+                truth.append(labels[at])
+                detected.append((keypoints[:, 0, 2] > 0).mean())
+            scores = detection_scores(np.concatenate(predicted), np.concatenate(truth))
+            result["azimuths"][f"{azimuth:g}"] = {"detected": float(np.mean(detected)), **scores["overall"],
+                                                  "f1_by_channel": {c: v["f1"] for c, v in scores.items()}}
+            r = result["azimuths"][f"{azimuth:g}"]
+            print(f"azimuth {azimuth:>5g}°: person found in {r['detected']:.0%} of frames; precision "
+                  f"{r['precision']:.3f}, recall {r['recall']:.3f}, F1 {r['f1']:.3f}", flush=True)
+    emit_json(result, args.json)
+
+
+if __name__ == "__main__":
+    main()
