@@ -115,9 +115,9 @@ def draw_train_view(rng: np.random.Generator, config: ViewConfig = ViewConfig())
 
 
 def held_out_views(config: ViewConfig = ViewConfig(), kind: str = "rig") -> list[View]:
-    """The held-out views: ``rig`` = static cameras at :attr:`ViewConfig.test_azimuths_deg`
-    (distance, height and focal length of the test rig), ``handheld`` = hand-held cameras
-    starting from those azimuths."""
+    """The held-out views at :attr:`ViewConfig.test_azimuths_deg`, with the test rig's distance,
+    height and focal length: ``rig`` = static cameras following the subject, ``handheld`` =
+    hand-held ones (lagging, shaking) starting from there."""
     if kind not in ("rig", "handheld"):
         raise ValueError(f"unknown test view kind {kind!r}; expected 'rig' or 'handheld'")
     return [View(kind, float(np.radians(a)), config.test_noise_px, config.test_drop_prob) for a in config.test_azimuths_deg]
@@ -126,15 +126,17 @@ def held_out_views(config: ViewConfig = ViewConfig(), kind: str = "rig") -> list
 def camera_for(view: View, points: np.ndarray, rng: np.random.Generator, fps: float, test: bool = False,
                config: ViewConfig = ViewConfig()) -> Camera:
     """The camera of ``view`` filming points ``(T, K, 3)`` (its azimuth turned by the subject's
-    heading); ``test`` uses the test rig's fixed distance, height and focal length."""
+    mean heading); ``test`` uses the test rig's distance, height and focal length."""
     pelvis = points[:, 0]
     azimuth = body_heading(points) + view.azimuth
+    fixed = {"distance": config.test_distance_m, "height": config.test_height_m, "aim_height": 0.6,
+             "focal_px": config.test_focal_px}
     if view.kind == "handheld":
-        return handheld_camera(pelvis, rng, azimuth=azimuth, fps=fps)
+        return handheld_camera(pelvis, rng, azimuth=azimuth, fps=fps, view=fixed if test else None)
     if view.kind == "random":
         return random_camera(pelvis, rng, azimuth=azimuth)
     if test:
-        return follow_camera(pelvis, azimuth, config.test_distance_m, config.test_height_m, 0.6, config.test_focal_px)
+        return follow_camera(pelvis, azimuth, **fixed)
     return follow_camera(pelvis, azimuth)
 
 

@@ -175,11 +175,12 @@ def random_camera(pelvis: np.ndarray, rng: np.random.Generator, azimuth: float |
 
 def handheld_camera(pelvis: np.ndarray, rng: np.random.Generator, azimuth: float | None = None, fps: float = 60.0,
                     lag_s: float = 0.5, shake_m: float = 0.03, shake_rad: float = 0.01, width: int = 1280,
-                    height_px: int = 720) -> Camera:
-    """A hand-held random view (at ``azimuth`` rad when given): the operator walks after the
-    subject with ``lag_s`` of smoothing and keeps it aimed, with positional (``shake_m``, m) and
-    angular (``shake_rad``) hand shake varying over ~0.1 s."""
-    v = _random_view(rng, azimuth)
+                    height_px: int = 720, view: dict | None = None) -> Camera:
+    """A hand-held random view (at ``azimuth`` rad when given; ``view`` fixes any of
+    :func:`_random_view`'s ``distance``, ``height``, ``aim_height``, ``focal_px``): the operator
+    walks after the subject with ``lag_s`` of smoothing and keeps it aimed, with positional
+    (``shake_m``, m) and angular (``shake_rad``) hand shake varying over ~0.1 s."""
+    v = {**_random_view(rng, azimuth), **(view or {})}
     lagged = gaussian_filter1d(pelvis, sigma=lag_s * fps, axis=0, mode="nearest")
     position, _ = _follow(lagged, v["azimuth"], v["distance"], v["height"], v["aim_height"])
     _, target = _follow(pelvis, v["azimuth"], v["distance"], v["height"], v["aim_height"])
