@@ -97,3 +97,22 @@ def test_clothed_rendering_dresses_the_character_and_leaves_the_model_as_it_was(
     # the middle of the image (the torso, seen from the front) turns shirt-red
     centre = dressed[45:60, 75:85].reshape(-1, 3).mean(0)
     assert centre[0] > 2 * centre[2] and abs(int(grey[50, 80, 0]) - int(grey[50, 80, 2])) < 30
+
+
+def test_a_video_without_a_person_or_a_broken_file_is_named(tmp_path):
+    pytest.importorskip("mediapipe", reason="the `video` extra (mediapipe==0.10.14) is not installed")
+    imageio.mimsave(tmp_path / "empty.mp4", np.full((10, 120, 160, 3), 90, np.uint8), fps=30, macro_block_size=1)
+    with pytest.raises(SystemExit, match="empty.mp4: MediaPipe found no person in any of the 10 frames"):
+        main(["gait", str(tmp_path / "empty.mp4")])
+    (tmp_path / "broken.mp4").write_bytes(b"not a video")
+    with pytest.raises(SystemExit, match="broken.mp4: not a readable video"):
+        main(["gait", str(tmp_path / "broken.mp4")])
+
+
+def test_without_mediapipe_the_video_path_says_how_to_get_it(tmp_path, monkeypatch):
+    import sys
+
+    monkeypatch.setitem(sys.modules, "mediapipe", None)      # as if the `video` extra were not installed
+    imageio.mimsave(tmp_path / "clip.mp4", np.zeros((3, 64, 64, 3), np.uint8), fps=30, macro_block_size=1)
+    with pytest.raises(SystemExit, match=r'needs MediaPipe: pip install -e "\.\[video\]"'):
+        main(["gait", str(tmp_path / "clip.mp4")])
