@@ -8,7 +8,8 @@ MuJoCo) are rendered dressed at 30 fps, 640×480, from MuJoCo camera azimuths 90
 (front-oblique) and 180° (front), 3.5 m away; each video goes through
 :func:`~perception.video.video_keypoints` and the network, and its contacts are scored against
 Γ of the simulated insole forces at the video's frames. Reported: detection rate, precision,
-recall and F1 per azimuth.
+recall and F1 per azimuth. The first episode's gait timelines (from the 135° video, and from the
+simulator) go to ``bench/results/gait_video_{predicted,simulator}.png``.
 """
 
 from __future__ import annotations
@@ -23,6 +24,8 @@ import numpy as np
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.contact_transformer import contact_probabilities
 from perception.contacts import ContactFunction, detection_scores
+from perception.gait import gait_phases, toe_reference_angles
+from perception.plots import plot_gait
 from perception.dataset import load_split
 from perception.video import video_keypoints
 from perception.weights import load_network
@@ -31,6 +34,7 @@ from reference_motion.render import render_frames
 
 AZIMUTHS = (90.0, 135.0, 180.0)
 VIDEO_FPS = 30.0
+RESULTS = Path(__file__).resolve().parent / "results"
 
 
 def main() -> None:
@@ -58,6 +62,12 @@ def main() -> None:
                 predicted.append(contact_probabilities(net, keypoints, fps) > 0.5)
                 truth.append(labels[at])
                 detected.append((keypoints[:, 0, 2] > 0).mean())
+                if k == 0 and azimuth == 135.0:
+                    for name, contacts in (("predicted", predicted[-1]), ("simulator", truth[-1])):
+                        plot_gait(RESULTS / f"gait_video_{name}.png", contacts, gait_phases(contacts),
+                                  toe_reference_angles(contacts), fps,
+                                  f"{s.clip} rollout: " + ("from the video (MediaPipe + ContactTransformer)"
+                                                           if name == "predicted" else "simulator (Γ of insole forces)"))
             scores = detection_scores(np.concatenate(predicted), np.concatenate(truth))
             result["azimuths"][f"{azimuth:g}"] = {"detected": float(np.mean(detected)), **scores["overall"],
                                                   "f1_by_channel": {c: v["f1"] for c, v in scores.items()}}

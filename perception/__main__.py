@@ -98,6 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--patience", type=int, default=k.patience, help="early-stopping patience (epochs)")
     g.add_argument("--lr", type=float, default=k.lr, help="Adam learning rate")
     g.add_argument("--windows-per-epoch", type=int, default=k.windows_per_epoch)
+    g.add_argument("--init-from", help="a shipped ContactTransformer to fine-tune instead of starting from scratch")
     g.add_argument("--seed", type=int, default=k.seed)
     g.add_argument("--no-progress", action="store_true")
     g = sub.add_parser("evaluate-keypoints", help="contact F1 and gait-ratio errors of the ContactTransformer on "
@@ -243,7 +244,8 @@ def _run(args: argparse.Namespace) -> dict | None:
     if args.command == "train-keypoints":
         config = KeypointTrainConfig(keypoints=args.keypoints, positional=args.positional, sampling=args.sampling,
                                      max_epochs=args.epochs, patience=args.patience, lr=args.lr,
-                                     windows_per_epoch=args.windows_per_epoch, seed=args.seed)
+                                     windows_per_epoch=args.windows_per_epoch, init_from=args.init_from,
+                                     seed=args.seed)
         return _train_and_ship(args, train_keypoints, config, lambda best: f"val F1 {1 - best:.3f}")
     if args.command == "evaluate-keypoints":
         net = load_network(args.net, "keypoints")

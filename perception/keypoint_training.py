@@ -20,6 +20,7 @@ from perception.contact_transformer import ContactTransformer, keypoint_features
 from perception.keypoint_data import KeypointSequence, ViewConfig, draw_train_view, film, load_keypoint_split
 from perception.keypoint_evaluation import evaluate_keypoint_contacts, film_split
 from perception.training import fit
+from perception.weights import load_network
 
 SAMPLINGS = ("random", "sliding")
 
@@ -44,6 +45,8 @@ class KeypointTrainConfig:
         lr_patience: halve the learning rate after this many epochs without improvement.
         val_views: training-rig views the ``val`` episodes are filmed from.
         views: the camera distributions (:class:`~perception.keypoint_data.ViewConfig`).
+        init_from: a shipped ContactTransformer (directory or ``model.pt``) to start from instead
+            of random weights (fine-tuning, e.g. on a larger dataset); ``None``: from scratch.
         seed: seeds windows, views, noise, initialisation and dropout.
     """
 
@@ -59,6 +62,7 @@ class KeypointTrainConfig:
     lr_patience: int = 5
     val_views: int = 4
     views: ViewConfig = field(default_factory=ViewConfig)
+    init_from: str | None = None
     seed: int = 0
 
 
@@ -83,7 +87,14 @@ class KeypointTask:
 
     def network(self) -> nn.Module:
         c = self.config
-        return ContactTransformer(keypoints=c.keypoints, positional=c.positional, window=c.window)
+        net = ContactTransformer(keypoints=c.keypoints, positional=c.positional, window=c.window)
+        if c.init_from is not None:
+            start = load_network(Path(c.init_from), "keypoints")
+            if start.config != net.config:
+                raise ValueError(f"{c.init_from}: a ContactTransformer with {start.config}, not {net.config}; "
+                                 "start from a network of the same shape")
+            net.load_state_dict(start.state_dict())
+        return net
 
     def _starts(self, rng: np.random.Generator) -> list[tuple[int, int]]:
         c = self.config

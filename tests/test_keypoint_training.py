@@ -3,6 +3,7 @@ shippable), evaluation and gait-ratio errors, on the tiny physics dataset."""
 
 import numpy as np
 import pytest
+import torch
 
 from perception.__main__ import main
 from perception.contact_transformer import ContactTransformer
@@ -11,7 +12,7 @@ from perception.dataset import load_split
 from perception.keypoint_data import (ViewConfig, View, body_heading, draw_train_view, film, load_keypoint_split,
                                       held_out_views)
 from perception.keypoint_evaluation import evaluate_keypoint_contacts, film_split, gait_errors
-from perception.keypoint_training import KeypointTrainConfig, train_keypoints
+from perception.keypoint_training import KeypointTask, KeypointTrainConfig, train_keypoints
 from perception.keypoints import KEYPOINTS
 from perception.weights import load_network, ship
 
@@ -101,6 +102,10 @@ def test_training_resumes_ships_and_evaluates(dataset, tmp_path):
     assert isinstance(net, ContactTransformer) and net.window == 32 and not net.training
     with pytest.raises(ValueError, match="holds a 'keypoints' network, expected 'vgrf'"):
         load_network(shipped, "vgrf")
+    warm = KeypointTask(dataset, KeypointTrainConfig(**{**config.__dict__, "init_from": str(shipped)})).network()
+    assert all(torch.equal(a, b) for a, b in zip(warm.state_dict().values(), net.state_dict().values()))
+    with pytest.raises(ValueError, match="start from a network of the same shape"):
+        KeypointTask(dataset, KeypointTrainConfig(**{**config.__dict__, "window": 64, "init_from": str(shipped)})).network()
     filmed = film_split(load_keypoint_split(dataset, "test"), held_out_views()[:2], test=True)
     result = evaluate_keypoint_contacts(net, filmed)
     assert result["sequences"] == 2 and set(result["f1_by_view"]) == {"rig@22.5", "rig@67.5"}
