@@ -1,10 +1,10 @@
 """The video path end to end on rendered MuJoCo rollouts: contacts from MediaPipe keypoints and the
 ContactTransformer against the simulator's (``video`` extra).
 
-Usage: ``python bench/video_contacts.py --dataset data/physics [--net models/contact_transformer] [--episodes 4] [--json [OUT]]``
+Usage: ``python bench/video_contacts.py --dataset data/physics [--net models/contact_transformer] [--episodes 2] [--json [OUT]]``
 
-The ``--episodes`` longest test-split episodes (held-out clips, performed by ``mimic_imu`` in
-MuJoCo) are rendered dressed at 30 fps, 640×480, from MuJoCo camera azimuths 90° (side), 135°
+The ``--episodes`` longest test-split episodes of each held-out clip (performed by ``mimic_imu``
+in MuJoCo) are rendered dressed at 30 fps, 640×480, from MuJoCo camera azimuths 90° (side), 135°
 (front-oblique) and 180° (front), 3.5 m away; each video goes through
 :func:`~perception.video.video_keypoints` and the network, and its contacts are scored against
 Γ of the simulated insole forces at the video's frames. Reported: detection rate, precision,
@@ -41,11 +41,13 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--dataset", type=Path, required=True)
     p.add_argument("--net", type=Path, default=Path("models/contact_transformer"))
-    p.add_argument("--episodes", type=int, default=4)
+    p.add_argument("--episodes", type=int, default=2, help="per test clip")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     net = load_network(args.net, "keypoints")
-    episodes = sorted(load_split(args.dataset, "test"), key=lambda s: -len(s.qpos))[:args.episodes]
+    test = load_split(args.dataset, "test")
+    episodes = [s for clip in sorted({s.clip for s in test})
+                for s in sorted((s for s in test if s.clip == clip), key=lambda s: -len(s.qpos))[:args.episodes]]
     result = {"episodes": [f"{s.clip} ({len(s.qpos)} frames)" for s in episodes], "video_fps": VIDEO_FPS,
               "azimuths": {}}
     with tempfile.TemporaryDirectory() as tmp:
