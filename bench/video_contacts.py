@@ -71,11 +71,16 @@ def main() -> None:
                                   f"{s.clip} rollout: " + ("from the video (MediaPipe + ContactTransformer)"
                                                            if name == "predicted" else "simulator (Γ of insole forces)"))
             scores = detection_scores(np.concatenate(predicted), np.concatenate(truth))
+            by_clip = {clip: detection_scores(np.concatenate([p for p, s in zip(predicted, episodes) if s.clip == clip]),
+                                              np.concatenate([t for t, s in zip(truth, episodes) if s.clip == clip]))
+                       ["overall"]["f1"] for clip in dict.fromkeys(s.clip for s in episodes)}
             result["azimuths"][f"{azimuth:g}"] = {"detected": float(np.mean(detected)), **scores["overall"],
-                                                  "f1_by_channel": {c: v["f1"] for c, v in scores.items()}}
+                                                  "f1_by_channel": {c: v["f1"] for c, v in scores.items()},
+                                                  "f1_by_clip": by_clip}
             r = result["azimuths"][f"{azimuth:g}"]
             print(f"azimuth {azimuth:>5g}°: person found in {r['detected']:.0%} of frames; precision "
-                  f"{r['precision']:.3f}, recall {r['recall']:.3f}, F1 {r['f1']:.3f}", flush=True)
+                  f"{r['precision']:.3f}, recall {r['recall']:.3f}, F1 {r['f1']:.3f} ("
+                  + ", ".join(f"{c.split(':')[-1]} {f:.3f}" for c, f in by_clip.items()) + ")", flush=True)
     emit_json(result, args.json)
 
 
