@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from perception.__main__ import main
-from perception.contacts import detection_scores
+from perception.contacts import ContactFunction, detection_scores
 from perception.dataset import load_split
 from perception.keypoints import KEYPOINTS
 from perception.video import fill_gaps, landmarks_to_keypoints
@@ -80,9 +80,11 @@ def test_video_of_a_rollout_gives_the_simulators_contacts(dataset, tmp_path):
         assert z["keypoints"].shape == (len(frames), 13, 3) and float(z["fps"]) == 30.0
         assert (z["keypoints"][:, 0, 2] > 0).mean() > 0.9   # MediaPipe finds the dressed character
     predicted = np.array(out["contacts"], bool)
-    truth = seq.contacts[np.minimum(np.arange(len(predicted)) * 2, len(seq.contacts) - 1)]
+    truth = ContactFunction()(seq.forces, seq.fps)[np.minimum(np.arange(len(predicted)) * 2, len(seq.forces) - 1)]
     scores = detection_scores(predicted, truth)
-    assert scores["overall"]["f1"] > 0.8, scores
+    # measured 0.83 (precision 0.84, recall 0.82); calling every frame a contact scores 0.66
+    assert scores["overall"]["f1"] > 0.75, scores
+    assert scores["overall"]["f1"] > detection_scores(np.ones_like(truth), truth)["overall"]["f1"] + 0.1
 
 
 def test_clothed_rendering_dresses_the_character_and_leaves_the_model_as_it_was(walk):
