@@ -140,10 +140,11 @@ def _resample(features: np.ndarray, fps: float, new_fps: float, n: int) -> np.nd
 
 
 @torch.no_grad()
-def contact_probabilities(net: ContactTransformer, keypoints: np.ndarray, fps: float) -> np.ndarray:
+def contact_probabilities(net: ContactTransformer, keypoints: np.ndarray, fps: float,
+                          batch_size: int = 64) -> np.ndarray:
     """Contact probabilities ``(T, 4)`` of a whole sequence of keypoints ``(T, K, 3)`` (pixels,
     confidence) filmed at ``fps``: resampled to the network's rate, read in half-overlapping
-    windows (overlaps averaged), and sampled back at the input frames."""
+    windows (``batch_size`` at a time; overlaps averaged), and sampled back at the input frames."""
     if fps <= 0:
         raise ValueError(f"fps must be positive, got {fps}")
     kp = np.asarray(keypoints)
@@ -157,10 +158,13 @@ def contact_probabilities(net: ContactTransformer, keypoints: np.ndarray, fps: f
     x = torch.from_numpy(_resample(features, fps, net.fps, n))
     total, count = torch.zeros(n, 4), torch.zeros(n, 1)
     net.eval()
-    for start in windows_over(n, net.window):
-        chunk = x[start:start + net.window]
-        total[start:start + len(chunk)] += torch.sigmoid(net(chunk[None]))[0]
-        count[start:start + len(chunk)] += 1
+    starts = windows_over(n, net.window)
+    length = min(n, net.window)
+    for batch in torch.split(torch.tensor(starts), batch_size):   # equal-length windows, read in batches
+        windows = torch.stack([x[s:s + length] for s in batch.tolist()])
+        for s, p in zip(batch.tolist(), torch.sigmoid(net(windows))):
+            total[s:s + length] += p
+            count[s:s + length] += 1
     probs = (total / count).numpy()
     back = np.clip(np.round(times * net.fps).astype(int), 0, n - 1)
     return probs[back]
