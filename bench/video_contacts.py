@@ -22,9 +22,8 @@ import imageio.v2 as imageio
 import numpy as np
 
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from perception.contact_transformer import contact_probabilities
+from perception.contact_transformer import detect_contacts
 from perception.contacts import ContactFunction, detection_scores
-from perception.gait import gait_phases, toe_reference_angles
 from perception.plots import plot_gait
 from perception.dataset import load_split
 from perception.video import video_keypoints
@@ -50,6 +49,8 @@ def main() -> None:
                 for s in sorted((s for s in test if s.clip == clip), key=lambda s: -len(s.qpos))[:args.episodes]]
     result = {"episodes": [f"{s.clip} ({len(s.qpos)} frames)" for s in episodes], "video_fps": VIDEO_FPS,
               "azimuths": {}}
+    gamma = ContactFunction()
+    labels_of = [gamma(s.forces, s.fps) for s in episodes]
     with tempfile.TemporaryDirectory() as tmp:
         for azimuth in AZIMUTHS:
             predicted, truth, detected = [], [], []
@@ -59,15 +60,14 @@ def main() -> None:
                 video = Path(tmp) / f"{k}.mp4"
                 imageio.mimsave(video, frames, fps=VIDEO_FPS, macro_block_size=1)
                 keypoints, fps = video_keypoints(video)
-                labels = ContactFunction()(s.forces, s.fps)
+                labels = labels_of[k]
                 at = np.minimum(np.round(np.arange(len(keypoints)) * s.fps / fps).astype(int), len(labels) - 1)
-                predicted.append(contact_probabilities(net, keypoints, fps) > 0.5)
+                predicted.append(detect_contacts(net, keypoints, fps))
                 truth.append(labels[at])
                 detected.append((keypoints[:, 0, 2] > 0).mean())
                 if k == 0 and azimuth == 135.0:
                     for name, contacts in (("predicted", predicted[-1]), ("simulator", truth[-1])):
-                        plot_gait(RESULTS / f"gait_video_{name}.png", contacts, gait_phases(contacts),
-                                  toe_reference_angles(contacts), fps,
+                        plot_gait(RESULTS / f"gait_video_{name}.png", contacts, fps,
                                   f"{s.clip} rollout: " + ("from the video (MediaPipe + ContactTransformer)"
                                                            if name == "predicted" else "simulator (Γ of insole forces)"))
             scores = detection_scores(np.concatenate(predicted), np.concatenate(truth))

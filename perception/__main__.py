@@ -26,9 +26,9 @@ from tqdm import tqdm
 from perception.cleanup import CleanupConfig, cleanup
 from perception.contacts import CONTACT_NAMES, ContactFunction
 from perception.dataset import SPLITS, DatasetConfig, generate, load_split
-from perception.contact_transformer import contact_probabilities
+from perception.contact_transformer import detect_contacts
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
-from perception.gait import gait_phases, gait_report
+from perception.gait import gait_report
 from perception.keypoint_data import load_keypoint_split, held_out_views
 from perception.keypoint_evaluation import GAIT_RATIOS, evaluate_keypoint_contacts, film_split
 from perception.keypoint_training import SAMPLINGS, KeypointTrainConfig, train_keypoints
@@ -197,7 +197,7 @@ def source_contacts(args: argparse.Namespace) -> tuple[np.ndarray, float, str]:
             np.savez(args.keypoints_out, keypoints=keypoints[0], fps=keypoints[1])
     if keypoints is not None:
         net = load_network(args.net, "keypoints")
-        return contact_probabilities(net, *keypoints) > 0.5, keypoints[1], f"keypoints ({args.net})"
+        return detect_contacts(net, *keypoints), keypoints[1], f"keypoints ({args.net})"
     motion = load_motion(args.source)
     forces = estimate(load_network(args.vgrf, "vgrf"), motion_joint_positions(motion))
     return ContactFunction()(forces, motion.fps), motion.fps, f"VGRFNet + Γ ({args.vgrf})"
@@ -310,8 +310,7 @@ def _run(args: argparse.Namespace) -> dict | None:
         if args.json:
             write_json(args.json, report)
         if args.plot:
-            plot_gait(args.plot, contacts, gait_phases(contacts), np.radians(report["toe_reference_deg"]), fps,
-                      f"{Path(str(args.source)).name}: gait from {method.split(' (')[0]}")
+            plot_gait(args.plot, contacts, fps, f"{Path(str(args.source)).name}: gait from {method.split(' (')[0]}")
         return report
     if args.command == "cleanup":
         if str(args.source).endswith(".pth"):

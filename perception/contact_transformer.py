@@ -168,3 +168,13 @@ def contact_probabilities(net: ContactTransformer, keypoints: np.ndarray, fps: f
     probs = (total / count).numpy()
     back = np.clip(np.round(times * net.fps).astype(int), 0, n - 1)
     return probs[back]
+
+
+CONTACT_THRESHOLD = 0.5
+"""Probability above which a frame is called a contact (contactvision §5.1)."""
+
+
+def detect_contacts(net: ContactTransformer, keypoints: np.ndarray, fps: float) -> np.ndarray:
+    """Contacts ``(T, 4)`` bool of keypoints ``(T, K, 3)`` filmed at ``fps``:
+    :func:`contact_probabilities` above :data:`CONTACT_THRESHOLD`."""
+    return contact_probabilities(net, keypoints, fps) > CONTACT_THRESHOLD

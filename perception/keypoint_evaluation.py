@@ -9,7 +9,7 @@ from dataclasses import dataclass
 import numpy as np
 from tqdm import tqdm
 
-from perception.contact_transformer import ContactTransformer, contact_probabilities
+from perception.contact_transformer import ContactTransformer, detect_contacts
 from perception.contacts import detection_scores
 from perception.gait import gait_cycles, gait_parameters, gait_phases
 from perception.keypoint_data import KeypointSequence, View, ViewConfig, film
@@ -42,8 +42,9 @@ def film_split(sequences: list[KeypointSequence], views: list[View], keypoints: 
 
 
 def predict_contacts(net: ContactTransformer, filmed: list[FilmedSequence], progress: bool = False) -> list[np.ndarray]:
-    """Contacts ``(T, 4)`` bool (probability > 0.5, contactvision §5.1) of each filmed sequence."""
-    return [contact_probabilities(net, f.keypoints, f.fps) > 0.5
+    """Contacts ``(T, 4)`` bool (:func:`~perception.contact_transformer.detect_contacts`) of each
+    filmed sequence."""
+    return [detect_contacts(net, f.keypoints, f.fps)
             for f in tqdm(filmed, desc="contacts", unit="sequence", disable=not progress)]
 
 

@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 
 from perception.contacts import CONTACT_NAMES
-from perception.gait import PHASES, TOE_PEAK_RAD
+from perception.gait import PHASES, TOE_PEAK_RAD, gait_phases, toe_reference_angles
 
 
 def _pyplot():
@@ -49,11 +49,11 @@ PHASE_COLOURS = ("#bbbbbb", "#d62728", "#ff7f0e", "#2ca02c", "#17becf", "#9467bd
 """One colour per gait phase of :data:`~perception.gait.PHASES` (undefined: white)."""
 
 
-def plot_gait(path: Path, contacts: np.ndarray, phases: np.ndarray, toe_angles: np.ndarray, fps: float,
-              title: str) -> Path:
-    """PNG timeline: the four contacts ``(T, 4)`` as bars, the gait phase ``(T,)`` as a coloured
-    band, and the ToeRefEstimator's toe angles ``(T, 2)`` (rad) below."""
+def plot_gait(path: Path, contacts: np.ndarray, fps: float, title: str) -> Path:
+    """PNG timeline of contacts ``(T, 4)``: the four contacts as bars, the gait phase of each
+    frame as a coloured band, and the ToeRefEstimator's toe angles below."""
     plt = _pyplot()
+    phases, toe_angles = gait_phases(contacts), toe_reference_angles(contacts)
     from matplotlib.patches import Patch
 
     t = np.arange(len(contacts)) / fps

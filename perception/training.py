@@ -28,10 +28,11 @@ from tqdm import tqdm
 from perception.contacts import ContactFunction
 from perception.dataset import Sequence, load_split
 from perception.skeleton import JOINTS
-from perception.vgrf import ContactMLP, VGRFNet, augment, count_parameters, msle
-from perception.weights import SIDECAR_FILE
+from perception.vgrf import augment, count_parameters, msle
+from perception.weights import KINDS, SIDECAR_FILE
 
-FORCE_KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP}
+FORCE_KINDS = {kind: KINDS[kind] for kind in ("vgrf", "mlp")}
+"""The networks :class:`ForceTask` trains (from joint positions)."""
 
 
 @dataclass(frozen=True)
