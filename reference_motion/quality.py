@@ -118,6 +118,14 @@ def jitter(hinges: np.ndarray, fps: float) -> float:
     return float(np.abs(np.diff(hinges, n=3, axis=0)).mean() * fps**3)
 
 
+def range_excursion(hinges: np.ndarray, ranges: np.ndarray) -> float:
+    """Mean over frames of the summed excursion (rad) of hinge angles ``(T, n)`` beyond their
+    ``ranges (n, 2)`` (lower, upper); 0 when every angle is in range."""
+    below = np.clip(ranges[:, 0] - hinges, 0.0, None)
+    above = np.clip(hinges - ranges[:, 1], 0.0, None)
+    return float((below + above).sum(axis=1).mean()) if len(hinges) else 0.0
+
+
 def motion_quality(motion: Motion, config: QualityConfig = QualityConfig()) -> QualityReport:
     """All artefact metrics of ``motion`` (replayed kinematically on its model)."""
     hm = load_model(motion.model)

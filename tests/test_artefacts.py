@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
-from reference_motion.quality import motion_quality
+from reference_motion.quality import jitter, motion_quality, range_excursion
 
 
 @pytest.fixture(scope="module")
@@ -69,3 +69,12 @@ def test_bad_recipe():
     with pytest.raises(ValueError, match="'noise' must be a finite number >= 0"):
         ArtefactRecipe(noise=-1)
     assert len(ARTEFACT_KINDS) == 7
+
+
+def test_range_excursion_and_jitter_by_hand():
+    ranges = np.array([[-1.0, 1.0], [0.0, 2.0]])
+    angles = np.array([[1.5, 1.0], [0.0, -0.25], [-1.0, 2.5]])   # 0.5 over; 0.25 under; 0.5 over
+    assert range_excursion(angles, ranges) == pytest.approx((0.5 + 0.25 + 0.5) / 3)
+    assert range_excursion(np.zeros((4, 2)) + [0.0, 1.0], ranges) == 0.0
+    cubic = (np.arange(6.0) / 10.0)[:, None] ** 3          # angle = t³ at 10 Hz: jerk 6 rad/s³
+    assert jitter(cubic, fps=10.0) == pytest.approx(6.0)

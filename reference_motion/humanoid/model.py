@@ -18,6 +18,8 @@ from reference_motion.humanoid.builder import ASSET_DIR, HEEL_CELLS, MODEL_NAMES
 
 CONTACT_CHANNELS = ("left_toe", "right_toe", "left_heel", "right_heel")
 """Order of every 4-channel contact array in the project (ContactVision order)."""
+FOOT_CHANNELS = ((0, 2), (1, 3))
+"""Per foot (left, right): the (toe, heel) columns of a CONTACT_CHANNELS array."""
 
 
 @dataclass(frozen=True)
@@ -82,6 +84,19 @@ class HumanoidModel:
             return int(self.model.jnt_qposadr[self.model.joint(joint).id])
         except KeyError as err:
             raise KeyError(f"model {self.name} has no joint {joint!r}") from err
+
+    @property
+    def leg_qpos_columns(self) -> np.ndarray:
+        """qpos indices of the hinges from the hips down (thighs, shins, feet and toes)."""
+        legs = ("thigh", "shin", "foot", "toe")
+        return np.concatenate([j.qpos_index for name, j in self.body_joints.items() if name[2:] in legs])
+
+    @property
+    def hinge_ranges(self) -> tuple[np.ndarray, np.ndarray]:
+        """The limited hinges: their qpos indices ``(n,)`` and ranges ``(n, 2)`` (rad; lower, upper)."""
+        m = self.model
+        limited = [j for j in range(1, m.njnt) if m.jnt_limited[j]]
+        return m.jnt_qposadr[limited].copy(), m.jnt_range[limited].copy()
 
     def body_id(self, body: str) -> int:
         try:
