@@ -1,17 +1,24 @@
 """vGRF-guided footskate cleanup (underpressure §6) on IMU-corrupted held-out clips.
 
-Usage: ``python bench/footskate_cleanup.py [--vgrf models/vgrf] [--frames 300] [--json [OUT]]``
+Usage: ``python bench/footskate_cleanup.py [--vgrf models/vgrf] [--frames 300] [--strength 1]
+[--ablate] [--json [OUT]]``
 
-Each of ADAPT's three held-out walker clips is corrupted with IMU artefacts (strength 1, seeds
-1000, 1001, 1002: the evaluation seeds of the PPO policies), cut to ``--frames`` frames and cleaned.
-Reported per clip and on average: contact foot speed before and after (mean horizontal speed of
-the sole points under Ψ+Γ contacts, UnderPressure's measure), its reduction (goal ≥ 80%), the
-mean joint displacement (goal ≤ 3 cm), and the wall time.
+Each of ADAPT's three held-out walker clips is corrupted with IMU artefacts (seeds 1000, 1001,
+1002: the evaluation seeds of the PPO policies), cut to ``--frames`` frames and cleaned. Reported
+per clip and on average: contact foot speed before and after (mean horizontal speed of the sole
+points under Ψ+Γ contacts, UnderPressure's measure), its reduction (goal ≥ 80%), the mean joint
+displacement (goal ≤ 3 cm), hinge jitter after/before (mean absolute jerk,
+:func:`~reference_motion.quality.jitter`), the hinges' excursion beyond their ranges before and
+after (:func:`~reference_motion.quality.range_excursion`), and the wall time.
+
+``--ablate`` also runs the cleanup with each of our departures from the paper switched off in turn
+(:class:`~perception.cleanup.CleanupConfig`) and prints one line per variant.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import time
 from pathlib import Path
 
@@ -21,9 +28,52 @@ from json_report import emit_json  # bench/json_report.py: the scripts run from 
 from perception.cleanup import CleanupConfig, cleanup
 from perception.weights import load_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+from reference_motion.quality import jitter, range_excursion
 
 HELD_OUT = ("deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left1", "deepmimic:walker/turn_right1")
+ABLATIONS = {
+    "without L_pose": dict(w_pose=0.0),
+    "without targets between contacts": dict(swing_weight=0.0),
+    "without L_limit": dict(w_limit=0.0),
+    "without L_smooth": dict(w_smooth=0.0, w_smooth_legs=0.0),
+    "100 iterations (UnderPressure's N)": dict(iterations=100),
+}
+"""Variants run by ``--ablate``: CleanupConfig overrides."""
+AVERAGED = ("foot_speed_before_mps", "foot_speed_after_mps", "reduction", "joint_shift_cm", "jitter_ratio",
+            "range_excursion_before_rad", "range_excursion_after_rad", "wall_s")
+
+
+def clean_clip(motion: Motion, net, config: CleanupConfig) -> dict:
+    """Cleans ``motion`` and returns its row of measurements."""
+    start = time.perf_counter()
+    r = cleanup(motion, net, config)
+    wall = time.perf_counter() - start
+    columns, ranges = load_model(motion.model).hinge_ranges
+    return {"foot_speed_before_mps": r.foot_speed_before, "foot_speed_after_mps": r.foot_speed_after,
+            "reduction": 1 - r.foot_speed_after / r.foot_speed_before if r.foot_speed_before else 0.0,
+            "joint_shift_cm": 100 * r.joint_shift_m, "contact_share": float(r.contacts.mean()),
+            "jitter_ratio": jitter(r.motion.qpos[:, 7:], motion.fps) / jitter(motion.qpos[:, 7:], motion.fps),
+            "range_excursion_before_rad": range_excursion(motion.qpos[:, columns], ranges),
+            "range_excursion_after_rad": range_excursion(r.motion.qpos[:, columns], ranges), "wall_s": wall}
+
+
+def summary(label: str, row: dict) -> str:
+    return (f"{label:<36} foot speed {row['foot_speed_before_mps']:.3f} -> {row['foot_speed_after_mps']:.3f} m/s "
+            f"({row['reduction']:.1%} less), joints moved {row['joint_shift_cm']:.2f} cm, jitter x{row['jitter_ratio']:.2f}, "
+            f"out of range {row['range_excursion_before_rad']:.3f} -> {row['range_excursion_after_rad']:.3f} rad, "
+            f"{row['wall_s']:.0f} s")
+
+
+def run(motions: list[Motion], net, config: CleanupConfig, verbose: bool) -> tuple[list[dict], dict]:
+    rows = []
+    for i, motion in enumerate(motions):
+        rows.append({"clip": HELD_OUT[i], "seed": 1000 + i, **clean_clip(motion, net, config)})
+        if verbose:
+            print(summary(HELD_OUT[i], rows[-1]))
+    return rows, {k: float(np.mean([r[k] for r in rows])) for k in AVERAGED}
 
 
 def main() -> None:
@@ -31,30 +81,23 @@ def main() -> None:
     p.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
     p.add_argument("--frames", type=int, default=300)
     p.add_argument("--strength", type=float, default=1.0)
-    p.add_argument("--iterations", type=int, default=CleanupConfig().iterations)
+    p.add_argument("--ablate", action="store_true", help="also run each departure from the paper switched off")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     net = load_network(args.vgrf, "vgrf")
-    rows = []
+    motions = []
     for i, clip in enumerate(HELD_OUT):
         motion = corrupt(load_motion(clip, min_frames=args.frames), ArtefactRecipe.imu(args.strength), 1000 + i)
-        motion = motion.with_qpos(motion.qpos[:args.frames])
-        start = time.perf_counter()
-        r = cleanup(motion, net, CleanupConfig(iterations=args.iterations))
-        rows.append({"clip": clip, "seed": 1000 + i, "foot_speed_before_mps": r.foot_speed_before,
-                     "foot_speed_after_mps": r.foot_speed_after,
-                     "reduction": 1 - r.foot_speed_after / r.foot_speed_before if r.foot_speed_before else 0.0,
-                     "joint_shift_cm": 100 * r.joint_shift_m, "contact_share": float(r.contacts.mean()),
-                     "wall_s": time.perf_counter() - start})
-        row = rows[-1]
-        print(f"{clip:<32} foot speed {row['foot_speed_before_mps']:.3f} -> {row['foot_speed_after_mps']:.3f} m/s "
-              f"({row['reduction']:.0%} less), joints moved {row['joint_shift_cm']:.1f} cm, {row['wall_s']:.0f} s")
-    mean = {k: float(np.mean([r[k] for r in rows])) for k in ("foot_speed_before_mps", "foot_speed_after_mps",
-                                                               "reduction", "joint_shift_cm", "wall_s")}
-    print(f"{'mean':<32} foot speed {mean['foot_speed_before_mps']:.3f} -> {mean['foot_speed_after_mps']:.3f} m/s "
-          f"({mean['reduction']:.0%} less), joints moved {mean['joint_shift_cm']:.1f} cm")
-    emit_json({"clips": rows, "mean": mean, "strength": args.strength, "frames": args.frames,
-               "iterations": args.iterations}, args.json)
+        motions.append(motion.with_qpos(motion.qpos[:args.frames]))
+    config = CleanupConfig()
+    rows, mean = run(motions, net, config, verbose=True)
+    print(summary("mean", mean))
+    ablations = {}
+    for label, overrides in ABLATIONS.items() if args.ablate else ():
+        ablations[label] = run(motions, net, dataclasses.replace(config, **overrides), verbose=False)[1]
+        print(summary(label, ablations[label]))
+    emit_json({"clips": rows, "mean": mean, "ablations": ablations, "strength": args.strength,
+               "frames": args.frames, "config": dataclasses.asdict(config)}, args.json)
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@ import pytest
 import torch
 
 from perception.__main__ import main
-from perception.cleanup import cleanup, contact_targets, contact_weights
+from perception.cleanup import cleanup, contact_speed, contact_targets, contact_weights, foot_targets
 from perception.contacts import ContactFunction
 from perception.dataset import DatasetConfig, generate, load_split
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
@@ -17,6 +17,8 @@ from perception.training import TrainConfig, train
 from perception.vgrf import VGRFNet
 from perception.weights import load_network, ship
 from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.humanoid.model import load_model
+from reference_motion.quality import jitter, range_excursion
 
 
 
@@ -134,6 +136,48 @@ def test_contact_weights_and_targets_by_hand():
     assert np.allclose(pins[2:10, 0], [0.055, 0.0, 0.01]) and np.isnan(pins[0, 0]).all()
 
 
+def test_heel_and_toe_pins_of_a_sliding_foot_sit_one_foot_length_apart():
+    soles = np.zeros((14, 4, 3))
+    soles[:, 2, 0] = np.arange(14) * 0.01        # the left heel slides 1 cm per frame...
+    soles[:, 0, 0] = soles[:, 2, 0] + 0.2        # ...and the toe with it, 20 cm ahead
+    contacts = np.zeros((14, 4), bool)
+    contacts[1:9, 2] = True                      # heel strike to heel off
+    contacts[4:13, 0] = True                     # foot flat to toe off: the longest phase
+    pins = contact_targets(soles, contacts)
+    assert np.allclose(pins[4:13, 0], [0.28, 0.0, 0.0])   # the toe's mean
+    assert np.allclose(pins[1:9, 2], [0.08, 0.0, 0.0])    # 20 cm behind it, not the heel's own mean 0.045
+    assert np.isnan(pins[0]).all() and np.isnan(pins[:, [1, 3]]).all()
+
+
+def test_foot_targets_carry_the_correction_between_contacts():
+    soles = np.zeros((10, 4, 3))
+    soles[:, 0, 0] = np.arange(10) * 0.1         # the left toe moves 10 cm per frame; the heel stays
+    pins = np.full((10, 4, 3), np.nan)
+    pins[0:2, 0] = [0.0, 0.0, 0.0]               # corrections 0 and -0.1 m
+    pins[6:8, 0] = [1.0, 0.0, 0.0]               # corrections +0.4 and +0.3 m
+    targets = foot_targets(soles, pins)
+    assert np.allclose(targets[[0, 1, 6, 7], 0, 0], [0.0, 0.0, 1.0, 1.0])
+    assert targets[4, 0, 0] == pytest.approx(0.4 + 0.2)   # correction interpolated from -0.1 (frame 1) to 0.4 (frame 6)
+    assert targets[4, 2, 0] == pytest.approx(0.2)         # the heel is carried along with its foot
+    assert targets[9, 0, 0] == pytest.approx(0.9 + 0.3)   # the last correction held to the end
+    assert np.array_equal(targets[:, [1, 3]], soles[:, [1, 3]])  # the right foot never touches: unchanged
+
+
+def test_cleanup_lets_the_legs_absorb_a_drifting_root(walk):
+    """The skate artefact drags the whole body; the cleanup plants the feet by bending the legs,
+    within the hinge ranges, without moving the body far or adding jitter."""
+    net = load_network("models/vgrf", "vgrf")
+    bad = corrupt(walk, ArtefactRecipe.only("skate"), 1)
+    result = cleanup(bad, net)
+    assert result.foot_speed_before > 0.3
+    assert result.foot_speed_after < 0.35 * result.foot_speed_before   # measured: -73%
+    assert result.joint_shift_m < 0.03                                  # measured: 2.1 cm
+    columns, ranges = load_model(walk.model).hinge_ranges
+    assert range_excursion(result.motion.qpos[:, columns], ranges) < 0.005   # rad; 0.2 without L_limit
+    jitters = [jitter(m.qpos[:, 7:], m.fps) for m in (bad, result.motion)]
+    assert jitters[1] < 1.1 * jitters[0]                                       # measured ×1.02; ×2.2 without L_smooth
+
+
 def test_cleanup_rejects_bad_motion(walk):
     net = VGRFNet()
     with pytest.raises(ValueError, match="needs at least 3 frames"):
@@ -152,7 +196,6 @@ def test_cli_errors_are_one_line(tmp_path, capsys):
 
 
 def test_corrupted_clip_skates_more_for_the_cleanup_measure(walk):
-    from perception.cleanup import contact_speed
     from perception.kinematics import torch_kinematics
     kin = torch_kinematics(walk.model)
     bad = corrupt(walk, ArtefactRecipe.only("skate"), 1)
