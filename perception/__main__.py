@@ -142,6 +142,9 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--out", type=Path, required=True, help="the cleaned Motion (.npz)")
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
     g.add_argument("--iterations", type=int, default=CleanupConfig().iterations)
+    g.add_argument("--pose-weight", type=float, default=CleanupConfig().w_pose,
+                   help="how hard the joints are kept near the input: lower removes more skate and moves the "
+                        "body more (0: not kept; the body follows the planted feet)")
     g.add_argument("--json", type=Path)
     return p
 
@@ -318,7 +321,8 @@ def _run(args: argparse.Namespace) -> dict | None:
                              "read as joint positions only")
         motion = motion_of(args)
         with tqdm(desc=f"cleaning {motion.name}", unit="evaluation") as bar:
-            result = cleanup(motion, load_network(args.vgrf, "vgrf"), CleanupConfig(iterations=args.iterations),
+            config = CleanupConfig(iterations=args.iterations, w_pose=args.pose_weight)
+            result = cleanup(motion, load_network(args.vgrf, "vgrf"), config,
                              progress=lambda it, loss: (bar.update(1), bar.set_postfix(loss=f"{loss:.4f}")))
         result.motion.save(args.out)
         reduction = 1 - result.foot_speed_after / result.foot_speed_before if result.foot_speed_before else 0.0

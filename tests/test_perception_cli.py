@@ -49,6 +49,9 @@ def test_cleanup_stills_the_planted_feet_of_a_jittery_walk(tmp_path):
     assert result["reduction"] > 0.8
     assert result["joint_shift_m"] < 0.03
     assert out.exists() and json.loads((tmp_path / "r.json").read_text())["reduction"] == result["reduction"]
+    free = main(["cleanup", "deepmimic:walk", "--corrupt", "noise", "--strength", "1", "--seed", "3",
+                 "--pose-weight", "0", "--out", str(out)])
+    assert free["joint_shift_m"] > 1.5 * result["joint_shift_m"]  # nothing holds the body near the input
     with pytest.raises(SystemExit, match="cleanup edits a Motion"):
         main(["cleanup", str(tmp_path / "x.pth"), "--out", str(out)])
 
