@@ -33,7 +33,7 @@ from perception.keypoint_data import load_keypoint_split, held_out_views
 from perception.keypoint_evaluation import GAIT_RATIOS, evaluate_keypoint_contacts, film_split
 from perception.keypoint_training import SAMPLINGS, KeypointTrainConfig, train_keypoints
 from perception.keypoints import KEYPOINT_SETS
-from perception.plots import plot_contacts, plot_gait
+from perception.plots import plot_cleanup, plot_contacts, plot_gait
 from perception.skeleton import motion_joint_positions
 from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
@@ -146,6 +146,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="how hard the joints are kept near the input: lower removes more skate and moves the "
                         "body more (0: not kept; the body follows the planted feet)")
     g.add_argument("--json", type=Path)
+    g.add_argument("--plot", type=Path, help="PNG: heel and toe speeds before and after, over the contacts")
     return p
 
 
@@ -329,6 +330,9 @@ def _run(args: argparse.Namespace) -> dict | None:
         print(f"contact foot speed {result.foot_speed_before:.3f} -> {result.foot_speed_after:.3f} m/s "
               f"({reduction:.0%} less); joints moved {100 * result.joint_shift_m:.1f} cm on average; "
               f"written {args.out}")
+        if args.plot:
+            plot_cleanup(args.plot, result.soles_before, result.soles_after, result.contacts, motion.fps,
+                         f"{motion.name}: foot speed before and after cleanup")
         summary = {"source": str(args.source), "corrupt": args.corrupt, "strength": args.strength if args.corrupt else 0,
                    "foot_speed_before_mps": result.foot_speed_before, "foot_speed_after_mps": result.foot_speed_after,
                    "reduction": reduction, "joint_shift_m": result.joint_shift_m, "out": str(args.out)}

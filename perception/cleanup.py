@@ -35,6 +35,7 @@ from perception.vgrf import msle
 from reference_motion.footskate import contact_windows
 from reference_motion.humanoid.model import FOOT_CHANNELS, load_model
 from reference_motion.motion import Motion
+from reference_motion.quality import horizontal_speed
 
 
 @dataclass(frozen=True)
@@ -79,16 +80,27 @@ class CleanupResult:
     Attributes:
         motion: the cleaned clip.
         contacts: ``(T, 4)`` contacts from Ψ and Γ on the input.
-        foot_speed_before, foot_speed_after: mean horizontal speed (m/s) of the contact joints
-            over their contact frames (UnderPressure's footskate measure).
+        soles_before, soles_after: ``(T, 4, 3)`` world positions (m) of the contact joints in the
+            input and in the output, CONTACT_CHANNELS order.
         joint_shift_m: mean displacement of the 23 joints between input and output (m).
     """
 
     motion: Motion
     contacts: np.ndarray
-    foot_speed_before: float
-    foot_speed_after: float
+    soles_before: np.ndarray
+    soles_after: np.ndarray
     joint_shift_m: float
+
+    @property
+    def foot_speed_before(self) -> float:
+        """Mean horizontal speed (m/s) of the contact joints over their contact frames in the input
+        (UnderPressure's footskate measure)."""
+        return contact_speed(self.soles_before, self.contacts, self.motion.fps)
+
+    @property
+    def foot_speed_after(self) -> float:
+        """The same in the output."""
+        return contact_speed(self.soles_after, self.contacts, self.motion.fps)
 
 
 def contact_weights(contacts: np.ndarray, edge_frames: int) -> np.ndarray:
@@ -156,8 +168,7 @@ def foot_targets(soles: np.ndarray, pins: np.ndarray) -> np.ndarray:
 
 def contact_speed(soles: np.ndarray, contacts: np.ndarray, fps: float) -> float:
     """Mean horizontal speed (m/s) of sole points ``(T, 4, 3)`` over frames in ``contacts (T, 4)``."""
-    speed = np.linalg.norm(np.gradient(soles[..., :2], axis=0), axis=-1) * fps
-    return float(speed[contacts].mean()) if contacts.any() else 0.0
+    return float(horizontal_speed(soles, fps)[contacts].mean()) if contacts.any() else 0.0
 
 
 def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfig(),
@@ -220,6 +231,5 @@ def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfi
         final[:, 3:7] /= final[:, 3:7].norm(dim=-1, keepdim=True)
         joints, soles = kin.points(final)
     cleaned = motion.with_qpos(final.numpy().astype(float), source=dict(motion.source, footskate_cleanup="vgrf"))
-    return CleanupResult(cleaned, contacts, contact_speed(soles0.numpy(), contacts, fps),
-                         contact_speed(soles.numpy(), contacts, fps),
+    return CleanupResult(cleaned, contacts, soles0.numpy().astype(float), soles.numpy().astype(float),
                          float(torch.linalg.norm(joints - joints0, dim=-1).mean()))

@@ -1,4 +1,5 @@
-"""Figures: estimated vGRF with contact bands, and gait timelines like contactvision Fig. 13."""
+"""Figures: estimated vGRF with contact bands, footskate before and after cleanup, and gait
+timelines like contactvision Fig. 13."""
 
 from __future__ import annotations
 
@@ -8,6 +9,7 @@ import numpy as np
 
 from perception.contacts import CONTACT_NAMES
 from perception.gait import PHASES, TOE_PEAK_RAD, gait_phases, toe_reference_angles
+from reference_motion.quality import horizontal_speed
 
 
 def _pyplot():
@@ -43,6 +45,26 @@ def plot_contacts(path: Path, forces: np.ndarray, contacts: np.ndarray, fps: flo
     fig.suptitle(title)
     return _save(fig, path)
 
+
+def plot_cleanup(path: Path, soles_before: np.ndarray, soles_after: np.ndarray, contacts: np.ndarray,
+                 fps: float, title: str) -> Path:
+    """PNG of the horizontal speed (m/s) of each foot's heel and toe contact joints ``(T, 4, 3)``
+    before and after footskate cleanup, over bands where ``contacts (T, 4)`` say they are planted
+    (there the speed should be 0)."""
+    plt = _pyplot()
+    t = np.arange(len(contacts)) / fps
+    before, after = horizontal_speed(soles_before, fps), horizontal_speed(soles_after, fps)
+    fig, axes = plt.subplots(4, 1, figsize=(10, 7), sharex=True)
+    for ch, ax in enumerate(axes):
+        ax.fill_between(t, 0, 1, where=contacts[:, ch], transform=ax.get_xaxis_transform(), color="tab:green",
+                        alpha=0.2, step="mid", label="contact")
+        ax.plot(t, before[:, ch], color="tab:red", lw=1.0, label="input")
+        ax.plot(t, after[:, ch], color="k", lw=1.2, label="cleaned")
+        ax.set_ylabel(f"{CONTACT_NAMES[ch].replace('_', ' ')}\n(m/s)", fontsize=8)
+    axes[0].legend(loc="upper right", fontsize=8, ncol=3)
+    axes[-1].set_xlabel("time (s)")
+    fig.suptitle(title)
+    return _save(fig, path)
 
 
 PHASE_COLOURS = ("#bbbbbb", "#d62728", "#ff7f0e", "#2ca02c", "#17becf", "#9467bd", "#1f77b4", "#8c564b", "#ffffff")

@@ -89,6 +89,11 @@ def kinematic_contacts(points: np.ndarray, ground: np.ndarray, contact_height: f
     return points[..., 2] <= ground[:, None] + contact_height
 
 
+def horizontal_speed(points: np.ndarray, fps: float) -> np.ndarray:
+    """Horizontal speed ``(T, P)`` (m/s) of points ``(T, P, 3)`` by central differences."""
+    return np.linalg.norm(np.gradient(points[..., :2], axis=0), axis=-1) * fps
+
+
 def foot_skate(points: np.ndarray, contacts: np.ndarray, fps: float) -> float:
     """Mean horizontal speed (m/s) of foot points ``(T, 4, 3)`` over (frame, point) pairs in
     contact ``(T, 4)``; a pair counts when the point is in contact in two consecutive frames.

@@ -44,11 +44,12 @@ def test_contacts_of_an_underpressure_sequence(tmp_path):
 def test_cleanup_stills_the_planted_feet_of_a_jittery_walk(tmp_path):
     out = tmp_path / "clean.npz"
     result = main(["cleanup", "deepmimic:walk", "--corrupt", "noise", "--strength", "1", "--seed", "3",
-                   "--out", str(out), "--json", str(tmp_path / "r.json")])
+                   "--out", str(out), "--json", str(tmp_path / "r.json"), "--plot", str(tmp_path / "r.png")])
     assert result["foot_speed_before_mps"] > 0.5  # per-frame joint noise shakes the planted feet
     assert result["reduction"] > 0.8
     assert result["joint_shift_m"] < 0.03
     assert out.exists() and json.loads((tmp_path / "r.json").read_text())["reduction"] == result["reduction"]
+    assert (tmp_path / "r.png").stat().st_size > 20_000
     free = main(["cleanup", "deepmimic:walk", "--corrupt", "noise", "--strength", "1", "--seed", "3",
                  "--pose-weight", "0", "--out", str(out)])
     assert free["joint_shift_m"] > 1.5 * result["joint_shift_m"]  # nothing holds the body near the input
