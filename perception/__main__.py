@@ -41,6 +41,7 @@ from perception.vgrf import estimate
 from perception.video import VIDEO_SUFFIXES, video_keypoints
 from perception.weights import load_network, record_metrics, ship
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.bvh_export import write_bvh
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 
@@ -147,6 +148,7 @@ def build_parser() -> argparse.ArgumentParser:
                         "body more (0: not kept; the body follows the planted feet)")
     g.add_argument("--json", type=Path)
     g.add_argument("--plot", type=Path, help="PNG: heel and toe speeds before and after, over the contacts")
+    g.add_argument("--bvh", type=Path, help="also write the cleaned clip as BVH")
     return p
 
 
@@ -330,6 +332,8 @@ def _run(args: argparse.Namespace) -> dict | None:
         print(f"contact foot speed {result.foot_speed_before:.3f} -> {result.foot_speed_after:.3f} m/s "
               f"({reduction:.0%} less); joints moved {100 * result.joint_shift_m:.1f} cm on average; "
               f"written {args.out}")
+        if args.bvh:
+            print(f"wrote {write_bvh(result.motion, args.bvh)}")
         if args.plot:
             plot_cleanup(args.plot, result.soles_before, result.soles_after, result.contacts, motion.fps,
                          f"{motion.name}: foot speed before and after cleanup")
