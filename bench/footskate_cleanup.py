@@ -1,7 +1,7 @@
 """vGRF-guided footskate cleanup (underpressure §6) on IMU-corrupted held-out clips.
 
 Usage: ``python bench/footskate_cleanup.py [--vgrf models/vgrf] [--frames 300] [--strength 1]
-[--takes 1] [--ablate] [--json [OUT]]``
+[--takes 1] [--ablate] [--plot OUT.png] [--json [OUT]]``
 
 Each of ADAPT's three held-out walker clips is looped to ``--frames`` frames and corrupted with IMU
 artefacts ``--takes`` times (seeds 1000, 1001, 1002 — the evaluation seeds of the PPO policies —
@@ -26,7 +26,8 @@ from pathlib import Path
 import numpy as np
 
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from perception.cleanup import CleanupConfig, cleanup
+from perception.cleanup import CleanupConfig, CleanupResult, cleanup
+from perception.plots import plot_cleanup
 from perception.weights import load_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
@@ -47,8 +48,8 @@ AVERAGED = ("foot_speed_before_mps", "foot_speed_after_mps", "reduction", "joint
             "range_excursion_before_rad", "range_excursion_after_rad", "wall_s")
 
 
-def clean_clip(motion: Motion, net, config: CleanupConfig) -> dict:
-    """Cleans ``motion`` and returns its row of measurements."""
+def clean_clip(motion: Motion, net, config: CleanupConfig) -> tuple[dict, CleanupResult]:
+    """Cleans ``motion``; returns its row of measurements and the result."""
     start = time.perf_counter()
     r = cleanup(motion, net, config)
     wall = time.perf_counter() - start
@@ -58,7 +59,7 @@ def clean_clip(motion: Motion, net, config: CleanupConfig) -> dict:
             "joint_shift_cm": 100 * r.joint_shift_m, "contact_share": float(r.contacts.mean()),
             "jitter_ratio": jitter(r.motion.qpos[:, 7:], motion.fps) / jitter(motion.qpos[:, 7:], motion.fps),
             "range_excursion_before_rad": range_excursion(motion.qpos[:, columns], ranges),
-            "range_excursion_after_rad": range_excursion(r.motion.qpos[:, columns], ranges), "wall_s": wall}
+            "range_excursion_after_rad": range_excursion(r.motion.qpos[:, columns], ranges), "wall_s": wall}, r
 
 
 def summary(label: str, row: dict) -> str:
@@ -69,14 +70,17 @@ def summary(label: str, row: dict) -> str:
 
 
 def run(takes: list[tuple[str, int, Motion]], net, config: CleanupConfig,
-        verbose: bool) -> tuple[list[dict], dict]:
-    """Rows of :func:`clean_clip` for ``(clip, seed, motion)`` takes and their means."""
-    rows = []
+        verbose: bool) -> tuple[list[dict], dict, CleanupResult]:
+    """Rows of :func:`clean_clip` for ``(clip, seed, motion)`` takes, their means, and the first
+    take's result."""
+    rows, results = [], []
     for clip, seed, motion in takes:
-        rows.append({"clip": clip, "seed": seed, **clean_clip(motion, net, config)})
+        row, result = clean_clip(motion, net, config)
+        rows.append({"clip": clip, "seed": seed, **row})
+        results.append(result)
         if verbose:
             print(summary(f"{clip} ({seed})", rows[-1]))
-    return rows, {k: float(np.mean([r[k] for r in rows])) for k in AVERAGED}
+    return rows, {k: float(np.mean([r[k] for r in rows])) for k in AVERAGED}, results[0]
 
 
 def main() -> None:
@@ -86,6 +90,7 @@ def main() -> None:
     p.add_argument("--strength", type=float, default=1.0)
     p.add_argument("--takes", type=int, default=1, help="corrupted takes (artefact seeds) per clip")
     p.add_argument("--ablate", action="store_true", help="also run each departure from the paper switched off")
+    p.add_argument("--plot", type=Path, help="PNG of the first take's foot speeds before and after")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     net = load_network(args.vgrf, "vgrf")
@@ -97,8 +102,12 @@ def main() -> None:
             seed = 1000 + i + 10 * k
             takes.append((clip, seed, corrupt(motion, ArtefactRecipe.imu(args.strength), seed)))
     config = CleanupConfig()
-    rows, mean = run(takes, net, config, verbose=True)
+    rows, mean, first = run(takes, net, config, verbose=True)
     print(summary("mean", mean))
+    if args.plot:
+        clip, seed, motion = takes[0]
+        plot_cleanup(args.plot, first.soles_before, first.soles_after, first.contacts, motion.fps,
+                     f"{clip}, IMU strength {args.strength:g} (seed {seed}): foot speed before and after cleanup")
     worst = {"reduction": min(r["reduction"] for r in rows), "joint_shift_cm": max(r["joint_shift_cm"] for r in rows)}
     print(f"worst take: {worst['reduction']:.1%} less, {worst['joint_shift_cm']:.2f} cm")
     ablations = {}

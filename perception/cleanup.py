@@ -44,11 +44,11 @@ class CleanupConfig:
 
     Attributes:
         iterations: L-BFGS iterations (UnderPressure: N = 100 gradient steps; on our held-out IMU
-            clips at strength 1, 100 → −85% at 2.8 cm of joint displacement, 300 → −86% at 2.5 cm).
+            clips at strength 1, 100 → −83% at 2.9 cm of joint displacement, 300 → −84% at 2.6 cm).
         w_quat, w_foot, w_traj, w_vgrf: loss weights of eqs. 3–6 (means over frames, SI units).
         w_pose: weight of L_pose, the mean squared displacement (m²) of the 23 joints from the
             input. It sets the trade between skate removed and motion kept: on the held-out IMU
-            clips at strength 1, 300 → −92% at 3.4 cm, 700 → −86% at 2.5 cm, 1000 → −83% at 2.2 cm.
+            clips at strength 1, 300 → −89% at 3.2 cm, 700 → −84% at 2.6 cm, 1000 → −80% at 2.3 cm.
         edge_s: duration of the smoothed ramps at both ends of a contact window.
         swing_weight: weight of L_foot on frames where a contact joint is off the floor (1 in contact).
         w_limit: weight of L_limit, the squared excursion (rad²) of the hinges beyond their MJCF
