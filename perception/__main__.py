@@ -179,6 +179,9 @@ def _print_scores(result: dict) -> None:
                   + f"{result[key]['overall']['f1']:>10.3f}")
     if "vgrf_rmse_percent_bw" in result:
         print(f"  vGRF RMSE (per-foot total): {result['vgrf_rmse_percent_bw']:.1f}% body weight")
+    print("  overall F1 forgiving errors within t s of a true contact change (underpressure Fig. 4):")
+    for key, curve in result["f1_by_tolerance_s"].items():
+        print(f"  {names[key]:<14}" + "".join(f"  t={t}: {f1:.3f}" for t, f1 in curve.items()))
 
 
 def keypoint_file(path: Path) -> tuple[np.ndarray, float] | None:

@@ -96,6 +96,31 @@ def detection_scores(predicted: np.ndarray, true: np.ndarray, channels: tuple[st
     return out
 
 
+def transition_distance(contacts: np.ndarray) -> np.ndarray:
+    """Frames ``(T, C)`` from each frame of ``contacts (T, C)`` to the nearest change of its
+    channel's label: 1 for the two frames on either side of a change, 2 for the next ones, and so
+    on; ``T + 1`` in a channel that never changes."""
+    contacts = np.asarray(contacts, bool)
+    T = len(contacts)
+    out = np.full(contacts.shape, T + 1, dtype=int)
+    frames = np.arange(T)
+    for c in range(contacts.shape[1]):
+        changes = np.flatnonzero(contacts[1:, c] != contacts[:-1, c]) + 1   # label[b - 1] != label[b]
+        if changes.size:
+            after = np.abs(frames[:, None] - changes[None, :] + 0.5).min(axis=1)
+            out[:, c] = (after + 0.5).astype(int)
+    return out
+
+
+def f1_with_tolerance(predicted: np.ndarray, true: np.ndarray, distance_s: np.ndarray, tolerance_s: float) -> float:
+    """Overall F1 of contacts ``(N, C)`` where a wrong label counts as right when it lies within
+    ``tolerance_s`` of a change of the true label (``distance_s (N, C)``: :func:`transition_distance`
+    over the frame rate): underpressure Fig. 4's F1 against temporal tolerance."""
+    predicted, true = np.asarray(predicted, bool), np.asarray(true, bool)
+    forgiven = (predicted != true) & (distance_s <= tolerance_s + 1e-9)
+    return detection_scores(np.where(forgiven, true, predicted), true, channels=())["overall"]["f1"]
+
+
 def foot_height_speed(positions: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:
     """Height (m) and speed (m/s) ``(T, 4)`` of the joints above the four contact regions
     (feet balls for toes, ankles for heels) of joint positions ``(T, 23, 3)``."""

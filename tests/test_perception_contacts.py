@@ -6,7 +6,7 @@ import pytest
 import torch
 
 from perception.contacts import (ContactFunction, OptimalThresholds, detection_scores, drop_short_phases,
-                                 vgrf_rmse_percent)
+                                 f1_with_tolerance, transition_distance, vgrf_rmse_percent)
 from perception.kinematics import torch_kinematics
 from perception.skeleton import JOINTS, PARENTS, joint_map, mirror_positions, motion_joint_positions
 from perception.underpressure_data import load_underpressure, underpressure_positions
@@ -91,6 +91,20 @@ def test_detection_scores_by_hand():
     assert s["left_toe"] == pytest.approx({"precision": 2 / 3, "recall": 2 / 3, "f1": 2 / 3})
     assert s["right_toe"]["f1"] == 1.0 and s["left_heel"]["f1"] == 0.0
     assert s["overall"]["precision"] == pytest.approx(3 / 4) and s["overall"]["recall"] == pytest.approx(3 / 4)
+
+
+def test_f1_against_temporal_tolerance_by_hand():
+    true = np.zeros((12, 1), bool)
+    true[3:9] = True                                   # changes between frames 2|3 and 8|9
+    distance = transition_distance(true)
+    assert distance[:, 0].tolist() == [3, 2, 1, 1, 2, 3, 3, 2, 1, 1, 2, 3]
+    assert transition_distance(np.ones((4, 1), bool))[:, 0].tolist() == [5, 5, 5, 5]   # no change
+    pred = true.copy()
+    pred[2] = True                                     # early onset, next to the change
+    pred[10] = True                                    # a stray contact, 2 frames from it
+    assert f1_with_tolerance(pred, true, distance / 10.0, 0.0) == pytest.approx(2 * 6 / (2 * 6 + 2))
+    assert f1_with_tolerance(pred, true, distance / 10.0, 0.1) == pytest.approx(2 * 6 / (2 * 6 + 1))
+    assert f1_with_tolerance(pred, true, distance / 10.0, 0.2) == 1.0
 
 
 def test_vgrf_rmse_in_percent_body_weight():

@@ -121,6 +121,8 @@ def test_evaluation_scores_all_three_models(dataset):
     assert result["frames"] == sum(len(s.positions) for s in test)
     assert result["ot"]["overall"]["f1"] > 0.7  # thresholds fitted on walking work on another walk
     assert result["vgrf_rmse_percent_bw"] > 0
+    curve = list(result["f1_by_tolerance_s"]["ot"].values())
+    assert curve[0] == pytest.approx(result["ot"]["overall"]["f1"]) and curve == sorted(curve) and curve[-1] > curve[0]
 
 
 def test_contact_weights_and_targets_by_hand():
