@@ -217,6 +217,8 @@ def _print_keypoint_scores(kind: str, result: dict) -> None:
     print(f"{kind} views: {result['frames']} frames in {result['sequences']} filmed sequences: precision "
           f"{overall['precision']:.3f}, recall {overall['recall']:.3f}, F1 {overall['f1']:.3f}")
     print("  F1 per channel: " + ", ".join(f"{c} {result['scores'][c]['f1']:.3f}" for c in CONTACT_NAMES))
+    print("  F1 forgiving errors within t s of a true contact change: "
+          + ", ".join(f"t={t}: {f1:.3f}" for t, f1 in result["f1_by_tolerance_s"].items()))
     for scope, what in (("cycle", "gait cycles"), ("sequence", "sequences")):
         gait = result["gait"][scope]
         print(f"  gait-ratio MAE per {scope} (pp): " + ", ".join(f"{g} {gait[f'{g}_mae_pp']:.1f}" for g in GAIT_RATIOS)

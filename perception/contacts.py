@@ -121,6 +121,19 @@ def f1_with_tolerance(predicted: np.ndarray, true: np.ndarray, distance_s: np.nd
     return detection_scores(np.where(forgiven, true, predicted), true, channels=())["overall"]["f1"]
 
 
+TOLERANCES_S = (0.0, 0.02, 0.05, 0.1, 0.2)
+"""Temporal tolerances (s) of :func:`tolerance_curve` (underpressure Fig. 4)."""
+
+
+def tolerance_curve(predicted: list[np.ndarray], true: list[np.ndarray], fps: list[float],
+                    tolerances_s: tuple[float, ...] = TOLERANCES_S) -> dict[str, float]:
+    """``{tolerance: overall F1}`` (:func:`f1_with_tolerance`) of sequences of contacts ``(T_i, C)``,
+    each with its frame rate; distances to a label change are taken within each sequence."""
+    distance_s = np.concatenate([transition_distance(t) / f for t, f in zip(true, fps)])
+    p, t = np.concatenate(predicted), np.concatenate(true)
+    return {f"{tol:g}": f1_with_tolerance(p, t, distance_s, tol) for tol in tolerances_s}
+
+
 def foot_height_speed(positions: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:
     """Height (m) and speed (m/s) ``(T, 4)`` of the joints above the four contact regions
     (feet balls for toes, ankles for heels) of joint positions ``(T, 23, 3)``."""

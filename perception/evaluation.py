@@ -11,14 +11,10 @@ from dataclasses import dataclass
 import numpy as np
 from torch import nn
 
-from perception.contacts import (ContactFunction, OptimalThresholds, detection_scores, f1_with_tolerance,
-                                 transition_distance, vgrf_rmse_percent)
+from perception.contacts import (ContactFunction, OptimalThresholds, detection_scores, tolerance_curve,
+                                 vgrf_rmse_percent)
 from perception.dataset import Sequence
 from perception.vgrf import estimate
-
-
-TOLERANCES_S = (0.0, 0.02, 0.05, 0.1, 0.2)
-"""Temporal tolerances (s) of the F1 curve (underpressure Fig. 4)."""
 
 
 @dataclass
@@ -53,7 +49,7 @@ def evaluate_contacts(sequences: list[Sequence], models: ContactModels,
                       gamma: ContactFunction = ContactFunction(),
                       perturb=None) -> dict:
     """Scores of each model over ``sequences``: ``{name: {channel: {precision, recall, f1}}}``,
-    ``f1_by_tolerance_s`` (``{name: {tolerance: F1}}`` over :data:`TOLERANCES_S`, the F1 when
+    ``f1_by_tolerance_s`` (``{name: {tolerance: F1}}`` over :data:`~perception.contacts.TOLERANCES_S`, the F1 when
     errors that close to a true contact change are forgiven), plus ``vgrf_rmse_percent_bw`` for
     VGRFNet. ``perturb(positions) -> positions`` is applied to the inputs first (robustness
     studies); labels always come from the unperturbed forces."""
@@ -61,16 +57,13 @@ def evaluate_contacts(sequences: list[Sequence], models: ContactModels,
         raise ValueError("no sequences to evaluate")
     labels = [gamma(s.forces, s.fps) for s in sequences]
     truth = np.concatenate(labels)
-    distance_s = np.concatenate([transition_distance(t) / s.fps for t, s in zip(labels, sequences)])
     out: dict = {"frames": int(len(truth)), "sequences": len(sequences), "f1_by_tolerance_s": {}}
     inputs = [perturb(s.positions) if perturb else s.positions for s in sequences]
     estimates = [estimate(models.vgrf, x) for x in inputs] if models.vgrf is not None else [None] * len(inputs)
     for name in models.names:
-        pred = np.concatenate([models.predict(name, x, s.fps, gamma, f)
-                               for x, s, f in zip(inputs, sequences, estimates)])
-        out[name] = detection_scores(pred, truth)
-        out["f1_by_tolerance_s"][name] = {f"{t:g}": f1_with_tolerance(pred, truth, distance_s, t)
-                                          for t in TOLERANCES_S}
+        pred = [models.predict(name, x, s.fps, gamma, f) for x, s, f in zip(inputs, sequences, estimates)]
+        out[name] = detection_scores(np.concatenate(pred), truth)
+        out["f1_by_tolerance_s"][name] = tolerance_curve(pred, labels, [s.fps for s in sequences])
     if models.vgrf is not None:
         out["vgrf_rmse_percent_bw"] = vgrf_rmse_percent(np.concatenate(estimates),
                                                         np.concatenate([s.forces for s in sequences]))

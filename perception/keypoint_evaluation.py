@@ -10,7 +10,7 @@ import numpy as np
 from tqdm import tqdm
 
 from perception.contact_transformer import ContactTransformer, detect_contacts
-from perception.contacts import detection_scores
+from perception.contacts import detection_scores, tolerance_curve
 from perception.gait import gait_cycles, gait_parameters, gait_phases
 from perception.keypoint_data import KeypointSequence, View, ViewConfig, film
 
@@ -77,7 +77,8 @@ def gait_errors(predicted: list[np.ndarray], truth: list[np.ndarray]) -> dict:
 
 def evaluate_keypoint_contacts(net: ContactTransformer, filmed: list[FilmedSequence], progress: bool = False) -> dict:
     """Scores over ``filmed``: ``{channel: {precision, recall, f1}}`` pooled over every frame and
-    view, ``overall`` F1 per view, and gait-ratio MAE (:func:`gait_errors`)."""
+    view, ``overall`` F1 per view, overall F1 against temporal tolerance
+    (:func:`~perception.contacts.tolerance_curve`), and gait-ratio MAE (:func:`gait_errors`)."""
     if not filmed:
         raise ValueError("no filmed sequences to evaluate")
     predicted = predict_contacts(net, filmed, progress)
@@ -90,5 +91,6 @@ def evaluate_keypoint_contacts(net: ContactTransformer, filmed: list[FilmedSeque
     out["f1_by_view"] = {v: detection_scores(np.concatenate([predicted[k] for k in ks]),
                                              np.concatenate([truth[k] for k in ks]))["overall"]["f1"]
                          for v, ks in by_view.items()}
+    out["f1_by_tolerance_s"] = tolerance_curve(predicted, truth, [f.fps for f in filmed])
     out["gait"] = gait_errors(predicted, truth)
     return out

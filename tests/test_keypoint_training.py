@@ -110,6 +110,8 @@ def test_training_resumes_ships_and_evaluates(dataset, tmp_path):
     result = evaluate_keypoint_contacts(net, filmed)
     assert result["sequences"] == 2 and set(result["f1_by_view"]) == {"rig@22.5", "rig@67.5"}
     assert 0 <= result["scores"]["overall"]["f1"] <= 1
+    curve = list(result["f1_by_tolerance_s"].values())
+    assert curve[0] == pytest.approx(result["scores"]["overall"]["f1"]) and curve == sorted(curve)
     out = main(["evaluate-keypoints", "--dataset", str(dataset), "--net", str(shipped), "--views", "rig",
                 "--json", str(tmp_path / "kp.json")])
     assert (tmp_path / "kp.json").exists() and out["rig"]["sequences"] == 8
