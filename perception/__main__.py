@@ -327,9 +327,9 @@ def _run(args: argparse.Namespace) -> dict | None:
         if str(args.source).endswith(".pth"):
             raise ValueError(f"{args.source}: cleanup edits a Motion (joint angles); UnderPressure sequences are "
                              "read as joint positions only")
+        config = CleanupConfig(iterations=args.iterations, w_pose=args.pose_weight)
         motion = motion_of(args)
         with tqdm(desc=f"cleaning {motion.name}", unit="evaluation") as bar:
-            config = CleanupConfig(iterations=args.iterations, w_pose=args.pose_weight)
             result = cleanup(motion, load_network(args.vgrf, "vgrf"), config,
                              progress=lambda it, loss: (bar.update(1), bar.set_postfix(loss=f"{loss:.4f}")))
         result.motion.save(args.out)

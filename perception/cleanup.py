@@ -23,7 +23,7 @@ paper's (ω_q 1e-3, ω_f 1e-5, ω_t 1e2, ω_v 5e-5) go with its units and sums, 
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import numpy as np
 import torch
@@ -71,6 +71,16 @@ class CleanupConfig:
     w_limit: float = 1000.0
     w_smooth: float = 300.0
     w_smooth_legs: float = 10.0
+
+    def __post_init__(self) -> None:
+        if self.iterations < 1:
+            raise ValueError(f"cleanup iterations must be at least 1, got {self.iterations}")
+        for f in fields(self):
+            value = getattr(self, f.name)
+            if f.name != "iterations" and not (np.isfinite(value) and value >= 0):
+                raise ValueError(f"cleanup setting {f.name} must be a finite number >= 0, got {value}")
+        if self.swing_weight > 1:
+            raise ValueError(f"cleanup setting swing_weight must be in [0, 1], got {self.swing_weight}")
 
 
 @dataclass

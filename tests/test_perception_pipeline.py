@@ -9,7 +9,7 @@ import pytest
 import torch
 
 from perception.__main__ import main
-from perception.cleanup import cleanup, contact_speed, contact_targets, contact_weights, foot_targets
+from perception.cleanup import CleanupConfig, cleanup, contact_speed, contact_targets, contact_weights, foot_targets
 from perception.contacts import ContactFunction
 from perception.dataset import DatasetConfig, generate, load_split
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
@@ -181,6 +181,10 @@ def test_cleanup_lets_the_legs_absorb_a_drifting_root(walk):
 
 
 def test_cleanup_rejects_bad_motion(walk):
+    with pytest.raises(ValueError, match="cleanup setting w_pose must be a finite number >= 0, got -1"):
+        CleanupConfig(w_pose=-1.0)
+    with pytest.raises(ValueError, match="swing_weight must be in"):
+        CleanupConfig(swing_weight=2.0)
     net = VGRFNet()
     with pytest.raises(ValueError, match="needs at least 3 frames"):
         cleanup(walk.with_qpos(walk.qpos[:2]), net)
