@@ -181,32 +181,78 @@ def contact_speed(soles: np.ndarray, contacts: np.ndarray, fps: float) -> float:
     return float(horizontal_speed(soles, fps)[contacts].mean()) if contacts.any() else 0.0
 
 
+class CleanupObjective:
+    """The loss ``L`` of the module doc as a function of ``qpos (T, nq)``, with everything it
+    compares against fixed from the input ``q0 (T, nq)``: its joints ``joints0 (T, 23, 3)``,
+    contact joints ``soles0 (T, 4, 3)`` (numpy), Ψ's cell forces ``forces0 (T, 2, 16)`` and Γ's
+    ``contacts (T, 4)``.
+
+    Args:
+        q0: the input's qpos (torch, float32).
+        fps: frame rate (Hz).
+        kin: the model's differentiable kinematics.
+        net: the vGRF network Ψ (frozen).
+        gamma: the contact function Γ.
+        config: weights and settings.
+    """
+
+    def __init__(self, q0: torch.Tensor, fps: float, kin, net: nn.Module, gamma: ContactFunction,
+                 config: CleanupConfig):
+        self.q0, self.fps, self.kin, self.net, self.config = q0, fps, kin, net, config
+        with torch.no_grad():
+            self.joints0, soles0 = kin.points(q0)
+            self.forces0 = net(self.joints0[None])[0]
+        soles0 = soles0.numpy()
+        self.soles0 = soles0.astype(float)
+        self.contacts = contacts = gamma(self.forces0.numpy(), fps)
+        self.targets = torch.tensor(foot_targets(soles0, contact_targets(soles0, contacts)), dtype=torch.float32)
+        window = contact_weights(contacts, int(round(config.edge_s * fps)))
+        self.window = torch.tensor(config.swing_weight + (1 - config.swing_weight) * window, dtype=torch.float32)
+        hm = load_model(kin.model_name)
+        self.limited, ranges = hm.hinge_ranges
+        self.lower, self.upper = torch.tensor(ranges, dtype=torch.float32).unbind(-1)
+        self.smoothing = torch.full((q0.shape[1],), config.w_smooth)   # per qpos column
+        self.smoothing[3:7] = 0.0                                      # the root quaternion: L_quat's job
+        self.smoothing[hm.leg_qpos_columns] = config.w_smooth_legs
+        self.root_speed0 = self.root_speed(q0)
+
+    def root_speed(self, qpos: torch.Tensor) -> torch.Tensor:
+        """Root speed ``(T - 1,)`` (m/s) by forward differences."""
+        return torch.linalg.norm(torch.diff(qpos[:, :3], dim=0), dim=-1) * self.fps
+
+    def terms(self, qpos: torch.Tensor) -> dict[str, torch.Tensor]:
+        """Each unweighted loss term of ``qpos`` (L_smooth with its per-column weights applied)."""
+        joints, soles = self.kin.points(qpos)
+        angles = qpos[:, self.limited]
+        edit = qpos - self.q0
+        return {
+            "quat": ((qpos[:, 3:7].norm(dim=-1) - 1.0) ** 2).mean(),
+            "foot": (self.window * ((soles - self.targets) ** 2).sum(-1)).sum() / max(float(self.window.sum()), 1.0),
+            "traj": ((self.root_speed(qpos) - self.root_speed0) ** 2).mean(),
+            "vgrf": msle(self.net(joints[None])[0], self.forces0),
+            "pose": ((joints - self.joints0) ** 2).sum(-1).mean(),
+            "limit": (torch.relu(angles - self.upper) ** 2 + torch.relu(self.lower - angles) ** 2).sum(-1).mean(),
+            "smooth": ((edit[2:] - 2 * edit[1:-1] + edit[:-2]) ** 2 * self.smoothing).sum(-1).mean(),
+        }
+
+    def __call__(self, qpos: torch.Tensor) -> torch.Tensor:
+        c = self.config
+        weights = {"quat": c.w_quat, "foot": c.w_foot, "traj": c.w_traj, "vgrf": c.w_vgrf, "pose": c.w_pose,
+                   "limit": c.w_limit, "smooth": 1.0}
+        return sum(weights[name] * term for name, term in self.terms(qpos).items())
+
+
 def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfig(),
             gamma: ContactFunction = ContactFunction(), progress=None) -> CleanupResult:
     """Remove foot skate from ``motion`` with the vGRF network ``net`` (module doc)."""
     if motion.n_frames < 3:
         raise ValueError(f"{motion.name}: footskate cleanup needs at least 3 frames, got {motion.n_frames}")
     kin = torch_kinematics(motion.model)
-    fps = motion.fps
     net.eval()
     for p in net.parameters():
         p.requires_grad_(False)
     q0 = torch.tensor(motion.qpos, dtype=torch.float32)
-    with torch.no_grad():
-        joints0, soles0 = kin.points(q0)
-        forces0 = net(joints0[None])[0]
-    contacts = gamma(forces0.numpy(), fps)
-    targets = torch.tensor(foot_targets(soles0.numpy(), contact_targets(soles0.numpy(), contacts)),
-                           dtype=torch.float32)
-    window = contact_weights(contacts, int(round(config.edge_s * fps)))
-    window = torch.tensor(config.swing_weight + (1 - config.swing_weight) * window, dtype=torch.float32)
-    hm = load_model(motion.model)
-    limited, ranges = hm.hinge_ranges
-    lower, upper = torch.tensor(ranges, dtype=torch.float32).unbind(-1)
-    smoothing = torch.full((q0.shape[1],), config.w_smooth)   # per qpos column
-    smoothing[3:7] = 0.0                                      # the root quaternion: L_quat's job
-    smoothing[hm.leg_qpos_columns] = config.w_smooth_legs
-    root_speed0 = torch.linalg.norm(torch.diff(q0[:, :3], dim=0), dim=-1) * fps
+    objective = CleanupObjective(q0, motion.fps, kin, net, gamma, config)
 
     qpos = q0.clone().requires_grad_(True)
     # L-BFGS: a least-squares problem whose variables (rad, m) differ in scale by orders of magnitude;
@@ -216,18 +262,7 @@ def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfi
     evaluations = [0]
 
     def closure() -> torch.Tensor:
-        joints, soles = kin.points(qpos)
-        l_quat = ((qpos[:, 3:7].norm(dim=-1) - 1.0) ** 2).mean()
-        l_foot = (window * ((soles - targets) ** 2).sum(-1)).sum() / max(float(window.sum()), 1.0)
-        l_traj = ((torch.linalg.norm(torch.diff(qpos[:, :3], dim=0), dim=-1) * fps - root_speed0) ** 2).mean()
-        l_vgrf = msle(net(joints[None])[0], forces0)
-        l_pose = ((joints - joints0) ** 2).sum(-1).mean()
-        angles = qpos[:, limited]
-        l_limit = (torch.relu(angles - upper) ** 2 + torch.relu(lower - angles) ** 2).sum(-1).mean()
-        change = qpos - q0
-        l_smooth = ((change[2:] - 2 * change[1:-1] + change[:-2]) ** 2 * smoothing).sum(-1).mean()
-        loss = (config.w_quat * l_quat + config.w_foot * l_foot + config.w_traj * l_traj + config.w_vgrf * l_vgrf
-                + config.w_pose * l_pose + config.w_limit * l_limit + l_smooth)
+        loss = objective(qpos)
         optimiser.zero_grad()
         loss.backward()
         if progress is not None:
@@ -241,5 +276,5 @@ def cleanup(motion: Motion, net: nn.Module, config: CleanupConfig = CleanupConfi
         final[:, 3:7] /= final[:, 3:7].norm(dim=-1, keepdim=True)
         joints, soles = kin.points(final)
     cleaned = motion.with_qpos(final.numpy().astype(float), source=dict(motion.source, footskate_cleanup="vgrf"))
-    return CleanupResult(cleaned, contacts, soles0.numpy().astype(float), soles.numpy().astype(float),
-                         float(torch.linalg.norm(joints - joints0, dim=-1).mean()))
+    return CleanupResult(cleaned, objective.contacts, objective.soles0, soles.numpy().astype(float),
+                         float(torch.linalg.norm(joints - objective.joints0, dim=-1).mean()))

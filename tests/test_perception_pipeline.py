@@ -9,8 +9,9 @@ import pytest
 import torch
 
 from perception.__main__ import main
-from perception.cleanup import CleanupConfig, cleanup, contact_speed, contact_targets, contact_weights, foot_targets
+from perception.cleanup import CleanupConfig, CleanupObjective, cleanup, contact_speed, contact_targets, contact_weights, foot_targets
 from perception.contacts import ContactFunction
+from perception.kinematics import torch_kinematics
 from perception.dataset import DatasetConfig, generate, load_split
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
 from perception.training import TrainConfig, train
@@ -163,6 +164,31 @@ def test_foot_targets_carry_the_correction_between_contacts():
     assert targets[4, 2, 0] == pytest.approx(0.2)         # the heel is carried along with its foot
     assert targets[9, 0, 0] == pytest.approx(0.9 + 0.3)   # the last correction held to the end
     assert np.array_equal(targets[:, [1, 3]], soles[:, [1, 3]])  # the right foot never touches: unchanged
+
+
+def test_cleanup_objective_terms_by_hand(walk):
+    q0 = torch.tensor(walk.qpos[:60], dtype=torch.float32)
+    config = CleanupConfig()
+    objective = CleanupObjective(q0, walk.fps, torch_kinematics(walk.model), load_network("models/vgrf", "vgrf"),
+                                 ContactFunction(), config)
+    at_input = objective.terms(q0)
+    assert all(at_input[k].item() == 0.0 for k in ("traj", "vgrf", "pose", "smooth"))
+    hm = load_model(walk.model)
+    columns, ranges = hm.hinge_ranges
+    angles = walk.qpos[:60, columns]
+    excess = np.clip(angles - ranges[:, 1], 0, None) + np.clip(ranges[:, 0] - angles, 0, None)
+    assert at_input["limit"].item() == pytest.approx((excess ** 2).sum(axis=1).mean(), abs=1e-7)
+    spine = hm.qpos_index("spine_mid_x")
+    q = q0.clone()
+    q[10, spine] += 0.1                                   # one frame of one spine hinge edited by 0.1 rad
+    edited = objective.terms(q)
+    # second differences 0.1, -0.2, 0.1 at frames 9, 10, 11: (0.01 + 0.04 + 0.01) · w_smooth over 58 frames
+    assert edited["smooth"].item() == pytest.approx(0.06 * config.w_smooth / 58, rel=1e-4)
+    assert edited["pose"].item() > 0 and edited["traj"].item() == 0.0
+    knee = hm.qpos_index("l_shin_y")
+    q = q0.clone()
+    q[:, knee] = float(ranges[list(columns).index(knee), 1]) + 0.1   # every frame 0.1 rad past the knee's limit
+    assert objective.terms(q)["limit"].item() == pytest.approx(at_input["limit"].item() + 0.01, abs=1e-4)
 
 
 def test_cleanup_lets_the_legs_absorb_a_drifting_root(walk):
