@@ -33,7 +33,7 @@ from perception.keypoint_data import load_keypoint_split, held_out_views
 from perception.keypoint_evaluation import GAIT_RATIOS, evaluate_keypoint_contacts, film_split
 from perception.keypoint_training import SAMPLINGS, KeypointTrainConfig, train_keypoints
 from perception.keypoints import KEYPOINT_SETS
-from perception.plots import plot_cleanup, plot_contacts, plot_gait
+from perception.plots import plot_cleanup, plot_contacts, plot_gait, plot_tolerance_curves
 from perception.skeleton import motion_joint_positions
 from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
@@ -119,6 +119,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
     g.add_argument("--mlp", type=Path, default=Path("models/contact_mlp"))
     g.add_argument("--json", type=Path)
+    g.add_argument("--plot", type=Path, help="PNG: F1 against temporal tolerance (underpressure Fig. 4)")
     g.add_argument("--record", action="store_true",
                    help="also store each network's scores as 'metrics' in its sidecar.json (when shipping)")
     g = sub.add_parser("contacts", help="per-frame vGRF per foot and the four contacts of a clip",
@@ -169,11 +170,13 @@ def positions_of(args: argparse.Namespace) -> tuple[np.ndarray, float, str]:
     return motion_joint_positions(motion), motion.fps, motion.name
 
 
+SCORE_LABELS = {"vgrf": "VGRFNet + Γ", "ot": "OT baseline", "mlp": "3-layer MLP"}
+
+
 def _print_scores(result: dict) -> None:
-    names = {"vgrf": "VGRFNet + Γ", "ot": "OT baseline", "mlp": "3-layer MLP"}
     print(f"{result['frames']} frames, {result['sequences']} sequences")
     print(f"  {'model':<14}" + "".join(f"{c:>12}" for c in CONTACT_NAMES) + f"{'overall':>10}")
-    for key, label in names.items():
+    for key, label in SCORE_LABELS.items():
         if key in result:
             print(f"  {label:<14}" + "".join(f"{result[key][c]['f1']:>12.3f}" for c in CONTACT_NAMES)
                   + f"{result[key]['overall']['f1']:>10.3f}")
@@ -181,7 +184,7 @@ def _print_scores(result: dict) -> None:
         print(f"  vGRF RMSE (per-foot total): {result['vgrf_rmse_percent_bw']:.1f}% body weight")
     print("  overall F1 forgiving errors within t s of a true contact change (underpressure Fig. 4):")
     for key, curve in result["f1_by_tolerance_s"].items():
-        print(f"  {names[key]:<14}" + "".join(f"  t={t}: {f1:.3f}" for t, f1 in curve.items()))
+        print(f"  {SCORE_LABELS[key]:<14}" + "".join(f"  t={t}: {f1:.3f}" for t, f1 in curve.items()))
 
 
 def keypoint_file(path: Path) -> tuple[np.ndarray, float] | None:
@@ -285,6 +288,9 @@ def _run(args: argparse.Namespace) -> dict | None:
         _print_scores(result)
         if args.json:
             write_json(args.json, result)
+        if args.plot:
+            curves = {SCORE_LABELS[key]: curve for key, curve in result["f1_by_tolerance_s"].items()}
+            plot_tolerance_curves(args.plot, curves, f"contacts on the {args.split} split: F1 against tolerance")
         if args.record:
             for key, folder in (("vgrf", args.vgrf), ("mlp", args.mlp)):
                 if key in result:

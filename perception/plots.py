@@ -66,6 +66,20 @@ def plot_cleanup(path: Path, soles_before: np.ndarray, soles_after: np.ndarray, 
     fig.suptitle(title)
     return _save(fig, path)
 
+def plot_tolerance_curves(path: Path, curves: dict[str, dict[str, float]], title: str) -> Path:
+    """PNG of overall F1 against temporal tolerance (underpressure Fig. 4): ``curves`` maps a model
+    label to ``{tolerance in s: F1}``."""
+    plt = _pyplot()
+    fig, ax = plt.subplots(figsize=(6, 4))
+    for label, curve in curves.items():
+        ax.plot([float(t) for t in curve], list(curve.values()), marker="o", label=label)
+    ax.set_xlabel("tolerance around a true contact change (s)")
+    ax.set_ylabel("overall F1")
+    ax.grid(alpha=0.3)
+    ax.legend()
+    ax.set_title(title, fontsize=10)
+    return _save(fig, path)
+
 
 PHASE_COLOURS = ("#bbbbbb", "#d62728", "#ff7f0e", "#2ca02c", "#17becf", "#9467bd", "#1f77b4", "#8c564b", "#ffffff")
 """One colour per gait phase of :data:`~perception.gait.PHASES` (undefined: white)."""

@@ -101,6 +101,9 @@ def test_training_resumes_ships_and_loads(dataset, tmp_path):
     assert isinstance(net, VGRFNet) and not net.training
     with pytest.raises(ValueError, match="holds a 'vgrf' network, expected 'mlp'"):
         load_network(shipped, "mlp")
+    result = main(["evaluate-contacts", "--dataset", str(dataset), "--split", "val", "--vgrf", str(shipped),
+                   "--mlp", str(tmp_path / "none"), "--json", str(tmp_path / "c.json"), "--plot", str(tmp_path / "c.png")])
+    assert set(result["f1_by_tolerance_s"]) == {"vgrf", "ot"} and (tmp_path / "c.png").stat().st_size > 10_000
 
 
 def test_weights_for_another_skeleton_or_garbage_are_refused(tmp_path):
