@@ -51,6 +51,7 @@ def _add_source(p: argparse.ArgumentParser) -> None:
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="add synthetic IMU artefacts first")
     p.add_argument("--strength", type=float, default=1.0, help="artefact strength")
     p.add_argument("--seed", type=int, default=1000, help="artefact seed")
+    p.add_argument("--min-frames", type=int, default=0, help="loop a cyclic clip to at least this many frames")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -155,7 +156,7 @@ def build_parser() -> argparse.ArgumentParser:
 
 def motion_of(args: argparse.Namespace) -> Motion:
     """The ``source`` argument as a Motion, corrupted when ``--corrupt`` is given."""
-    motion = load_motion(args.source)
+    motion = load_motion(args.source, min_frames=args.min_frames)
     if args.corrupt:
         motion = corrupt(motion, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
     return motion
