@@ -338,7 +338,8 @@ def _run(args: argparse.Namespace) -> dict | None:
         motion = motion_of(args)
         with tqdm(desc=f"cleaning {motion.name}", unit="evaluation") as bar:
             result = cleanup(motion, load_network(args.vgrf, "vgrf"), config,
-                             progress=lambda it, loss: (bar.update(1), bar.set_postfix(loss=f"{loss:.4f}")))
+                             progress=lambda it, loss: (bar.update(1),
+                                                        bar.set_postfix(loss=f"{loss:.4f}", refresh=False)))
         result.motion.save(args.out)
         reduction = 1 - result.foot_speed_after / result.foot_speed_before if result.foot_speed_before else 0.0
         print(f"contact foot speed {result.foot_speed_before:.3f} -> {result.foot_speed_after:.3f} m/s "
