@@ -31,6 +31,7 @@ from perception.dataset import load_split  # noqa: E402
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot  # noqa: E402
 from perception.skeleton import JOINTS  # noqa: E402
 from perception.weights import load_network  # noqa: E402
+from reference_motion.humanoid.model import FOOT_CHANNELS  # noqa: E402
 
 RESULTS = Path(__file__).resolve().parent / "results"
 NOISE_SIGMAS_CM = (0.0, 0.5, 1.0, 1.5, 2.0, 3.0, 4.0, 5.0, 6.0)
@@ -82,8 +83,7 @@ def blending_study(sequences, models, gamma, seed: int, pairs: int) -> list[dict
         attempts += 1
         i, j = rng.choice(len(windows), 2, replace=False)
         (pa, la, fps), (pb, lb, _) = windows[i], windows[j]
-        foot = int(rng.integers(2))
-        channels = [foot, 2 + foot]
+        channels = list(FOOT_CHANNELS[int(rng.integers(2))])
         agree = (la[:, channels] == lb[:, channels]).all(axis=1)
         if agree.mean() < 0.9 or not la[agree][:, channels].any():
             continue

@@ -208,6 +208,7 @@ class CleanupObjective:
         self.targets = torch.tensor(foot_targets(soles0, contact_targets(soles0, contacts)), dtype=torch.float32)
         window = contact_weights(contacts, int(round(config.edge_s * fps)))
         self.window = torch.tensor(config.swing_weight + (1 - config.swing_weight) * window, dtype=torch.float32)
+        self.window_total = max(float(self.window.sum()), 1.0)
         hm = load_model(kin.model_name)
         self.limited, ranges = hm.hinge_ranges
         self.lower, self.upper = torch.tensor(ranges, dtype=torch.float32).unbind(-1)
@@ -227,7 +228,7 @@ class CleanupObjective:
         edit = qpos - self.q0
         return {
             "quat": ((qpos[:, 3:7].norm(dim=-1) - 1.0) ** 2).mean(),
-            "foot": (self.window * ((soles - self.targets) ** 2).sum(-1)).sum() / max(float(self.window.sum()), 1.0),
+            "foot": (self.window * ((soles - self.targets) ** 2).sum(-1)).sum() / self.window_total,
             "traj": ((self.root_speed(qpos) - self.root_speed0) ** 2).mean(),
             "vgrf": msle(self.net(joints[None])[0], self.forces0),
             "pose": ((joints - self.joints0) ** 2).sum(-1).mean(),

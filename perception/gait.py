@@ -11,6 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from reference_motion.humanoid.model import FOOT_CHANNELS
+
 TOE_PEAK_RAD = np.deg2rad(42.0)
 """Peak toe-joint flexion at push-off (contactvision §6.4, after Nawoczenski et al.)."""
 TOE_RISE_FRAMES = 5
@@ -51,8 +53,8 @@ def toe_reference_angles(contacts: np.ndarray) -> np.ndarray:
     contacts = _check(contacts)
     T = len(contacts)
     out = np.zeros((T, 2))
-    for foot in range(2):
-        toe, heel = contacts[:, foot], contacts[:, 2 + foot]
+    for foot, (toe_column, heel_column) in enumerate(FOOT_CHANNELS):
+        toe, heel = contacts[:, toe_column], contacts[:, heel_column]
         heel_offs = [t for t in range(1, T) if heel[t - 1] and not heel[t] and toe[t]]
         for start in heel_offs:
             stop = start

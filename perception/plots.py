@@ -9,6 +9,7 @@ import numpy as np
 
 from perception.contacts import CONTACT_NAMES
 from perception.gait import PHASES, TOE_PEAK_RAD, gait_phases, toe_reference_angles
+from reference_motion.humanoid.model import FOOT_CHANNELS
 from reference_motion.quality import horizontal_speed
 
 
@@ -36,7 +37,8 @@ def plot_contacts(path: Path, forces: np.ndarray, contacts: np.ndarray, fps: flo
     for foot, ax in enumerate(axes):
         side = ("left", "right")[foot]
         ax.plot(t, forces[:, foot].sum(-1), color="k", lw=1.2, label="vGRF (foot total)")
-        for ch, color, label in ((foot, "tab:orange", "toe contact"), (2 + foot, "tab:blue", "heel contact")):
+        toe, heel = FOOT_CHANNELS[foot]
+        for ch, color, label in ((toe, "tab:orange", "toe contact"), (heel, "tab:blue", "heel contact")):
             ax.fill_between(t, 0, 1, where=contacts[:, ch], transform=ax.get_xaxis_transform(), color=color,
                             alpha=0.25, step="mid", label=label)
         ax.set_ylabel(f"{side} foot (BW)")
