@@ -195,14 +195,14 @@ def test_cleanup_objective_terms_by_hand(walk):
 
 
 def test_cleanup_lets_the_legs_absorb_a_drifting_root(walk):
-    """The skate artefact drags the whole body; the cleanup plants the feet by bending the legs,
-    within the hinge ranges, without moving the body far or adding jitter."""
+    """The stance-skate artefact slides the whole body to and fro; the cleanup plants the feet by
+    bending the legs, within the hinge ranges, without moving the body far or adding jitter."""
     net = load_network("models/vgrf", "vgrf")
     bad = corrupt(walk, ArtefactRecipe.only("skate"), 1)
     result = cleanup(bad, net)
-    assert result.foot_speed_before > 0.3
-    assert result.foot_speed_after < 0.35 * result.foot_speed_before   # measured: -73%
-    assert result.joint_shift_m < 0.03                                  # measured: 2.1 cm
+    assert result.foot_speed_before > 0.15                              # measured: 0.20 m/s
+    assert result.foot_speed_after < 0.35 * result.foot_speed_before   # measured: -86%
+    assert result.joint_shift_m < 0.03                                  # measured: 0.6 cm
     columns, ranges = load_model(walk.model).hinge_ranges
     assert range_excursion(result.motion.qpos[:, columns], ranges) < 0.005   # rad; 0.2 without L_limit
     jitters = [jitter(m.qpos[:, 7:], m.fps) for m in (bad, result.motion)]
