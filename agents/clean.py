@@ -15,7 +15,6 @@ and the video shows the reference (left) and the result (right).
 
 from __future__ import annotations
 
-import argparse
 import sys
 from pathlib import Path
 
@@ -27,19 +26,27 @@ import numpy as np
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.policy import MimicPolicy, PolicyError, load_policy
+from agents.policy import MimicPolicy, load_policy
 from agents.reporting import write_json
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.bvh_export import write_bvh
+from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
+                                  one_line_errors, output_file, require_frames)
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
+from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
+
+MIN_FRAMES = 3
+"""Frames a clip needs to be cleaned (a first frame to start from and two to simulate)."""
+
 
 def clean_motion(policy: MimicPolicy, reference: Motion, episode_frames: int = 300, progress: bool = True) -> Motion:
-    """The simulated re-performance of ``reference`` (60 Hz, same length) by ``policy``."""
+    """The simulated re-performance of ``reference`` (60 Hz, same length, at least
+    :data:`MIN_FRAMES`) by ``policy``."""
+    require_frames(reference, MIN_FRAMES, reference.name, "cleaning")
     last = reference.n_frames - 1
-    if last < 2:
-        raise ValueError(f"clip {reference.name!r} has {reference.n_frames} frames; at least 3 are needed")
     # hold the last frame for one more episode so every segment can start where the previous ended
     hold = np.repeat(reference.qpos[-1:], episode_frames + 2, axis=0)
     padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
@@ -76,32 +83,30 @@ def clean_motion(policy: MimicPolicy, reference: Motion, episode_frames: int = 3
     return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
 
-def main(argv: list[str] | None = None) -> dict:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("source", help="deepmimic:NAME, or a .npz / .bvh / .txt file")
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0])
+    p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, or a .npz / .bvh / .amc / .txt file")
+    add_mocap_options(p)
     p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
-    p.add_argument("--out", type=Path, required=True, help="cleaned motion (.npz)")
-    p.add_argument("--bvh", type=Path, help="also write the cleaned motion as BVH")
-    p.add_argument("--video", type=Path, help="side-by-side video (.mp4/.gif): reference | cleaned")
-    p.add_argument("--min-frames", type=int, help="loop a cyclic clip to at least this many 60 Hz frames")
+    p.add_argument("--out", type=output_file(".npz"), required=True, help="cleaned motion (.npz)")
+    p.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned motion as BVH")
+    p.add_argument("--video", type=output_file(*VIDEO_SUFFIXES),
+                   help="side-by-side video (.mp4/.gif; .png: first frame): reference | cleaned")
+    p.add_argument("--min-frames", type=non_negative_int, help="loop a cyclic clip to at least this many 60 Hz frames")
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt the clip with IMU artefacts first")
-    p.add_argument("--strength", type=float, default=1.0)
+    p.add_argument("--strength", type=non_negative_float, default=1.0)
     p.add_argument("--seed", type=int, default=0)
-    p.add_argument("--json", type=Path, help="write the before/after metrics as JSON")
+    p.add_argument("--json", type=output_file(".json"), help="write the before/after metrics as JSON")
     args = p.parse_args(argv)
-    if args.out.suffix != ".npz":
-        raise SystemExit(f"error: --out must end in .npz, got {args.out}")
-    try:
-        policy = load_policy(args.policy)
-        reference = load_motion(args.source, FOOT_MODELS[policy.foot], min_frames=args.min_frames)
-    except (PolicyError, ValueError, KeyError, FileNotFoundError) as err:
-        raise SystemExit(f"error: {err}") from None
+    policy = load_policy(args.policy)
+    reference = require_frames(load_motion(args.source, FOOT_MODELS[policy.foot], min_frames=args.min_frames,
+                                           mocap=mocap_options(args)),
+                               MIN_FRAMES, args.source, "cleaning")
     if args.corrupt:
         reference = corrupt(reference, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
-    try:
-        cleaned = clean_motion(policy, reference)
-    except PolicyError as err:
-        raise SystemExit(f"error: {err}") from None
+    cleaned = clean_motion(policy, reference)
     cleaned.save(args.out)
     before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
     print(f"{'metric':<24}{'input':>12}{'cleaned':>12}")
@@ -110,12 +115,8 @@ def main(argv: list[str] | None = None) -> dict:
     kinematic = sum(b - a + 1 for a, b in cleaned.source["kinematic_frames"])
     print(f"wrote {args.out} ({cleaned.n_frames} frames; {kinematic} copied from the reference after a fall)")
     if args.bvh:
-        from reference_motion.bvh_export import write_bvh
-
         print(f"wrote {write_bvh(cleaned, args.bvh)}")
     if args.video:
-        from reference_motion.render import render
-
         print(f"wrote {render([reference, cleaned], args.video)}")
     result = {"source": args.source, "policy": str(args.policy), "input": before, "cleaned": after,
               "kinematic_frames": cleaned.source["kinematic_frames"]}

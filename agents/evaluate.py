@@ -26,33 +26,41 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
-from agents.policy import PolicyError, load_policy
+from agents.policy import load_policy
 from agents.reporting import write_json
 from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
-from reference_motion.library import load_motion
+from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
+                                  one_line_errors, output_file, positive_int, require_frames)
+from reference_motion.library import expand_clips, load_motion
+from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
+from reference_motion.rigs import MocapOptions
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+def build_parser(prog: str | None = None) -> CliParser:
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
+                  formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
-    p.add_argument("--clips", nargs="+", required=True, help="SOURCE strings or files of the clips to evaluate on")
+    p.add_argument("--clips", nargs="+", required=True,
+                   help="SOURCE strings or files of the clips to evaluate on, or clip sets (library:DIR/test)")
+    add_mocap_options(p)
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt each clip with IMU artefacts first")
-    p.add_argument("--strength", type=float, default=1.0, help="artefact strength")
+    p.add_argument("--strength", type=non_negative_float, default=1.0, help="artefact strength")
     p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
-    p.add_argument("--episodes", type=int, default=20, help="rollouts per clip")
-    p.add_argument("--offset-step", type=int, default=3, help="frames between the rollouts' start offsets")
-    p.add_argument("--json", type=Path, help="also write the results as JSON here")
+    p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
+    p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
+    p.add_argument("--json", type=output_file(".json"), help="also write the results as JSON here")
     return p
 
 
-def reference_clips(sources: list[str], model: str, episode_frames: int, kind: str | None, strength: float,
-                    seed: int) -> list:
-    """The clips as the policy gets them: loaded for ``model`` and optionally corrupted."""
+def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: str | None, strength: float,
+                    seed: int, mocap: MocapOptions = MocapOptions()) -> list[Motion]:
+    """The clips as the policy gets them: loaded for ``model`` (cyclic ones looped to two episodes
+    of ``config``; each as long as the environment needs) and optionally corrupted."""
     out = []
-    for i, source in enumerate(sources):
-        motion = load_motion(source, model, min_frames=2 * (episode_frames + 1))
+    for i, source in enumerate(expand_clips(sources)):
+        motion = load_motion(source, model, min_frames=2 * (config.episode_frames + 1), mocap=mocap)
+        require_frames(motion, config.min_clip_frames + 1, source, "a mimic episode")
         out.append(corrupt(motion, ArtefactRecipe.named(kind, strength), seed + i) if kind else motion)
     return out
 
@@ -72,19 +80,15 @@ def artefact_table(runs: list) -> dict[str, dict[str, float]]:
     return out
 
 
-def main(argv: list[str] | None = None) -> dict:
-    args = build_parser().parse_args(argv)
-    try:
-        policy = load_policy(args.policy)
-    except PolicyError as err:
-        raise SystemExit(f"error: {err}") from None
-    clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig().episode_frames, args.corrupt,
-                            args.strength, args.seed)
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
+    args = build_parser(prog).parse_args(argv)
+    policy = load_policy(args.policy)
+    clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig(), args.corrupt, args.strength,
+                            args.seed, mocap_options(args))
     env = gym.make(policy.env_id, clips=clips, artefacts=None, foot=policy.foot)
-    try:
-        policy.check_env(env)
-    except PolicyError as err:
-        raise SystemExit(f"error: {err}") from None
+    policy.check_env(env)
     env.reset(seed=0)
     summary, runs = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,

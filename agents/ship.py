@@ -7,12 +7,13 @@ Usage::
 
 Copies ``RUN/best`` (model, observation statistics, sidecar), evaluates it with
 ``agents/evaluate.py`` (the extra arguments are passed on) and records the evaluation, its command
-and the training wall time in ``models/NAME/sidecar.json``. Refuses a model over 20 MB.
+and the training wall time in ``models/NAME/sidecar.json``. Refuses a model over 20 MB. The policy
+is assembled beside ``models/NAME`` and replaces it only once evaluated, so a failed run leaves
+``models/NAME`` as it was.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
 import shutil
 import sys
@@ -23,35 +24,48 @@ if __package__ in (None, ""):  # `python agents/ship.py`: make the repository im
 
 from agents import evaluate
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE
+from agents.reporting import write_json
+from reference_motion.cli import CliParser, one_line_errors, output_dir
 
 MAX_MODEL_BYTES = 20 * 1024 * 1024
 
 
-def main(argv: list[str] | None = None) -> Path:
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``; options it does not know go to
+    ``agents/evaluate.py``); returns the shipped policy's directory."""
     argv = sys.argv[1:] if argv is None else argv
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--run-dir", type=Path, required=True)
     p.add_argument("--name", required=True, help="directory name under --models")
-    p.add_argument("--models", type=Path, default=Path("models"))
+    p.add_argument("--models", type=output_dir, default=Path("models"))
     args, eval_args = p.parse_known_args(argv)
     best = args.run_dir / "best"
     if not (best / MODEL_FILE).exists():
-        raise SystemExit(f"error: {best / MODEL_FILE} not found: the run has not been evaluated yet")
+        raise FileNotFoundError(f"{best / MODEL_FILE}: not found: the run has not been evaluated yet")
     size = (best / MODEL_FILE).stat().st_size
     if size > MAX_MODEL_BYTES:
-        raise SystemExit(f"error: {best / MODEL_FILE} is {size / 2**20:.1f} MB, over the 20 MB limit for models/")
+        raise ValueError(f"{best / MODEL_FILE}: {size / 2**20:.1f} MB, over the 20 MB limit for models/")
     out = args.models / args.name
-    out.mkdir(parents=True, exist_ok=True)
-    for name in (MODEL_FILE, STATS_FILE, SIDECAR_FILE):
-        shutil.copy2(best / name, out / name)
-    result = evaluate.main(["--policy", str(out), *eval_args, "--json", str(out / "evaluation.json")])
-    sidecar = json.loads((out / SIDECAR_FILE).read_text())
-    evaluations = [json.loads(line) for line in (args.run_dir / "evaluations.jsonl").read_text().splitlines()]
-    sidecar.update(name=args.name, training_wall_s_total=evaluations[-1]["wall_s"],
-                   training_steps_total=evaluations[-1]["steps"],
-                   evaluate_command="python agents/evaluate.py --policy " + " ".join([str(out), *eval_args]),
-                   evaluation={k: v for k, v in result.items() if k not in ("policy",)})
-    (out / SIDECAR_FILE).write_text(json.dumps(sidecar, indent=1, default=str))
+    staging = args.models / f".{args.name}.partial"  # becomes `out` only once evaluated: never half-shipped
+    shutil.rmtree(staging, ignore_errors=True)
+    staging.mkdir(parents=True)
+    try:
+        for name in (MODEL_FILE, STATS_FILE, SIDECAR_FILE):
+            shutil.copy2(best / name, staging / name)
+        result = {**evaluate.main(["--policy", str(staging), *eval_args]), "policy": str(out)}
+        write_json(staging / "evaluation.json", result)
+        sidecar = json.loads((staging / SIDECAR_FILE).read_text())
+        evaluations = [json.loads(line) for line in (args.run_dir / "evaluations.jsonl").read_text().splitlines()]
+        sidecar.update(name=args.name, training_wall_s_total=evaluations[-1]["wall_s"],
+                       training_steps_total=evaluations[-1]["steps"],
+                       evaluate_command="python agents/evaluate.py --policy " + " ".join([str(out), *eval_args]),
+                       evaluation={k: v for k, v in result.items() if k not in ("policy",)})
+        write_json(staging / SIDECAR_FILE, sidecar)
+        shutil.rmtree(out, ignore_errors=True)
+        staging.rename(out)
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
     print(f"shipped {out} ({size / 2**20:.1f} MB)")
     return out
 

@@ -33,7 +33,7 @@ from perception.keypoint_data import load_keypoint_split, held_out_views
 from perception.keypoint_evaluation import GAIT_RATIOS, evaluate_keypoint_contacts, film_split
 from perception.keypoint_training import SAMPLINGS, KeypointTrainConfig, train_keypoints
 from perception.keypoints import KEYPOINT_SETS
-from perception.plots import plot_cleanup, plot_contacts, plot_gait, plot_tolerance_curves
+from perception.plots import PLOT_SUFFIXES, plot_cleanup, plot_contacts, plot_gait, plot_tolerance_curves
 from perception.skeleton import motion_joint_positions
 from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
@@ -41,31 +41,40 @@ from perception.vgrf import estimate
 from perception.video import VIDEO_SUFFIXES, video_keypoints
 from perception.weights import load_network, record_metrics, ship
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.atomic import atomic_write
 from reference_motion.bvh_export import write_bvh
+from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
+                                  one_line_errors, output_dir, output_file, positive_float, positive_int)
 from reference_motion.library import load_motion
-from reference_motion.motion import Motion
+from reference_motion.motion import Motion, read_npz
+
+JSON_OUT = output_file(".json")
+PLOT_OUT = output_file(*PLOT_SUFFIXES)
 
 
 def _add_source(p: argparse.ArgumentParser) -> None:
-    p.add_argument("source", help="deepmimic:NAME, a .npz Motion, a .bvh file, or an UnderPressure .pth sequence")
+    p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, a .npz Motion, a .bvh / .amc file, or an "
+                                  "UnderPressure .pth sequence")
+    add_mocap_options(p)
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="add synthetic IMU artefacts first")
-    p.add_argument("--strength", type=float, default=1.0, help="artefact strength")
+    p.add_argument("--strength", type=non_negative_float, default=1.0, help="artefact strength")
     p.add_argument("--seed", type=int, default=1000, help="artefact seed")
-    p.add_argument("--min-frames", type=int, default=0, help="loop a cyclic clip to at least this many frames")
+    p.add_argument("--min-frames", type=non_negative_int, default=0,
+                   help="loop a cyclic clip to at least this many frames")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(prog="python -m perception", description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+def build_parser(prog: str = "python -m perception") -> CliParser:
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
+                  formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     sub = p.add_subparsers(dest="command", required=True)
     d = DatasetConfig()
     g = sub.add_parser("make-dataset", help="roll trained policies over the clip library, recording vGRF",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    g.add_argument("--out", type=Path, required=True, help="dataset directory (resumes if it exists)")
+    g.add_argument("--out", type=output_dir, required=True, help="dataset directory (resumes if it exists)")
     g.add_argument("--policies", nargs="+", default=list(d.policies), help="policy directories")
     g.add_argument("--clips", nargs="+", default=list(d.clips), help="SOURCE strings of the clip library")
-    g.add_argument("--variants", type=int, default=d.variants, help="references per clip")
-    g.add_argument("--episodes", type=int, default=d.episodes, help="windows performed per reference")
+    g.add_argument("--variants", type=positive_int, default=d.variants, help="references per clip")
+    g.add_argument("--episodes", type=positive_int, default=d.episodes, help="windows performed per reference")
     g.add_argument("--seed", type=int, default=d.seed)
     g.add_argument("--no-progress", action="store_true")
     for name, kind, default_out in (("train-vgrf", "vgrf", "models/vgrf"), ("train-mlp", "mlp", "models/contact_mlp")):
@@ -73,12 +82,12 @@ def build_parser() -> argparse.ArgumentParser:
         g = sub.add_parser(name, help=f"train the {'vGRF network' if kind == 'vgrf' else '3-layer MLP baseline'}",
                            formatter_class=argparse.ArgumentDefaultsHelpFormatter)
         g.add_argument("--dataset", type=Path, required=True)
-        g.add_argument("--run-dir", type=Path, required=True, help="checkpoints (resumes if it exists)")
-        g.add_argument("--out", type=Path, default=Path(default_out), help="where the best weights are shipped")
-        g.add_argument("--epochs", type=int, default=t.max_epochs, help="most epochs")
-        g.add_argument("--patience", type=int, default=t.patience, help="early-stopping patience (epochs)")
-        g.add_argument("--lr", type=float, default=t.lr, help="initial Adam learning rate")
-        g.add_argument("--lr-patience", type=int, default=t.lr_patience,
+        g.add_argument("--run-dir", type=output_dir, required=True, help="checkpoints (resumes if it exists)")
+        g.add_argument("--out", type=output_dir, default=Path(default_out), help="where the best weights are shipped")
+        g.add_argument("--epochs", type=positive_int, default=t.max_epochs, help="most epochs")
+        g.add_argument("--patience", type=non_negative_int, default=t.patience, help="early-stopping patience (epochs)")
+        g.add_argument("--lr", type=positive_float, default=t.lr, help="initial Adam learning rate")
+        g.add_argument("--lr-patience", type=non_negative_int, default=t.lr_patience,
                        help="halve the learning rate after this many epochs without improvement")
         g.add_argument("--seed", type=int, default=t.seed)
         g.add_argument("--no-augment", action="store_true", help="train without UnderPressure's augmentations")
@@ -88,18 +97,18 @@ def build_parser() -> argparse.ArgumentParser:
     g = sub.add_parser("train-keypoints", help="train the ContactTransformer on filmed physics data (ContactVision)",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     g.add_argument("--dataset", type=Path, required=True)
-    g.add_argument("--run-dir", type=Path, required=True, help="checkpoints (resumes if it exists)")
-    g.add_argument("--out", type=Path, default=Path("models/contact_transformer"),
+    g.add_argument("--run-dir", type=output_dir, required=True, help="checkpoints (resumes if it exists)")
+    g.add_argument("--out", type=output_dir, default=Path("models/contact_transformer"),
                    help="where the best weights are shipped")
     g.add_argument("--keypoints", choices=tuple(KEYPOINT_SETS), default=k.keypoints,
                    help="lower body (13, ContactVision) or full body (25; ablation)")
     g.add_argument("--positional", choices=("learnable", "sinusoidal"), default=k.positional)
     g.add_argument("--sampling", choices=SAMPLINGS, default=k.sampling,
                    help="random subsequences (ContactVision) or stride-1 sliding windows (ablation)")
-    g.add_argument("--epochs", type=int, default=k.max_epochs, help="most epochs")
-    g.add_argument("--patience", type=int, default=k.patience, help="early-stopping patience (epochs)")
-    g.add_argument("--lr", type=float, default=k.lr, help="Adam learning rate")
-    g.add_argument("--windows-per-epoch", type=int, default=k.windows_per_epoch)
+    g.add_argument("--epochs", type=positive_int, default=k.max_epochs, help="most epochs")
+    g.add_argument("--patience", type=non_negative_int, default=k.patience, help="early-stopping patience (epochs)")
+    g.add_argument("--lr", type=positive_float, default=k.lr, help="Adam learning rate")
+    g.add_argument("--windows-per-epoch", type=positive_int, default=k.windows_per_epoch)
     g.add_argument("--init-from", help="a shipped ContactTransformer to fine-tune instead of starting from scratch")
     g.add_argument("--seed", type=int, default=k.seed)
     g.add_argument("--no-progress", action="store_true")
@@ -111,7 +120,7 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--views", choices=("rig", "handheld"), nargs="+", default=["rig", "handheld"],
                    help="static test cameras and/or hand-held ones, at the test azimuths")
     g.add_argument("--seed", type=int, default=0, help="detector noise seed")
-    g.add_argument("--json", type=Path)
+    g.add_argument("--json", type=JSON_OUT)
     g.add_argument("--record", action="store_true", help="also store the scores as 'metrics' in the net's sidecar.json")
     g = sub.add_parser("evaluate-contacts", help="F1 of VGRFNet+Γ, OT and MLP; vGRF RMSE",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
@@ -119,16 +128,16 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--split", choices=SPLITS, default="test")
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
     g.add_argument("--mlp", type=Path, default=Path("models/contact_mlp"))
-    g.add_argument("--json", type=Path)
-    g.add_argument("--plot", type=Path, help="PNG: F1 against temporal tolerance (underpressure Fig. 4)")
+    g.add_argument("--json", type=JSON_OUT)
+    g.add_argument("--plot", type=PLOT_OUT, help="PNG: F1 against temporal tolerance (underpressure Fig. 4)")
     g.add_argument("--record", action="store_true",
                    help="also store each network's scores as 'metrics' in its sidecar.json (when shipping)")
     g = sub.add_parser("contacts", help="per-frame vGRF per foot and the four contacts of a clip",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     _add_source(g)
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
-    g.add_argument("--json", type=Path)
-    g.add_argument("--plot", type=Path, help="PNG: vGRF curves with contact bands")
+    g.add_argument("--json", type=JSON_OUT)
+    g.add_argument("--plot", type=PLOT_OUT, help="PNG: vGRF curves with contact bands")
     g = sub.add_parser("gait", help="per-frame contacts, gait phases and parameters, and a timeline plot",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     g.add_argument("source", help="a video (MediaPipe, `video` extra), a keypoint .npz (fields keypoints (T, 13, 3) "
@@ -136,27 +145,29 @@ def build_parser() -> argparse.ArgumentParser:
                    "from VGRFNet + Γ)")
     g.add_argument("--net", type=Path, default=Path("models/contact_transformer"), help="keypoint contact network")
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"), help="vGRF network for 3D motions")
-    g.add_argument("--keypoints-out", type=Path, help="also save a video's keypoints (.npz) for later runs")
-    g.add_argument("--json", type=Path)
-    g.add_argument("--plot", type=Path, help="PNG timeline: contacts, gait phases, toe reference angles")
+    g.add_argument("--keypoints-out", type=output_file(".npz"),
+                   help="also save a video's keypoints (.npz) for later runs")
+    add_mocap_options(g)
+    g.add_argument("--json", type=JSON_OUT)
+    g.add_argument("--plot", type=PLOT_OUT, help="PNG timeline: contacts, gait phases, toe reference angles")
     g = sub.add_parser("cleanup", help="remove foot skate with the vGRF network (UnderPressure §6)",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     _add_source(g)
-    g.add_argument("--out", type=Path, required=True, help="the cleaned Motion (.npz)")
+    g.add_argument("--out", type=output_file(".npz"), required=True, help="the cleaned Motion (.npz)")
     g.add_argument("--vgrf", type=Path, default=Path("models/vgrf"))
-    g.add_argument("--iterations", type=int, default=CleanupConfig().iterations)
-    g.add_argument("--pose-weight", type=float, default=CleanupConfig().w_pose,
+    g.add_argument("--iterations", type=positive_int, default=CleanupConfig().iterations)
+    g.add_argument("--pose-weight", type=non_negative_float, default=CleanupConfig().w_pose,
                    help="how hard the joints are kept near the input: lower removes more skate and moves the "
                         "body more (0: not kept; the body follows the planted feet)")
-    g.add_argument("--json", type=Path)
-    g.add_argument("--plot", type=Path, help="PNG: heel and toe speeds before and after, over the contacts")
-    g.add_argument("--bvh", type=Path, help="also write the cleaned clip as BVH")
+    g.add_argument("--json", type=JSON_OUT)
+    g.add_argument("--plot", type=PLOT_OUT, help="PNG: heel and toe speeds before and after, over the contacts")
+    g.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned clip as BVH")
     return p
 
 
 def motion_of(args: argparse.Namespace) -> Motion:
     """The ``source`` argument as a Motion, corrupted when ``--corrupt`` is given."""
-    motion = load_motion(args.source, min_frames=args.min_frames)
+    motion = load_motion(args.source, min_frames=args.min_frames, mocap=mocap_options(args))
     if args.corrupt:
         motion = corrupt(motion, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
     return motion
@@ -189,15 +200,16 @@ def _print_scores(result: dict) -> None:
 
 
 def keypoint_file(path: Path) -> tuple[np.ndarray, float] | None:
-    """``(keypoints, fps)`` of a keypoint ``.npz``; ``None`` when ``path`` is another kind of file."""
+    """``(keypoints, fps)`` of a keypoint ``.npz``; ``None`` when ``path`` is another kind of file
+    (a Motion ``.npz`` among them)."""
     if Path(path).suffix != ".npz" or not Path(path).exists():
         return None
-    with np.load(path) as z:
-        if "keypoints" not in z.files:
-            return None
-        if "fps" not in z.files:
-            raise ValueError(f"{path}: keypoint file has no field 'fps'")
-        return z["keypoints"], float(z["fps"])
+    z = read_npz(path, "keypoint or motion")
+    if "keypoints" not in z:
+        return None
+    if "fps" not in z:
+        raise ValueError(f"{path}: keypoint file has no field 'fps'")
+    return z["keypoints"], float(z["fps"])
 
 
 def source_contacts(args: argparse.Namespace) -> tuple[np.ndarray, float, str]:
@@ -206,12 +218,12 @@ def source_contacts(args: argparse.Namespace) -> tuple[np.ndarray, float, str]:
     if keypoints is None and Path(args.source).suffix.lower() in VIDEO_SUFFIXES:
         keypoints = video_keypoints(args.source, progress=True)
         if args.keypoints_out:
-            args.keypoints_out.parent.mkdir(parents=True, exist_ok=True)
-            np.savez(args.keypoints_out, keypoints=keypoints[0], fps=keypoints[1])
+            with atomic_write(args.keypoints_out) as tmp:
+                np.savez(tmp, keypoints=keypoints[0], fps=keypoints[1])
     if keypoints is not None:
         net = load_network(args.net, "keypoints")
         return detect_contacts(net, *keypoints), keypoints[1], f"keypoints ({args.net})"
-    motion = load_motion(args.source)
+    motion = load_motion(args.source, mocap=mocap_options(args))
     forces = estimate(load_network(args.vgrf, "vgrf"), motion_joint_positions(motion))
     return ContactFunction()(forces, motion.fps), motion.fps, f"VGRFNet + Γ ({args.vgrf})"
 
@@ -239,15 +251,10 @@ def _train_and_ship(args: argparse.Namespace, trainer, config, describe) -> dict
     return sidecar
 
 
-def main(argv: list[str] | None = None) -> dict | None:
-    args = build_parser().parse_args(argv)
-    try:
-        return _run(args)
-    except (ValueError, FileNotFoundError, KeyError, ImportError) as err:
-        raise SystemExit(f"error: {err}") from None
-
-
-def _run(args: argparse.Namespace) -> dict | None:
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str = "python -m perception") -> dict | None:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the command's result."""
+    args = build_parser(prog).parse_args(argv)
     if args.command == "make-dataset":
         config = DatasetConfig(policies=tuple(args.policies), clips=tuple(args.clips), variants=args.variants,
                                episodes=args.episodes, seed=args.seed)

@@ -9,8 +9,13 @@ import numpy as np
 
 from perception.contacts import CONTACT_NAMES
 from perception.gait import PHASES, TOE_PEAK_RAD, gait_phases, toe_reference_angles
+from reference_motion.atomic import atomic_write
 from reference_motion.humanoid.model import FOOT_CHANNELS
 from reference_motion.quality import horizontal_speed
+
+
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+"""File types the plots are written as."""
 
 
 def _pyplot():
@@ -21,10 +26,11 @@ def _pyplot():
 
 
 def _save(fig, path: Path) -> Path:
+    """Write ``fig`` to ``path`` (its type from the suffix, one of :data:`PLOT_SUFFIXES`), atomically."""
     path = Path(path)
     fig.tight_layout()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    with atomic_write(path) as tmp:
+        fig.savefig(tmp, dpi=120)
     _pyplot().close(fig)
     return path
 

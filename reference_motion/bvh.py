@@ -1,13 +1,11 @@
 """BVH loader: hierarchy + motion → :class:`SourceClip` on the canonical joints.
 
-A *name map* says which BVH joint plays each canonical joint (``right_hip → RightUpLeg`` ...).
-Canonical end points (``head_end``, ``*_toe_end``, ``*_wrist``) may name a joint or be left out, in
-which case the first child (or End Site) of the joint they hang from is used. BVH joints between
-mapped ones (extra spine links, clavicles) are folded in by forward kinematics: the canonical
-rotation is the relative world rotation of the mapped joints.
-
-Units: BVH offsets are scaled by ``scale`` (default: centimetres → metres when the rig is taller
-than 3 units). Axes: y up (converted to the project's z up).
+BVH as found in the wild: 3 or 6 channels on any joint, rotation channels in any order, any rest
+pose. Every joint's world position is computed by forward kinematics; the rig (which joint plays
+each canonical joint), the length unit and the up axis are detected from those positions
+(:mod:`reference_motion.rigs`, each with an override), and the clip is rebuilt from the canonical
+joints' positions (:func:`~reference_motion.source.clip_from_joint_positions`), so joint
+orientations and rest poses of the file never matter. End Sites are joints named ``<parent>_end``.
 """
 
 from __future__ import annotations
@@ -18,16 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
-from reference_motion.source import CANONICAL_JOINTS, CANONICAL_PARENTS, SourceClip, y_up_quats, y_up_vectors
-
-CMU_NAME_MAP = {
-    "root": "Hips", "chest": "Spine1", "neck": "Neck", "head_end": "Head",
-    "right_hip": "RightUpLeg", "right_knee": "RightLeg", "right_ankle": "RightFoot", "right_toe_end": "RightToeBase",
-    "right_shoulder": "RightArm", "right_elbow": "RightForeArm", "right_wrist": "RightHand",
-    "left_hip": "LeftUpLeg", "left_knee": "LeftLeg", "left_ankle": "LeftFoot", "left_toe_end": "LeftToeBase",
-    "left_shoulder": "LeftArm", "left_elbow": "LeftForeArm", "left_wrist": "LeftHand",
-}
-"""CMU / Mixamo / Xsens-style names (Xsens: pass ``chest="Chest"`` etc. in a custom map)."""
+from reference_motion.rigs import MocapOptions, canonical_positions, match_rig
+from reference_motion.source import SourceClip, clip_from_joint_positions
 
 _AXIS = {"Xrotation": np.array([1.0, 0, 0]), "Yrotation": np.array([0, 1.0, 0]), "Zrotation": np.array([0, 0, 1.0])}
 
@@ -91,24 +81,10 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
     return joints, values.reshape(n_frames, width), frame_time
 
 
-def load(path: str | Path, name_map: dict[str, str] | None = None, scale: float | None = None) -> SourceClip:
-    """Load a BVH file as a :class:`SourceClip` using ``name_map`` (default :data:`CMU_NAME_MAP`)."""
-    path = Path(path)
-    where = str(path)
-    if not path.exists():
-        raise FileNotFoundError(f"{where}: no such BVH file")
-    joints, frames, frame_time = _parse(path.read_text(), where)
-    names = [j.name for j in joints]
-    name_map = dict(CMU_NAME_MAP if name_map is None else name_map)
-    for canon in CANONICAL_JOINTS:
-        if canon.endswith(("_end", "_wrist")) and name_map.get(canon) not in names:
-            parent = name_map.get(CANONICAL_PARENTS[canon])
-            if parent in names and joints[names.index(parent)].children:
-                name_map[canon] = names[joints[names.index(parent)].children[0]]
-        if name_map.get(canon) not in names:
-            raise ValueError(f"{where}: joint {name_map.get(canon)!r} (for {canon}) is not in the file; "
-                             f"fix the name map. Joints in the file: {', '.join(n for n in names if not n.endswith('_end'))}")
-
+def joint_positions(joints: list[_Joint], frames: np.ndarray, where: str) -> np.ndarray:
+    """World positions ``(T, N, 3)`` (file units and axes) of every joint and End Site by forward
+    kinematics: each joint's channels, in the order listed, are its translation (position
+    channels replace the offset) and intrinsic rotations (degrees)."""
     T = frames.shape[0]
     world_pos = np.zeros((T, len(joints), 3))
     world_rot = np.tile([1.0, 0, 0, 0], (T, len(joints), 1))
@@ -121,7 +97,7 @@ def load(path: str | Path, name_map: dict[str, str] | None = None, scale: float 
             col += 1
             if ch in _AXIS:
                 local_rot = rot.multiply(local_rot, rot.from_axis_angle(_AXIS[ch], np.radians(v)))
-            elif ch.endswith("position"):
+            elif ch in ("Xposition", "Yposition", "Zposition"):
                 local_pos[:, "XYZ".index(ch[0])] = v
             else:
                 raise ValueError(f"{where}: joint {joint.name} has unknown channel {ch!r}")
@@ -131,29 +107,35 @@ def load(path: str | Path, name_map: dict[str, str] | None = None, scale: float 
         else:
             world_pos[:, k] = world_pos[:, joint.parent] + rot.rotate(world_rot[:, joint.parent], local_pos)
             world_rot[:, k] = rot.multiply(world_rot[:, joint.parent], local_rot)
+    return world_pos
 
-    rest = np.zeros((len(joints), 3))
-    for k, joint in enumerate(joints):
-        rest[k] = joint.offset + (rest[joint.parent] if joint.parent >= 0 else 0)
-    if scale is None:
-        height = np.ptp(rest[:, 1])
-        scale = 0.01 if height > 3.0 else 1.0
 
-    idx = {c: names.index(name_map[c]) for c in CANONICAL_JOINTS}
-    offsets = np.zeros((len(CANONICAL_JOINTS), 3))
-    local = np.tile([1.0, 0, 0, 0], (T, len(CANONICAL_JOINTS), 1))
-    for j, canon in enumerate(CANONICAL_JOINTS):
-        b = idx[canon]
-        if canon == "root":
-            local[:, j] = world_rot[:, b]
-            continue
-        p = idx[CANONICAL_PARENTS[canon]]
-        offsets[j] = (rest[b] - rest[p]) * scale  # mapped joints are connected through rest offsets
-        if not canon.endswith(("_end", "_wrist")):
-            local[:, j] = rot.multiply(rot.conjugate(world_rot[:, p]), world_rot[:, b])
-    # Unmapped joints in between (extra spine links, clavicles) are folded into the relative world
-    # rotations above; the offsets are the rest-pose ones, which is all retargeting uses.
-    return SourceClip(name=f"bvh:{path.stem}", fps=float(1.0 / frame_time), offsets=y_up_vectors(offsets),
-                      root_pos=y_up_vectors(world_pos[:, idx["root"]] * scale),
-                      local_quats=rot.normalize(y_up_quats(local)), loop=False,
-                      source={"format": "bvh", "file": where, "scale": scale})
+def load(path: str | Path, options: MocapOptions = MocapOptions()) -> SourceClip:
+    """Load a BVH file as a :class:`SourceClip`.
+
+    Args:
+        path: the ``.bvh`` file.
+        options: joint map, units and up axis where detection is not wanted (:class:`MocapOptions`).
+
+    Raises:
+        FileNotFoundError: no such file.
+        ValueError: not a BVH file, truncated, NaN/inf, an unknown rig (the message lists the file's
+            joints and the canonical joints still needed), undetectable units or axes.
+    """
+    path = Path(path)
+    where = str(path)
+    if not path.exists():
+        raise FileNotFoundError(f"{where}: no such BVH file")
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError:
+        raise ValueError(f"{where}: not a BVH file (binary data)") from None
+    joints, frames, frame_time = _parse(text, where)
+    if not frame_time > 0:
+        raise ValueError(f"{where}: 'Frame Time' must be > 0 s, got {frame_time}")
+    names = [j.name for j in joints]
+    positions = joint_positions(joints, frames, where)
+    match = match_rig(names, positions, where, options.joint_map)
+    world, axes = canonical_positions(positions, match, where, units=options.units, up=options.up)
+    return clip_from_joint_positions(f"bvh:{path.stem}", 1.0 / frame_time, world,
+                                     source={"format": "bvh", "file": where, "rig": match.rig, **axes})

@@ -6,8 +6,8 @@ root with position and rotation channels and every other joint with ``Zrotation 
 Yrotation`` (degrees). Leaf bodies end in an End Site: the top of the head, the end of the hand and
 the toe tip. Welded bodies (hands) carry their (constant) rotation like any other joint.
 
-``reference_motion.bvh.load`` reads the file back with :func:`bvh_name_map` (a test checks that
-joint rotations and positions survive the round trip).
+``reference_motion.bvh.load`` reads the file back with no options (the rig is detected as
+``physmimic``; a test checks that joint positions survive the round trip).
 """
 
 from __future__ import annotations
@@ -17,23 +17,13 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
+from reference_motion.atomic import atomic_write
 from reference_motion.humanoid import anthropometry as A
 from reference_motion.humanoid.model import load_model
 from reference_motion.motion import Motion
 from reference_motion.source import Y_UP_TO_Z_UP
 
 CM_PER_M = 100.0
-
-def bvh_name_map(model_name: str) -> dict[str, str]:
-    """Canonical → BVH joint names for files written here from ``model_name``."""
-    toe_leaf = "toe" if model_name == "humanoid_2seg" else "foot"
-    return {
-        "root": "pelvis", "chest": "chest", "neck": "neck", "head_end": "head_end",
-        **{f"{side}_{joint}": f"{side[0]}_{body}" for side in ("left", "right")
-           for joint, body in (("hip", "thigh"), ("knee", "shin"), ("ankle", "foot"), ("shoulder", "upper_arm"),
-                               ("elbow", "forearm"), ("wrist", "hand"))},
-        **{f"{side}_toe_end": f"{side[0]}_{toe_leaf}_end" for side in ("left", "right")},
-    }
 
 HEAD_TOP = (0.01, 0.0, 0.10)
 """End Site of the head, in the head frame (m): the same head-top point retargeting uses."""
@@ -57,7 +47,7 @@ def _to_y_up(v: np.ndarray) -> np.ndarray:
 
 
 def write_bvh(motion: Motion, path: str | Path) -> Path:
-    """Write ``motion`` to ``path`` (.bvh); returns the path."""
+    """Write ``motion`` to ``path`` (.bvh), atomically; returns the path."""
     path = Path(path)
     hm = load_model(motion.model)
     m = hm.model
@@ -92,8 +82,8 @@ def write_bvh(motion: Motion, path: str | Path) -> Path:
     lines += ["MOTION", f"Frames: {motion.n_frames}", f"Frame Time: {1.0 / motion.fps:.8f}"]
     for t in range(motion.n_frames):
         lines.append(_fmt(np.concatenate([root[t], euler[t].ravel()])))
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text("\n".join(lines) + "\n")
+    with atomic_write(path) as tmp:
+        tmp.write_text("\n".join(lines) + "\n")
     return path
 
 

@@ -5,26 +5,31 @@ SOURCE forms:
 * ``deepmimic:NAME`` — a DeepMimic clip in the installed ``pybullet_data`` (``deepmimic:walk``,
   ``deepmimic:walker/turn_left0``); ``deepmimic:all`` is not a clip (see :func:`named_set`).
 * ``PATH.npz`` — a saved Motion (must have been saved for the requested model).
-* ``PATH.bvh`` — a BVH file (CMU-style joint names unless a name map is given).
+* ``library:DIR#NAME`` — a take of a motion library (:mod:`reference_motion.motion_library`).
+* ``PATH.bvh`` — a BVH file of any common rig (:mod:`reference_motion.rigs`; a joint map for others).
+* ``PATH.amc`` — a CMU ASF/AMC take, with the ``.asf`` found beside it.
 * ``PATH.txt`` — a DeepMimic-format JSON file.
 
 Mocap sources are retargeted, looped if asked, resampled and then footskate-cleaned
 (:func:`reference_motion.footskate.pin_contacts`) at the output rate; a saved ``.npz`` Motion is
-returned as saved (resampled only if asked).
+returned as saved (resampled only if asked), and so is a library take.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
-from reference_motion import bvh, deepmimic
+from reference_motion import asf_amc, bvh, deepmimic
 from reference_motion.footskate import pin_contacts
 from reference_motion.motion import Motion
+from reference_motion.motion_library import PREFIX as LIBRARY_PREFIX, is_library_set, library_set, resolve_take
 from reference_motion.retarget import retarget
+from reference_motion.rigs import MocapOptions
+from reference_motion.source import SourceClip
 from reference_motion.transforms import ENV_FPS, loop, mirror, resample, time_warp
 
-NAMED_SETS = {
+NAMED_SETS: dict[str, Callable[[], list[str]]] = {
     "deepmimic": lambda: [f"deepmimic:{n}" for n in deepmimic.clip_names()],
     "locomotion": lambda: ["deepmimic:walk", "deepmimic:run"]
     + [f"deepmimic:{n}" for n in deepmimic.clip_names() if n.startswith("walker/")],
@@ -32,15 +37,54 @@ NAMED_SETS = {
 """Named clip sets: ``deepmimic`` (all 20), ``locomotion`` (walk, run and the five walker clips)."""
 
 
+def is_clip_set(name: str) -> bool:
+    """Whether ``name`` names a clip set: one of :data:`NAMED_SETS`, or a motion library's
+    ``library:DIR`` / ``library:DIR/SPLIT`` (:mod:`reference_motion.motion_library`)."""
+    return name in NAMED_SETS or is_library_set(name)
+
+
 def named_set(name: str) -> list[str]:
-    """The SOURCE strings of a named set; ``KeyError`` lists the sets."""
+    """The SOURCE strings of a clip set (:func:`is_clip_set`); ``KeyError`` lists the sets."""
+    if is_library_set(name):
+        return library_set(name)
     if name not in NAMED_SETS:
-        raise KeyError(f"unknown clip set {name!r}; available: {', '.join(NAMED_SETS)}")
+        raise KeyError(f"unknown clip set {name!r}; available: {', '.join(NAMED_SETS)}, library:DIR[/train|val|test]")
     return NAMED_SETS[name]()
 
 
+def expand_clips(sources: Sequence[str]) -> list[str]:
+    """SOURCE strings with every clip set among them (:func:`is_clip_set`) replaced by its clips."""
+    out: list[str] = []
+    for source in sources:
+        out += named_set(source) if is_clip_set(str(source)) else [str(source)]
+    return out
+
+
+MOCAP_SUFFIXES = (".bvh", ".amc", ".txt")
+"""Mocap files :func:`load_source_clip` reads: BVH, ASF/AMC, DeepMimic JSON."""
+
+
+def load_source_clip(source: str | Path, mocap: MocapOptions = MocapOptions()) -> SourceClip:
+    """The skeleton animation of a mocap SOURCE (``deepmimic:NAME`` or a :data:`MOCAP_SUFFIXES`
+    file), before retargeting."""
+    text = str(source)
+    path = Path(text)
+    if text.startswith("deepmimic:"):
+        return deepmimic.load(text.removeprefix("deepmimic:"))
+    if path.suffix == ".bvh":
+        return bvh.load(path, mocap)
+    if path.suffix == ".amc":
+        return asf_amc.load(path, mocap)
+    if path.suffix == ".txt":
+        if not path.exists():
+            raise FileNotFoundError(f"{path}: no such DeepMimic file")
+        return deepmimic.load(path)
+    raise ValueError(f"cannot read motion source {text!r}: expected deepmimic:NAME, library:DIR#TAKE, or a .npz, "
+                     ".bvh, .amc (ASF/AMC) or .txt (DeepMimic JSON) file")
+
+
 def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | None = ENV_FPS,
-                min_frames: int | None = None, bvh_name_map: dict[str, str] | None = None,
+                min_frames: int | None = None, mocap: MocapOptions = MocapOptions(),
                 pin_feet: bool = True) -> Motion:
     """Load, retarget and resample SOURCE for ``model``.
 
@@ -49,24 +93,18 @@ def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | N
         model: ``humanoid_1seg`` or ``humanoid_2seg``.
         fps: output rate (default 60 Hz, the environments' rate); ``None`` keeps the source rate.
         min_frames: loop cyclic clips until they have at least this many frames at ``fps``.
-        bvh_name_map: canonical → BVH joint names for ``.bvh`` sources.
+        mocap: joint map, units, up axis or ASF skeleton of a mocap file, where detection is not
+            wanted (:class:`~reference_motion.rigs.MocapOptions`).
         pin_feet: remove the foot sliding of mocap sources (not applied to ``.npz`` Motions).
     """
     text = str(source)
-    path = Path(text)
-    if text.startswith("deepmimic:"):
-        motion = retarget(deepmimic.load(text.removeprefix("deepmimic:")), model)
-    elif path.suffix == ".npz":
-        motion = Motion.load(path, model=model)
-    elif path.suffix == ".bvh":
-        motion = retarget(bvh.load(path, bvh_name_map), model)
-    elif path.suffix == ".txt":
-        if not path.exists():
-            raise FileNotFoundError(f"{path}: no such DeepMimic file")
-        motion = retarget(deepmimic.load(path), model)
+    stored = text.startswith(LIBRARY_PREFIX) or Path(text).suffix == ".npz"
+    if text.startswith(LIBRARY_PREFIX):
+        motion = Motion.load(resolve_take(text, model), model=model)
+    elif Path(text).suffix == ".npz":
+        motion = Motion.load(Path(text), model=model)
     else:
-        raise ValueError(f"cannot read motion source {text!r}: expected deepmimic:NAME, or a .npz, .bvh or "
-                         ".txt (DeepMimic JSON) file")
+        motion = retarget(load_source_clip(text, mocap), model)
     if min_frames and motion.loop:
         target_fps = fps or motion.fps
         needed = int(round(min_frames * motion.fps / target_fps)) + 2
@@ -74,7 +112,7 @@ def load_motion(source: str | Path, model: str = "humanoid_1seg", fps: float | N
             motion = loop(motion, needed)
     if fps is not None:
         motion = resample(motion, fps)
-    if pin_feet and path.suffix != ".npz":
+    if pin_feet and not stored:
         motion = pin_contacts(motion)
     return motion
 

@@ -4,12 +4,14 @@ from __future__ import annotations
 
 import json
 import zipfile
+import zlib
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
 
 from reference_motion import rotations as rot
+from reference_motion.atomic import atomic_write
 
 MODEL_NQ = {"humanoid_1seg": 50, "humanoid_2seg": 52}
 """qpos width of each supported model (7 free-joint values + one per hinge)."""
@@ -19,6 +21,23 @@ NPZ_FORMAT = "physmimic.motion/1"
 
 class MotionError(ValueError):
     """A motion file or array is malformed; the message names the file or field."""
+
+
+def read_npz(path: str | Path, what: str) -> dict[str, np.ndarray]:
+    """Every array of the ``.npz`` file ``path`` (a ``what`` file, e.g. ``"motion"``), without
+    unpickling; :class:`MotionError` naming the file when it is missing, not a zip archive (a
+    truncated download, a text file named ``.npz``) or damaged inside."""
+    path = Path(path)
+    if not path.is_file():
+        raise MotionError(f"{path}: no such {what} file")
+    if not zipfile.is_zipfile(path):
+        raise MotionError(f"{path}: not a readable .npz {what} file: not a valid .npz (zip) archive; "
+                          "truncated, or another kind of file named .npz")
+    try:
+        with np.load(path, allow_pickle=False) as npz:
+            return {k: npz[k] for k in npz.files}
+    except (zipfile.BadZipFile, zlib.error, ValueError, OSError, EOFError) as err:
+        raise MotionError(f"{path}: not a readable .npz {what} file: damaged ({err})") from err
 
 
 @dataclass(frozen=True)
@@ -111,24 +130,19 @@ class Motion:
 
     # ------------------------------------------------------------------ I/O
     def save(self, path: str | Path) -> Path:
-        """Write ``.npz`` (qpos, fps, model, name, loop, JSON metadata)."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        np.savez_compressed(path, format=NPZ_FORMAT, qpos=self.qpos, fps=self.fps, model=self.model,
-                            name=self.name, loop=self.loop, source=json.dumps(self.source))
+        """Write ``.npz`` (qpos, fps, model, name, loop, JSON metadata), atomically; ``.npz`` is
+        appended to ``path`` when missing, as numpy does. Returns the path written."""
+        path = Path(path) if str(path).endswith(".npz") else Path(f"{path}.npz")
+        with atomic_write(path) as tmp:
+            np.savez_compressed(tmp, format=NPZ_FORMAT, qpos=self.qpos, fps=self.fps, model=self.model,
+                                name=self.name, loop=self.loop, source=json.dumps(self.source))
         return path
 
     @classmethod
     def load(cls, path: str | Path, model: str | None = None) -> "Motion":
         """Read a Motion ``.npz``. If ``model`` is given, the file must have been saved for it."""
         path = Path(path)
-        if not path.exists():
-            raise MotionError(f"{path}: no such motion file")
-        try:
-            with np.load(path, allow_pickle=False) as npz:
-                data = {k: npz[k] for k in npz.files}
-        except (zipfile.BadZipFile, ValueError, OSError, EOFError) as err:
-            raise MotionError(f"{path}: not a readable .npz motion file ({err})") from err
+        data = read_npz(path, "motion")
         missing = [k for k in ("qpos", "fps", "model", "name") if k not in data]
         if missing:
             raise MotionError(f"{path}: missing field(s) {missing}; expected a file written by Motion.save")
@@ -140,5 +154,5 @@ class Motion:
         try:
             return cls(name=str(data["name"]), fps=float(data["fps"]), qpos=data["qpos"], model=saved_model,
                        loop=bool(data.get("loop", False)), source=json.loads(str(data.get("source", "{}"))))
-        except MotionError as err:
+        except (ValueError, TypeError) as err:  # MotionError, or a field of the wrong kind
             raise MotionError(f"{path}: {err}") from err

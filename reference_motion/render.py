@@ -12,10 +12,12 @@ from pathlib import Path
 import mujoco
 import numpy as np
 
+from reference_motion.atomic import atomic_write
 from reference_motion.humanoid.model import load_model
 from reference_motion.motion import Motion
 
 SUPPORTED = (".mp4", ".gif", ".png")
+"""Output types :func:`render` writes."""
 
 CLOTHES = {"skin": (0.87, 0.72, 0.6, 1.0), "shirt": (0.75, 0.15, 0.15, 1.0), "trousers": (0.15, 0.2, 0.45, 1.0),
            "shoes": (0.1, 0.1, 0.1, 1.0)}
@@ -76,7 +78,8 @@ def render(motions: Motion | list[Motion], out: str | Path, fps: float = 30.0, w
            height: int = 360) -> Path:
     """Render one motion, or several side by side, to ``out`` (.mp4, .gif, or .png = first frame).
 
-    Panels are padded to the longest motion by holding their last frame.
+    Panels are padded to the longest motion by holding their last frame; the file is written
+    atomically.
     """
     out = Path(out)
     if out.suffix.lower() not in SUPPORTED:
@@ -86,13 +89,13 @@ def render(motions: Motion | list[Motion], out: str | Path, fps: float = 30.0, w
     n = max(len(p) for p in panels)
     panels = [np.concatenate([p, np.repeat(p[-1:], n - len(p), axis=0)]) for p in panels]
     video = np.concatenate(panels, axis=2)
-    out.parent.mkdir(parents=True, exist_ok=True)
     import imageio.v2 as imageio
 
-    if out.suffix.lower() == ".png":
-        imageio.imwrite(out, video[0])
-    elif out.suffix.lower() == ".gif":
-        imageio.mimsave(out, video, duration=1000.0 / fps, loop=0)
-    else:
-        imageio.mimsave(out, video, fps=fps, macro_block_size=1)
+    with atomic_write(out) as tmp:
+        if out.suffix.lower() == ".png":
+            imageio.imwrite(tmp, video[0])
+        elif out.suffix.lower() == ".gif":
+            imageio.mimsave(tmp, video, duration=1000.0 / fps, loop=0)
+        else:
+            imageio.mimsave(tmp, video, fps=fps, macro_block_size=1)
     return out

@@ -218,3 +218,15 @@ def retarget(clip: SourceClip, model_name: str = "humanoid_1seg") -> Motion:
                   leg_length_ratio=leg_ratio,
                   floor_lift_m=[float(lift.min()), float(lift.max())], source_fps=clip.fps)
     return Motion(name=clip.name, fps=clip.fps, qpos=qpos, model=model_name, loop=clip.loop, source=source)
+
+
+def bone_direction_error(clip: SourceClip, motion: Motion) -> np.ndarray:
+    """Angle (degrees) between each bone of the retargeted ``motion`` and the same bone of the
+    source ``clip``, per frame: ``(T, len(BONES))``. Both must have the same frames (the
+    retargeter's output before resampling)."""
+    model = load_model(motion.model)
+    ours = bone_directions(model_joint_positions(model, model.forward_kinematics(motion.qpos)))
+    src_pos, _ = clip.global_pose()
+    turn = rot.from_axis_angle(np.array([0.0, 0.0, 1.0]), motion.source["heading_offset_rad"])
+    theirs = rot.rotate(turn, bone_directions(src_pos))
+    return np.degrees(np.arccos(np.clip(np.sum(ours * theirs, -1), -1.0, 1.0)))

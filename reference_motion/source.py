@@ -141,3 +141,108 @@ def uniform_timing(times: np.ndarray, root_pos: np.ndarray, local_quats: np.ndar
         return root_pos, local_quats
     n = int(np.floor(times[-1] * fps + 1e-6)) + 1
     return sample_poses(times, root_pos, local_quats, np.arange(n) / fps)
+
+
+KNEE_AXIS_FALLBACK = 0.05
+"""Weight of the parent's lateral axis in a limb's hinge axis (:func:`clip_from_joint_positions`):
+the bend plane of a knee or elbow defines the limb's twist once the joint is bent a few degrees;
+for a straight limb this weight keeps the axis on the parent's lateral direction."""
+
+_LIMBS = {
+    # upper joint: (middle joint, end joint, frame giving the fallback lateral axis, bend sign)
+    # legs fold backwards, arms forwards: (upper × lower bone) is +lateral for a bent knee and
+    # −lateral for a bent elbow in a body facing +x with lateral +y (left).
+    "left_hip": ("left_knee", "left_ankle", "root", 1.0),
+    "right_hip": ("right_knee", "right_ankle", "root", 1.0),
+    "left_shoulder": ("left_elbow", "left_wrist", "chest", -1.0),
+    "right_shoulder": ("right_elbow", "right_wrist", "chest", -1.0),
+}
+
+
+def _unit(v: np.ndarray) -> np.ndarray:
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    return v / np.maximum(n, 1e-12)
+
+
+def _frame(primary: np.ndarray, lateral: np.ndarray, primary_axis: int) -> np.ndarray:
+    """Rotation matrices ``(T, 3, 3)`` whose column ``primary_axis`` (0 = x, 2 = z) is the unit
+    ``primary ``(T, 3)`` and whose y column is ``lateral`` made orthogonal to it."""
+    p = _unit(primary)
+    y = _unit(lateral - np.sum(lateral * p, -1, keepdims=True) * p)
+    if primary_axis == 2:
+        x = np.cross(y, p)
+        return np.stack([x, y, p], axis=-1)
+    z = np.cross(p, y)
+    return np.stack([p, y, z], axis=-1)
+
+
+def clip_from_joint_positions(name: str, fps: float, positions: np.ndarray, loop: bool = False,
+                              source: dict | None = None) -> SourceClip:
+    """A :class:`SourceClip` from world positions of the canonical joints alone.
+
+    Mocap rigs disagree on everything but where the joints are: rest poses (T-pose, A-pose, bones
+    along each joint's local x), joint orientations, channel orders. This builds every segment's
+    world frame from joint positions, in one convention whose rest pose (all frames = identity)
+    stands upright facing +x with y to the left:
+
+    * pelvis: z along root → chest, y along right hip → left hip;
+    * chest: z along chest → neck, y along right shoulder → left shoulder; neck: z along
+      neck → head end, y from the chest;
+    * thigh and shin: −z along the bone, y along the knee's hinge axis (the normal of the plane
+      of hip, knee and ankle; the pelvis's y while the leg is straight, see
+      :data:`KNEE_AXIS_FALLBACK`), so the knee is a pure hinge; upper arm and forearm alike with
+      the elbow and the chest's y;
+    * foot: x along ankle → toe end, y from the shin.
+
+    Rest offsets are each joint's mean position in its parent's frame. Twist about a limb's own
+    axis other than what the hinge plane fixes (forearm pronation, foot inversion, head yaw
+    relative to the neck line) is not recovered; the humanoids' retargeting does not use it.
+
+    Args:
+        name: clip name.
+        fps: frame rate (Hz).
+        positions: ``(T, J, 3)`` world positions (m, z up) in :data:`CANONICAL_JOINTS` order.
+        loop: cyclic clip.
+        source: metadata to keep.
+
+    Raises:
+        ValueError: wrong shape, NaN/inf, or a zero-length bone (two canonical joints mapped onto
+            the same point).
+    """
+    pos = np.asarray(positions, dtype=float)
+    where = (source or {}).get("file", name)
+    if pos.ndim != 3 or pos.shape[1:] != (len(CANONICAL_JOINTS), 3):
+        raise ValueError(f"{where}: joint positions must be (T, {len(CANONICAL_JOINTS)}, 3), got {pos.shape}")
+    if not np.all(np.isfinite(pos)):
+        raise ValueError(f"{where}: joint positions contain NaN/inf")
+    j = CANONICAL_JOINTS.index
+    p = {n: pos[:, j(n)] for n in CANONICAL_JOINTS}
+    for child, parent in CANONICAL_PARENTS.items():
+        if np.median(np.linalg.norm(p[child] - p[parent], axis=-1)) < 1e-4:
+            raise ValueError(f"{where}: joints {parent!r} and {child!r} are at the same place (zero-length bone); "
+                             "map one of them to another joint of the rig")
+    frames: dict[str, np.ndarray] = {}
+    frames["root"] = _frame(p["chest"] - p["root"], p["left_hip"] - p["right_hip"], 2)
+    frames["chest"] = _frame(p["neck"] - p["chest"], p["left_shoulder"] - p["right_shoulder"], 2)
+    frames["neck"] = _frame(p["head_end"] - p["neck"], frames["chest"][..., 1], 2)
+    for upper, (middle, end, lateral_from, sign) in _LIMBS.items():
+        bone_a, bone_b = p[middle] - p[upper], p[end] - p[middle]
+        hinge = sign * np.cross(_unit(bone_a), _unit(bone_b))
+        lateral = hinge + KNEE_AXIS_FALLBACK * frames[lateral_from][..., 1]
+        frames[upper] = _frame(-bone_a, lateral, 2)
+        frames[middle] = _frame(-bone_b, lateral, 2)
+    for side in ("left", "right"):
+        frames[f"{side}_ankle"] = _frame(p[f"{side}_toe_end"] - p[f"{side}_ankle"], frames[f"{side}_knee"][..., 1], 0)
+
+    T = pos.shape[0]
+    world = np.tile([1.0, 0.0, 0.0, 0.0], (T, len(CANONICAL_JOINTS), 1))
+    for joint, matrix in frames.items():
+        world[:, j(joint)] = rot.from_matrix(matrix)
+    offsets = np.zeros((len(CANONICAL_JOINTS), 3))
+    local = world.copy()  # end points keep identity
+    for joint, parent in CANONICAL_PARENTS.items():
+        offsets[j(joint)] = np.mean(rot.rotate(rot.conjugate(world[:, j(parent)]), p[joint] - p[parent]), axis=0)
+        if joint in frames:
+            local[:, j(joint)] = rot.multiply(rot.conjugate(world[:, j(parent)]), world[:, j(joint)])
+    return SourceClip(name=name, fps=float(fps), offsets=offsets, root_pos=p["root"].copy(),
+                      local_quats=rot.normalize(local), loop=loop, source=dict(source or {}))

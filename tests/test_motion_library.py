@@ -7,7 +7,7 @@ from reference_motion.humanoid.model import load_model
 from reference_motion.library import augmented, load_motion, named_set
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
-from reference_motion.retarget import bone_directions, model_joint_positions, retarget
+from reference_motion.retarget import bone_direction_error, retarget
 from reference_motion.transforms import loop, mirror, resample, time_warp
 
 CLIPS = deepmimic.clip_names()
@@ -26,11 +26,7 @@ def test_all_clips_retarget_with_matching_bone_directions(model):
         clip = deepmimic.load(name)
         motion = retarget(clip, model)
         assert motion.qpos.shape == (clip.n_frames, hm.nq)
-        ours = bone_directions(model_joint_positions(hm, hm.forward_kinematics(motion.qpos)))
-        src_pos, _ = clip.global_pose()
-        turn = rot.from_axis_angle(np.array([0, 0, 1.0]), motion.source["heading_offset_rad"])
-        theirs = rot.rotate(turn, bone_directions(src_pos))
-        err = np.degrees(np.arccos(np.clip(np.sum(ours * theirs, -1), -1, 1)))
+        err = bone_direction_error(clip, motion)
         assert err.mean() < 5.0, f"{name}: mean bone direction error {err.mean():.2f} deg"
 
 

@@ -11,7 +11,6 @@ from perception.__main__ import main
 from perception.skeleton import motion_joint_positions
 from perception.weights import load_network
 from reference_motion.bvh import load as load_bvh
-from reference_motion.bvh_export import bvh_name_map
 from reference_motion.library import load_motion
 from reference_motion.rotations import normalize
 
@@ -43,18 +42,18 @@ def test_contacts_of_an_underpressure_sequence(tmp_path):
     assert len(result["vgrf_bw"]) == int(np.floor((n - 1) * 0.6 + 1e-6)) + 1  # resampled 100 → 60 Hz
 
 
-def test_cleanup_stills_the_planted_feet_of_a_jittery_walk(tmp_path):
+def test_cleanup_stills_the_planted_feet_of_an_imu_walk(tmp_path):
     out = tmp_path / "clean.npz"
-    result = main(["cleanup", "deepmimic:walk", "--corrupt", "noise", "--strength", "1", "--seed", "3",
+    result = main(["cleanup", "deepmimic:walk", "--corrupt", "imu", "--strength", "1", "--seed", "3",
                    "--out", str(out), "--json", str(tmp_path / "r.json"), "--plot", str(tmp_path / "r.png"),
                    "--bvh", str(tmp_path / "clean.bvh")])
-    assert result["foot_speed_before_mps"] > 0.5  # per-frame joint noise shakes the planted feet
+    assert result["foot_speed_before_mps"] > 0.3  # IMU artefacts shake and slide the planted feet
     assert result["reduction"] > 0.8
     assert result["joint_shift_m"] < 0.03
     assert out.exists() and json.loads((tmp_path / "r.json").read_text())["reduction"] == result["reduction"]
     assert (tmp_path / "r.png").stat().st_size > 20_000
-    assert load_bvh(tmp_path / "clean.bvh", bvh_name_map("humanoid_1seg")).n_frames == 76  # readable back
-    free = main(["cleanup", "deepmimic:walk", "--corrupt", "noise", "--strength", "1", "--seed", "3",
+    assert load_bvh(tmp_path / "clean.bvh").n_frames == 76  # readable back
+    free = main(["cleanup", "deepmimic:walk", "--corrupt", "imu", "--strength", "1", "--seed", "3",
                  "--pose-weight", "0", "--out", str(out)])
     assert free["joint_shift_m"] > 1.5 * result["joint_shift_m"]  # nothing holds the body near the input
     with pytest.raises(SystemExit, match="cleanup edits a Motion"):
