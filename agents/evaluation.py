@@ -1,8 +1,9 @@
 """ADAPT's evaluation protocol (adapt §3.2.6, §4.1) for any policy on a mimic environment.
 
 A policy here is any function from an observation ``(D,)`` float32 to an action ``(A,)``. Each
-clip is evaluated as one ``episode_frames`` segment, rolled out ``episodes`` times from start
-offsets ``0, offset_step, 2·offset_step, ...`` frames; the metrics of :mod:`agents.metrics` are
+clip is evaluated as one ``episode_frames`` segment (or up to its end, for a clip shorter than
+that), rolled out ``episodes`` times from start offsets ``0, offset_step, 2·offset_step, ...``
+frames (at most the clip's last start frame); the metrics of :mod:`agents.metrics` are
 averaged over all rollouts.
 """
 
@@ -69,7 +70,7 @@ def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, cor
     ref = track.motion
     reference = ref.with_qpos(ref.qpos[start_frame:start_frame + len(frames)], loop=False)
     simulated = reference.with_qpos(frames, source={**ref.source, "simulated_by": "policy"})
-    total = base.config.episode_frames
+    total = base.episode_end - start_frame
     n = info["episode_frame"]
     return Rollout(clip=info["clip"], start_frame=start_frame, elr=episode_length_ratio(n, total),
                    sr90=survived(n, total), rde=root_displacement_error(frames[:, :3], reference.qpos[:, :3]),
@@ -86,7 +87,8 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
     """
     base = env.unwrapped
     clips = list(range(len(base.clips))) if clips is None else clips
-    runs = [rollout(env, policy, clip, k * offset_step, corrupted) for clip in clips for k in range(episodes)]
+    runs = [rollout(env, policy, clip, min(k * offset_step, base.last_start(clip)), corrupted)
+            for clip in clips for k in range(episodes)]
     summary: dict[str, float] = {"rollouts": len(runs), "SR90": float(np.mean([r.sr90 for r in runs]))}
     for name, key in (("ELR", "elr"), ("RDE", "rde"), ("MRR", "mrr")):
         values = np.array([getattr(r, key) for r in runs])

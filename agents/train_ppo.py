@@ -36,19 +36,22 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
-from agents.policy import MimicPolicy
+from agents.policy import STATS_FILE, MimicPolicy, load_policy
+from agents.reporting import write_json
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.artefacts import ArtefactRecipe
-from reference_motion.library import NAMED_SETS, augmented, load_motion, named_set
+from reference_motion.cli import (CliParser, fraction, non_negative_float, one_line_errors, output_dir, positive_float,
+                                  positive_int)
+from reference_motion.library import augmented, expand_clips, load_motion
 from reference_motion.motion import Motion
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
 
-def build_parser() -> argparse.ArgumentParser:
-    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0],
-                                formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+def build_parser(prog: str | None = None) -> CliParser:
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
+                  formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     g = p.add_argument_group("task")
     g.add_argument("--env-id", default="MimicIMU-v0", help="MimicIMU-v0, MimicDReCon-v0 or MimicFullAction-v0")
     g.add_argument("--clips", nargs="+", default=["deepmimic:walk"],
@@ -56,41 +59,50 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--exclude", nargs="*", default=[], help="clips to leave out of a named set (held out)")
     g.add_argument("--eval-clips", nargs="*", default=None, help="evaluation clips (default: the training clips)")
     g.add_argument("--foot", choices=["one", "two"], default="one")
-    g.add_argument("--corrupted-fraction", type=float, default=0.0,
+    g.add_argument("--corrupted-fraction", type=fraction, default=0.0,
                    help="share of episodes with an IMU-corrupted reference (ADAPT's mix: 0.5; 0 = clean only)")
-    g.add_argument("--strength", type=float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
+    g.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
                    help="IMU artefact strength range of corrupted references")
-    g.add_argument("--variants-per-clip", type=int, default=4,
+    g.add_argument("--variants-per-clip", type=positive_int, default=4,
                    help="distinct corrupted references made per training clip (each ~5 MB per env)")
+    g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
+                   help="reference tracks each env keeps in memory (~2 MB each; more clips × variants than "
+                        "this are rebuilt on use, which slows training)")
     g.add_argument("--mirror", action="store_true", help="also train on every clip mirrored left/right")
-    g.add_argument("--speeds", type=float, nargs="+", default=[1.0],
+    g.add_argument("--speeds", type=positive_float, nargs="+", default=[1.0],
                    help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
     g = p.add_argument_group("PPO")
-    g.add_argument("--total-steps", type=int, default=3_000_000, help="environment (control) steps")
-    g.add_argument("--n-envs", type=int, default=8, help="environments stepped together (one policy batch)")
+    g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
+    g.add_argument("--n-envs", type=positive_int, default=8, help="environments stepped together (one policy batch)")
     g.add_argument("--vec", choices=["dummy", "subproc"], default="dummy",
                    help="dummy: all envs in this process (batched inference; fastest on 2 cores, see README); "
                         "subproc: one process per env (for many-core machines)")
     g.add_argument("--net", default="256,256", help="hidden layer sizes of actor and critic (tanh)")
-    g.add_argument("--lr", type=float, default=5e-5, help="Adam learning rate (ADAPT: 5e-5)")
-    g.add_argument("--n-steps", type=int, default=1024, help="rollout length per environment")
-    g.add_argument("--batch-size", type=int, default=512, help="minibatch size")
-    g.add_argument("--epochs", type=int, default=6, help="optimisation epochs per rollout (ADAPT: 6)")
-    g.add_argument("--gamma", type=float, default=0.99)
-    g.add_argument("--gae-lambda", type=float, default=0.95)
-    g.add_argument("--clip-range", type=float, default=0.2)
-    g.add_argument("--action-variance", type=float, default=0.03, help="fixed σ² of the Gaussian policy")
+    g.add_argument("--device", default="cpu", choices=["cpu", "cuda", "auto"],
+                   help="where the networks learn: cpu (fastest for small networks on a few cores), "
+                        "cuda or auto (a GPU if there is one; with --vec subproc on a many-core machine)")
+    g.add_argument("--lr", type=positive_float, default=5e-5, help="Adam learning rate (ADAPT: 5e-5)")
+    g.add_argument("--n-steps", type=positive_int, default=1024, help="rollout length per environment")
+    g.add_argument("--batch-size", type=positive_int, default=512, help="minibatch size")
+    g.add_argument("--epochs", type=positive_int, default=6, help="optimisation epochs per rollout (ADAPT: 6)")
+    g.add_argument("--gamma", type=fraction, default=0.99)
+    g.add_argument("--gae-lambda", type=fraction, default=0.95)
+    g.add_argument("--clip-range", type=positive_float, default=0.2)
+    g.add_argument("--action-variance", type=positive_float, default=0.03, help="fixed σ² of the Gaussian policy")
     g.add_argument("--seed", type=int, default=0)
-    g.add_argument("--torch-threads", type=int, default=2, help="torch threads in the learner process")
+    g.add_argument("--torch-threads", type=positive_int, default=2, help="torch threads in the learner process")
     g = p.add_argument_group("run")
-    g.add_argument("--run-dir", type=Path, required=True)
+    g.add_argument("--run-dir", type=output_dir, required=True)
     g.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --run-dir")
-    g.add_argument("--checkpoint-every", type=int, default=100_000, help="steps between checkpoints")
-    g.add_argument("--eval-every", type=int, default=200_000, help="steps between evaluations")
-    g.add_argument("--eval-episodes", type=int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
-    g.add_argument("--eval-strength", type=float, default=None,
+    g.add_argument("--init-from", type=Path, default=None,
+                   help="start a new run from the weights and observation statistics of a shipped policy "
+                        "(e.g. models/mimic_imu): same foot, observation and action set, same --net")
+    g.add_argument("--checkpoint-every", type=positive_int, default=100_000, help="steps between checkpoints")
+    g.add_argument("--eval-every", type=positive_int, default=200_000, help="steps between evaluations")
+    g.add_argument("--eval-episodes", type=positive_int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
+    g.add_argument("--eval-strength", type=non_negative_float, default=None,
                    help="evaluate on IMU-corrupted evaluation clips of this strength (default: clean)")
-    g.add_argument("--stop-at-sr90", type=float, default=None,
+    g.add_argument("--stop-at-sr90", type=fraction, default=None,
                    help="stop early once an evaluation reaches this SR90 (and save a checkpoint)")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
     return p
@@ -100,17 +112,15 @@ def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float)
     mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip)
            if corrupted_fraction > 0 else None)
-    return {"clips": clips, "artefacts": mix, "foot": args.foot}
+    return {"clips": clips, "artefacts": mix, "foot": args.foot,
+            "config": MimicConfig(track_cache_size=args.track_cache)}
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:
-    if len(args.clips) == 1 and args.clips[0] in NAMED_SETS:
-        clips = named_set(args.clips[0])
-    else:
-        clips = list(args.clips)
+    clips = expand_clips(args.clips)
     unknown = set(args.exclude) - set(clips)
     if unknown:
-        raise SystemExit(f"error: --exclude names clips not in the training set: {sorted(unknown)}")
+        raise ValueError(f"--exclude names clips not in the training set: {sorted(unknown)}")
     return [c for c in clips if c not in args.exclude]
 
 
@@ -152,7 +162,7 @@ class CheckpointAndEvaluate(BaseCallback):
 
     def _on_step(self) -> bool:
         if self.num_timesteps >= self._next_ckpt:
-            self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
+            self.save_checkpoint()
             self._next_ckpt += self.args.checkpoint_every
         if self.num_timesteps >= self._next_eval:
             sr90 = self._evaluate()
@@ -191,15 +201,19 @@ class CheckpointAndEvaluate(BaseCallback):
         return {"env_id": args.env_id, "env_kwargs": {"clips": training_clips(args), "foot": args.foot},
                 "corrupted_fraction": args.corrupted_fraction, "strength": list(args.strength),
                 "augmentation": {"mirror": args.mirror, "speeds": list(args.speeds)},
-                "eval_clips": args.eval_clips or training_clips(args),
+                "eval_clips": expand_clips(args.eval_clips) if args.eval_clips else training_clips(args),
                 "command": " ".join(["python"] + args.commands[-1]), "seed": args.seed,
                 "commands": [" ".join(["python"] + c) for c in args.commands],
                 "steps": record["steps"], "wall_s": record["wall_s"], "score": record["score"],
                 "metrics": {k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean", "rollouts")},
                 "net": args.net, "settings": {k: v for k, v in vars(args).items() if k != "command"}}
 
-    def _on_training_end(self) -> None:
+    def save_checkpoint(self) -> None:
+        """Save model and observation statistics as ``checkpoints/step_N``."""
         self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
+
+    def _on_training_end(self) -> None:
+        self.save_checkpoint()
 
 
 
@@ -209,67 +223,82 @@ def newest_checkpoint(run_dir: Path) -> Path | None:
     return max(found)[1] if found else None
 
 
-def main(argv: list[str] | None = None) -> None:
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> None:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``): train, or resume, a run."""
     argv = sys.argv[1:] if argv is None else argv
-    parser = build_parser()
+    parser = build_parser(prog)
     args = parser.parse_args(argv)
     run_dir: Path = args.run_dir
     if args.resume:  # the stored settings (defaults for options newer than the run), except what this
         # command line sets explicitly
         saved = run_dir / "args.json"
         if not saved.exists():
-            raise SystemExit(f"error: --resume: {saved} not found (no run to resume in {run_dir})")
+            raise FileNotFoundError(f"{saved}: not found: no run to resume in {run_dir} (--resume)")
         stored = json.loads(saved.read_text())
         history = stored.get("commands", [stored["command"]] if "command" in stored else [])
         explicit = {a.dest for a in parser._actions if any(o in argv for o in a.option_strings)}
         args = argparse.Namespace(**{**vars(args), **stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
                                      "resume": True})
     elif (run_dir / "args.json").exists():
-        raise SystemExit(f"error: {run_dir} already holds a run; pass --resume to continue it or pick a new --run-dir")
+        raise ValueError(f"{run_dir}: already holds a run; pass --resume to continue it or pick a new --run-dir")
     else:
         history = []
     torch.set_num_threads(args.torch_threads)
     clips = training_motions(args)
-    run_dir.mkdir(parents=True, exist_ok=True)
-    command = ["agents/train_ppo.py", *argv]
-    args.commands = history + [command]  # every command that trained this run, in order
-    (run_dir / "args.json").write_text(json.dumps({**vars(args), "run_dir": str(run_dir), "command": command},
-                                                  indent=1, default=str))
-
     vec_cls = SubprocVecEnv if args.vec == "subproc" else DummyVecEnv
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls,
                         env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
-    eval_kwargs = env_kwargs(args, args.eval_clips or training_clips(args), 0.0)
+    eval_kwargs = env_kwargs(args, expand_clips(args.eval_clips) if args.eval_clips else training_clips(args), 0.0)
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes)
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
+    # the run is recorded only now that every clip has loaded: bad input leaves no run behind
+    run_dir.mkdir(parents=True, exist_ok=True)
+    command = ["agents/train_ppo.py", *argv]
+    args.commands = history + [command]  # every command that trained this run, in order
+    write_json(run_dir / "args.json", {**vars(args), "run_dir": str(run_dir), "command": command})
 
     checkpoint = newest_checkpoint(run_dir) if args.resume else None
     if checkpoint is not None:
         stats = checkpoint.with_name(checkpoint.stem + "_vecnormalize.pkl")
         venv = VecNormalize.load(str(stats), venv)
-        model = PPO.load(checkpoint, env=venv, device="cpu", tensorboard_log=str(run_dir / "tb"))
+        model = PPO.load(checkpoint, env=venv, device=args.device, tensorboard_log=str(run_dir / "tb"))
         print(f"resuming from {checkpoint} at {model.num_timesteps} steps", flush=True)
     else:
         if args.resume:
             print(f"no checkpoint in {run_dir}; starting from scratch", flush=True)
-        venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=args.gamma)
         net = [int(n) for n in str(args.net).split(",")]
         model = PPO("MlpPolicy", venv, learning_rate=args.lr, n_steps=args.n_steps, batch_size=args.batch_size,
                     n_epochs=args.epochs, gamma=args.gamma, gae_lambda=args.gae_lambda, clip_range=args.clip_range,
-                    seed=args.seed, device="cpu", tensorboard_log=str(run_dir / "tb"), verbose=0,
+                    seed=args.seed, device=args.device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                     policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
                                    "log_std_init": 0.5 * math.log(args.action_variance)})
+        if args.init_from is not None:  # warm start: another run's weights and observation statistics
+            source = load_policy(args.init_from)
+            source.check_env(venv)
+            model.policy.load_state_dict(source.model.policy.state_dict())
+            venv = VecNormalize.load(str(source.path / STATS_FILE), venv)
+            model.set_env(venv)
+            print(f"initialised from {args.init_from}", flush=True)
+        else:
+            venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=args.gamma)
+            model.set_env(venv)
     model.policy.log_std.requires_grad_(False)  # fixed exploration noise (ADAPT: σ² = 0.03)
     remaining = args.total_steps - model.num_timesteps
     if remaining <= 0:
         print(f"run already has {model.num_timesteps} >= --total-steps {args.total_steps} steps")
         return
     callback = CheckpointAndEvaluate(run_dir, eval_env, args)
-    model.learn(remaining, callback=callback, reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
-                progress_bar=not args.no_progress)
+    try:
+        model.learn(remaining, callback=callback, reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
+                    progress_bar=not args.no_progress)
+    except KeyboardInterrupt:  # Ctrl-C or `timeout -s INT`: keep what was learned, resumable with --resume
+        callback.save_checkpoint()
+        print(f"interrupted at {model.num_timesteps} steps; checkpoint saved, continue with --resume", flush=True)
+        return
     venv.close()
 
 

@@ -51,6 +51,10 @@ class MimicConfig:
             the floor is lifted until its lowest point is this high.
         max_joint_speed: a hinge or root speed above this (rad/s or m/s) counts as the simulation
             going unstable, as does any NaN/inf.
+        min_clip_frames: shortest clip accepted (frames after the first; 30 = 0.5 s): clips shorter
+            than an episode are played to their end.
+        track_cache_size: reference tracks (clip or corrupted variant) kept in memory per env,
+            least recently used dropped first (each is ~10 kB per frame; rebuilt in ~20 ms).
     """
 
     frame_rate_hz: float = 60.0
@@ -66,6 +70,8 @@ class MimicConfig:
     cube_size_m: float = 1.0
     init_clearance_m: float = 0.002
     max_joint_speed: float = 200.0
+    min_clip_frames: int = 30
+    track_cache_size: int = 128
 
     def __post_init__(self) -> None:
         ratio = self.frame_rate_hz / self.control_rate_hz

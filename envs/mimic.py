@@ -9,6 +9,7 @@ they need are precomputed per clip (:class:`envs.reference.ReferenceTrack`).
 
 from __future__ import annotations
 
+from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -22,6 +23,7 @@ from envs.config import (ACTION_MODES, DRECON_BODIES, FOOT_MODELS, KEY_JOINT_BOD
                          ArtefactMix, MimicConfig)
 from envs.observations import mimic_observation, observation_size, observation_slices
 from envs.reference import ReferenceTrack
+from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
 from envs.rewards import cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward, unstable
 from reference_motion import rotations as rot
@@ -40,8 +42,9 @@ class MimicEnv(gym.Env):
     Args:
         clips: the motion set: a named set (``"locomotion"``, ``"deepmimic"``), or a sequence of
             SOURCE strings / paths (see :func:`reference_motion.library.load_motion`) and
-            :class:`Motion` objects. Cyclic clips are looped to two episodes; every clip must be at
-            least one episode long.
+            :class:`Motion` objects. Cyclic clips are looped to two episodes; a clip shorter than an
+            episode ends its episodes (truncation) at its last frame; every clip must be longer than
+            ``config.min_clip_frames``.
         artefacts: which episodes get an IMU-corrupted reference (:class:`ArtefactMix`); ``None``
             mimics the clips as given.
         foot: ``"one"`` (``humanoid_1seg``) or ``"two"`` (``humanoid_2seg``, toe joint open loop).
@@ -49,6 +52,8 @@ class MimicEnv(gym.Env):
         obs_mode: ``"adapt"`` (all bodies, adapt Table 1) or ``"drecon"`` (key bodies only).
         action_mode: ``"key"`` (20 hinges of the 8 key joints) or ``"full"`` (every actuated hinge).
         config: the remaining constants (:class:`MimicConfig`); ``episode_frames`` overrides its field.
+        sampling: how episodes pick their clip and start frame (:class:`envs.sampling.SamplingConfig`;
+            default: where the policy currently fails more often).
         render_mode: ``None`` or ``"rgb_array"`` (character with the reference translucent beside it).
         width, height: rendered image size (pixels).
 
@@ -71,7 +76,8 @@ class MimicEnv(gym.Env):
 
     def __init__(self, clips: str | Sequence[ClipSpec] = "locomotion", artefacts: ArtefactMix | None = None,
                  foot: str = "one", episode_frames: int | None = None, obs_mode: str = "adapt",
-                 action_mode: str = "key", config: MimicConfig | None = None, render_mode: str | None = None,
+                 action_mode: str = "key", config: MimicConfig | None = None,
+                 sampling: SamplingConfig = SamplingConfig(), render_mode: str | None = None,
                  width: int = 480, height: int = 360):
         _check_choice("foot", foot, tuple(FOOT_MODELS))
         _check_choice("obs_mode", obs_mode, OBS_MODES)
@@ -127,7 +133,9 @@ class MimicEnv(gym.Env):
         self._geom_spinal_body = np.where(np.isin(m.geom_bodyid, list(spinal)), m.geom_bodyid, -1)
 
         self.clips = self._load_clips(clips)
-        self._tracks: dict[tuple[int, int], ReferenceTrack] = {}
+        self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
+        """Where episodes start (:mod:`envs.sampling`)."""
+        self._tracks: OrderedDict[tuple[int, int], ReferenceTrack] = OrderedDict()
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None
         self._renderer: GhostRenderer | None = None
@@ -145,7 +153,7 @@ class MimicEnv(gym.Env):
         sources = named_set(clips) if isinstance(clips, str) else list(clips)
         if not sources:
             raise ValueError("clips is empty: give a named set or at least one motion source")
-        need = self.config.episode_frames + 1
+        need = self.config.min_clip_frames + 1
         fps = self.config.frame_rate_hz
         out = []
         for src in sources:
@@ -155,12 +163,30 @@ class MimicEnv(gym.Env):
                                      f"{self.humanoid.name}; retarget it or pass foot= to match")
                 motion = src if abs(src.fps - fps) < 1e-9 else resample(src, fps)
             else:
-                motion = load_motion(src, self.humanoid.name, fps=fps, min_frames=2 * need)
+                motion = load_motion(src, self.humanoid.name, fps=fps,
+                                     min_frames=2 * (self.config.episode_frames + 1))
             if motion.n_frames < need:
-                raise ValueError(f"clip {motion.name!r} has {motion.n_frames} frames at {fps:g} Hz, fewer than one "
-                                 f"episode ({need}); use a longer clip or episode_frames <= {motion.n_frames - 1}")
+                raise ValueError(f"clip {motion.name!r} has {motion.n_frames} frames at {fps:g} Hz, fewer than "
+                                 f"{need} (min_clip_frames {self.config.min_clip_frames} + 1); use a longer clip")
             out.append(motion)
         return out
+
+    def last_start(self, clip: int | str) -> int:
+        """Latest start frame of an episode on ``clip`` (index or name): one full episode before its
+        end, or, for a clip shorter than that, the middle of the clip (episodes then end with it)."""
+        return self._last_start_frame(self.clips[self._clip_index(clip)].n_frames)
+
+    def _last_start_frame(self, n_frames: int) -> int:
+        span, episode = n_frames - 1, self.config.episode_frames
+        return span - episode if span >= episode else span // 2
+
+    @property
+    def episode_end(self) -> int:
+        """Reference frame at which the running episode is truncated: ``episode_frames`` after its
+        start, or the last frame before the clip's end that whole control steps reach."""
+        fpc = self.config.frames_per_control
+        span = min(self.config.episode_frames, self.current_track.n_frames - 1 - self._start)
+        return self._start + fpc * (span // fpc)
 
     def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``) or its corrupted variant
@@ -168,7 +194,11 @@ class MimicEnv(gym.Env):
         (the last seed given to :meth:`reset`, clip, variant), so the same seed always gives the
         same references whatever order episodes come in."""
         key = (clip, variant)
-        if key not in self._tracks:
+        if key in self._tracks:
+            self._tracks.move_to_end(key)
+        else:
+            while len(self._tracks) >= self.config.track_cache_size:
+                self._tracks.popitem(last=False)  # least recently used; rebuilt identically when needed
             motion = self.clips[clip]
             if variant >= 0:
                 if self._variant_base is None:
@@ -187,7 +217,7 @@ class MimicEnv(gym.Env):
         super().reset(seed=seed)
         if seed is not None and seed != self._variant_base:  # corrupted variants follow the new seed
             self._variant_base = seed
-            self._tracks = {k: t for k, t in self._tracks.items() if k[1] < 0}
+            self._tracks = OrderedDict((k, t) for k, t in self._tracks.items() if k[1] < 0)
             self._variant_seeds.clear()
         options = dict(options or {})
         clip = self._clip_index(options.pop("clip", None))
@@ -198,9 +228,9 @@ class MimicEnv(gym.Env):
             raise ValueError("reset(options={'corrupted': True}) needs an env made with artefacts=ArtefactMix(...)")
         variant = int(self.np_random.integers(self.artefacts.variants_per_clip)) if corrupted else -1
         track = self.track(clip, variant)
-        last_start = track.n_frames - 1 - self.config.episode_frames
+        last_start = self._last_start_frame(track.n_frames)
         start = options.pop("start_frame", None)
-        start = int(self.np_random.integers(last_start + 1)) if start is None else int(start)
+        start = self._sampler.start_frame(clip, last_start, self.np_random) if start is None else int(start)
         if not 0 <= start <= last_start:
             raise ValueError(f"start_frame {start} out of range for clip {track.motion.name!r}: 0..{last_start}")
         state = options.pop("state", None)
@@ -230,8 +260,9 @@ class MimicEnv(gym.Env):
         return self._obs, info
 
     def _clip_index(self, clip: int | str | None) -> int:
+        """Index of ``clip`` (index or name); ``None`` draws one (:mod:`envs.sampling`)."""
         if clip is None:
-            return int(self.np_random.integers(len(self.clips)))
+            return self._sampler.clip(self.np_random)
         if isinstance(clip, str):
             names = [c.name for c in self.clips]
             if clip not in names:
@@ -266,6 +297,7 @@ class MimicEnv(gym.Env):
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc or unstable(d.qvel, cfg.max_joint_speed):
             info.update(r_local=0.0, r_p=0.0, r_v=0.0, e_discount=0.0, total=0.0, reward=0.0,
                         contacts=np.zeros(4, bool), unstable=True, ended_by="unstable")
+            self._sampler.record(self._clip, self._start, failed=True)
             return self._obs, 0.0, True, False, info
 
         update_kinematics(m, d)
@@ -278,7 +310,9 @@ class MimicEnv(gym.Env):
         touching = self._floor_contact_geoms()
         ended_by = ("lagging" if lagging(terms.e_discount, cfg.discount_threshold)
                     else "fallen" if fallen(self._spinal_contacts(touching), cfg.fall_contacts) else "")
-        truncated = not ended_by and f - self._start >= cfg.episode_frames
+        truncated = not ended_by and f >= self.episode_end
+        if ended_by or truncated:
+            self._sampler.record(self._clip, self._start, failed=bool(ended_by))
         self._obs = self._observe(state)
         info.update(terms.as_dict(), reward=terms.total, contacts=self._contacts(touching), unstable=False,
                     ended_by=ended_by or ("time_limit" if truncated else ""))

@@ -21,7 +21,7 @@ from reference_motion.motion import Motion
 @dataclass(frozen=True)
 class ReferenceTrack:
     """Per-frame reference quantities of one clip on one model (``T`` frames, ``B`` bodies,
-    ``J`` jointed bodies; world frame, SI).
+    ``J`` jointed bodies; world frame, SI; the per-body arrays other than ``pos`` are float32).
 
     Attributes:
         motion: the clip.
@@ -77,7 +77,8 @@ class ReferenceTrack:
             pos[t], linvel[t], angvel[t], quat[t], axes[t], com[t], com_vel[t] = (
                 s.pos, s.linvel, s.angvel, s.quat, s.axes, s.com, s.com_vel)
         faces = cube_face_points(pos, axes, cube_size) - pos[:, :1, None, :]
+        f32 = np.float32  # the bulky per-body arrays: half the memory, errors ~1e-6 m
         return cls(motion=motion, ctrl=motion.qpos[:, actuator_qpos], qvel=qvel, pos=pos,
-                   pos_rel_com=pos - com[:, None, :], linvel=linvel, com_vel=com_vel,
-                   local=rot.relative_to_parent(quat, parent)[:, jointed], faces_rel_root=faces,
-                   face_vel=cube_face_velocities(linvel, angvel, axes, cube_size))
+                   pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
+                   local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
+                   face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32))

@@ -173,8 +173,9 @@ def test_bad_arguments_raise_clear_errors():
         gym.make("MimicIMU-v0", clips=[])
     with pytest.raises(KeyError, match="unknown clip set"):
         gym.make("MimicIMU-v0", clips="walking")
-    with pytest.raises(ValueError, match="fewer than one episode"):
-        gym.make("MimicIMU-v0", clips=["deepmimic:kick"])  # 92 frames, not cyclic
+    walk = load_motion("deepmimic:walk")
+    with pytest.raises(ValueError, match=r"has 20 frames at 60 Hz, fewer than 31 \(min_clip_frames 30 \+ 1\)"):
+        gym.make("MimicIMU-v0", clips=[walk.with_qpos(walk.qpos[:20], loop=False)])
     two = load_motion("deepmimic:walk", "humanoid_2seg")
     with pytest.raises(ValueError, match="Motion for humanoid_2seg"):
         gym.make("MimicIMU-v0", clips=[two])
@@ -195,3 +196,21 @@ def test_bad_arguments_raise_clear_errors():
 
 def test_all_ids_registered():
     assert set(envs.ENV_IDS) <= set(gym.registry)
+
+
+def test_a_clip_shorter_than_an_episode_plays_to_its_end():
+    """kick is 92 frames, shorter than an episode (300): episodes start in its first half and are
+    truncated at the last frame whole control steps reach, whatever the start's parity."""
+    env = gym.make("MimicIMU-v0", clips=["deepmimic:kick"])
+    base = env.unwrapped
+    assert base.clips[0].n_frames == 92 and base.last_start(0) == 45
+    for start in (0, 1, 45):
+        env.reset(options={"start_frame": start})
+        assert base.episode_end == start + 2 * ((91 - start) // 2)
+        while True:
+            _, _, term, trunc, info = env.step(np.zeros(env.action_space.shape, np.float32))
+            if term or trunc:
+                break
+        assert info["frame"] <= 91 and (term or info["frame"] == base.episode_end)
+    with pytest.raises(ValueError, match=r"start_frame 46 out of range .*0\.\.45"):
+        env.reset(options={"start_frame": 46})
