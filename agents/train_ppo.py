@@ -20,6 +20,7 @@ import argparse
 import json
 import math
 import re
+import signal
 import sys
 import time
 from pathlib import Path
@@ -217,6 +218,11 @@ class CheckpointAndEvaluate(BaseCallback):
 
 
 
+def _interrupt(signum: int, frame: object) -> None:
+    """Signal handler: stop training as Ctrl-C does (a checkpoint is saved)."""
+    raise KeyboardInterrupt
+
+
 def newest_checkpoint(run_dir: Path) -> Path | None:
     found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / "checkpoints").glob("step_*.zip")
              if CHECKPOINT.search(p.name)]
@@ -292,10 +298,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         print(f"run already has {model.num_timesteps} >= --total-steps {args.total_steps} steps")
         return
     callback = CheckpointAndEvaluate(run_dir, eval_env, args)
+    signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
         model.learn(remaining, callback=callback, reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
-    except KeyboardInterrupt:  # Ctrl-C or `timeout -s INT`: keep what was learned, resumable with --resume
+    except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume
         callback.save_checkpoint()
         print(f"interrupted at {model.num_timesteps} steps; checkpoint saved, continue with --resume", flush=True)
         return

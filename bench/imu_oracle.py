@@ -20,13 +20,13 @@ limit. An ELR goal above the oracle's cannot be met by any policy that does not 
 
 ``--clips`` takes SOURCE strings (:func:`reference_motion.library.load_motion`) or names of clip
 sets (:func:`reference_motion.library.named_set`); cyclic clips are looped to fit the default
-starts, others shorter than one segment are skipped.
+starts, a take shorter than one segment is one segment from its start to its end, as the
+environments play it.
 """
 
 from __future__ import annotations
 
 import argparse
-import sys
 
 import mujoco
 import numpy as np
@@ -37,7 +37,7 @@ from json_report import emit_json  # bench/json_report.py: the scripts run from 
 from reference_motion import rotations as rot
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
-from reference_motion.library import load_motion, named_set
+from reference_motion.library import expand_clips, load_motion
 
 CLIPS = ("deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left1", "deepmimic:walker/turn_right1",
          "deepmimic:walk", "deepmimic:walker/turn_left0")
@@ -45,17 +45,6 @@ CLIPS = ("deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left1", "deepm
 STRENGTHS = (0.5, 0.75, 1.0, 1.5, 2.0, 2.5, 3.0)
 LOOP_START_STEP = 60
 """Frames between segment starts on a looped cyclic clip (0, 60, …, as ADAPT's offsets)."""
-
-
-def expand_clips(sources: list[str]) -> list[str]:
-    """SOURCE strings, with clip-set names replaced by their clips."""
-    out = []
-    for source in sources:
-        try:
-            out += named_set(source)
-        except KeyError:
-            out.append(source)
-    return out
 
 
 def head_positions(model: mujoco.MjModel, data: mujoco.MjData, head: int, qpos: np.ndarray) -> np.ndarray:
@@ -138,10 +127,9 @@ def main() -> None:
     clips, segments = [], []
     for source in expand_clips(args.clips):
         clean = load_motion(source, min_frames=LOOP_START_STEP * (args.starts - 1) + n + 1)
-        if clean.n_frames < n:
-            print(f"skipping {source}: {clean.n_frames} frames, shorter than one {n}-frame segment", file=sys.stderr)
-            continue
-        if clean.loop:
+        if clean.n_frames < n:  # a take shorter than an episode is one segment, as the env plays it
+            starts = [0]
+        elif clean.loop:
             starts = [LOOP_START_STEP * i for i in range(args.starts)]
         else:
             starts = sorted({int(s) for s in np.linspace(0, clean.n_frames - n, args.starts).round()})

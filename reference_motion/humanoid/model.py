@@ -119,35 +119,31 @@ class HumanoidModel:
         body_pos = np.empty((T, m.nbody - 1, 3))
         body_quat = np.empty((T, m.nbody - 1, 4))
         points = np.empty((T, 4, 3))
-        lowest = np.empty(T)
         geoms = self._floor_colliding_geoms
+        geom_z = np.empty((T, len(geoms)))
+        geom_zrow = np.empty((T, len(geoms), 3))  # third row of each geom's rotation matrix
         for t in range(T):
             d.qpos[:] = qpos[t]
             mujoco.mj_kinematics(m, d)
             body_pos[t] = d.xpos[1:]
             body_quat[t] = d.xquat[1:]
             points[t] = d.site_xpos[self.foot_point_sites]
-            lowest[t] = self._lowest_geom_point(geoms)
-        return Kinematics(body_pos, body_quat, points, lowest)
+            geom_z[t] = d.geom_xpos[geoms, 2]
+            geom_zrow[t] = d.geom_xmat[geoms, 6:9]
+        return Kinematics(body_pos, body_quat, points, self._lowest_geom_points(geom_z, geom_zrow))
 
-    def _lowest_geom_point(self, geoms: np.ndarray) -> float:
-        """Lowest z (m) over ``geoms`` in the current MjData (analytic per geom type)."""
-        m, d = self.model, self._data
-        low = np.inf
-        for g in geoms:
-            size = m.geom_size[g]
-            pos = d.geom_xpos[g]
-            typ = m.geom_type[g]
-            if typ == mujoco.mjtGeom.mjGEOM_SPHERE:
-                z = pos[2] - size[0]
-            elif typ == mujoco.mjtGeom.mjGEOM_CAPSULE:
-                axis_z = d.geom_xmat[g][8]  # z component of the capsule axis (local z)
-                z = pos[2] - abs(axis_z) * size[1] - size[0]
-            else:  # box: lowest corner
-                mat = d.geom_xmat[g].reshape(3, 3)
-                z = pos[2] - np.abs(mat[2]) @ size
-            low = min(low, z)
-        return float(low)
+    def _lowest_geom_points(self, geom_z: np.ndarray, geom_zrow: np.ndarray) -> np.ndarray:
+        """Lowest z (m) per frame over the floor-colliding geoms, analytic per geom type, from their
+        centres' heights ``(T, G)`` and the third rows of their rotation matrices ``(T, G, 3)``."""
+        m = self.model
+        geoms = self._floor_colliding_geoms
+        size, typ = m.geom_size[geoms], m.geom_type[geoms]
+        sphere = size[:, 0]
+        capsule = np.abs(geom_zrow[..., 2]) * size[:, 1] + size[:, 0]  # the capsule axis is local z
+        box = np.einsum("tgk,gk->tg", np.abs(geom_zrow), size)  # lowest corner
+        reach = np.where(typ == mujoco.mjtGeom.mjGEOM_SPHERE, sphere,
+                         np.where(typ == mujoco.mjtGeom.mjGEOM_CAPSULE, capsule, box))
+        return np.min(geom_z - reach, axis=1)
 
     # ------------------------------------------------------- self-collision
     def _geom_groups(self) -> np.ndarray:
