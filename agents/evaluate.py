@@ -21,7 +21,6 @@ from pathlib import Path
 if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import gymnasium as gym
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
@@ -87,8 +86,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     policy = load_policy(args.policy)
     clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig(), args.corrupt, args.strength,
                             args.seed, mocap_options(args))
-    env = gym.make(policy.env_id, clips=clips, artefacts=None, foot=policy.foot)
-    policy.check_env(env)
+    env = policy.make_env(clips, artefacts=None)
     env.reset(seed=0)
     summary, runs = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,

@@ -14,11 +14,14 @@ import pickle
 import zipfile
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
 from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import VecNormalize
+
+from agents.sidecar import PolicySidecar
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 
@@ -48,12 +51,24 @@ class MimicPolicy:
         return action
 
     @property
+    def record(self) -> PolicySidecar:
+        """The sidecar, typed (:class:`agents.sidecar.PolicySidecar`; either layout)."""
+        return PolicySidecar.from_dict(self.sidecar)
+
+    @property
     def env_id(self) -> str:
-        return self.sidecar.get("env_id", "MimicIMU-v0")
+        return self.record.env.env_id
 
     @property
     def foot(self) -> str:
-        return self.sidecar.get("env_kwargs", {}).get("foot", "one")
+        return self.record.env.foot
+
+    def make_env(self, clips: Any, **kwargs: Any) -> gym.Env:
+        """The environment this policy was trained in (id, foot, every MimicConfig constant, from
+        the sidecar) on ``clips``; ``kwargs`` add constructor arguments (``artefacts``, ...)."""
+        env = self.record.env.make(clips, **kwargs)
+        self.check_env(env)
+        return env
 
     def check_env(self, env: gym.Env) -> None:
         """Raise :class:`PolicyError` unless ``env``'s spaces are the ones the policy was trained on."""

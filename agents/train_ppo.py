@@ -23,6 +23,7 @@ import re
 import signal
 import sys
 import time
+from dataclasses import asdict, fields
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/train_ppo.py` puts agents/ first on the path: use the repo root
@@ -38,14 +39,16 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
+from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.reporting import write_json
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.artefacts import ArtefactRecipe
-from reference_motion.cli import (CliParser, fraction, non_negative_float, one_line_errors, output_dir, positive_float,
-                                  positive_int)
+from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
+                                  one_line_errors, output_dir, positive_float, positive_int)
 from reference_motion.library import augmented, expand_clips, load_motion
 from reference_motion.motion import Motion
+from reference_motion.rigs import MocapOptions
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -59,6 +62,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="training clips: SOURCE strings, or one named set (locomotion, deepmimic)")
     g.add_argument("--exclude", nargs="*", default=[], help="clips to leave out of a named set (held out)")
     g.add_argument("--eval-clips", nargs="*", default=None, help="evaluation clips (default: the training clips)")
+    add_mocap_options(p)
     g.add_argument("--foot", choices=["one", "two"], default="one")
     g.add_argument("--corrupted-fraction", type=fraction, default=0.0,
                    help="share of episodes with an IMU-corrupted reference (ADAPT's mix: 0.5; 0 = clean only)")
@@ -113,8 +117,12 @@ def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float)
     mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip)
            if corrupted_fraction > 0 else None)
-    return {"clips": clips, "artefacts": mix, "foot": args.foot,
-            "config": MimicConfig(track_cache_size=args.track_cache)}
+    return {"clips": clips, "artefacts": mix, "foot": args.foot, "config": env_config(args)}
+
+
+def env_config(args: argparse.Namespace) -> MimicConfig:
+    """The environments' constants for this run (defaults, with the memory setting of ``--track-cache``)."""
+    return MimicConfig(track_cache_size=args.track_cache)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:
@@ -126,13 +134,16 @@ def training_clips(args: argparse.Namespace) -> list[str]:
 
 
 def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
-    """The training clips as the envs get them: SOURCE strings, or, with ``--mirror`` or
-    ``--speeds``, the loaded clips plus their mirrored and time-warped copies."""
+    """The training clips as the envs get them: SOURCE strings, or, with ``--mirror``,
+    ``--speeds`` or mocap options (``--joint-map`` ...), the loaded clips plus their mirrored and
+    time-warped copies."""
     clips = training_clips(args)
-    if not args.mirror and list(args.speeds) == [1.0]:
+    mocap = mocap_options(args)
+    if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions():
         return clips
     frames = 2 * (MimicConfig().episode_frames + 1)
-    motions = [load_motion(c, FOOT_MODELS[args.foot], min_frames=int(frames * max(args.speeds)) + 2) for c in clips]
+    motions = [load_motion(c, FOOT_MODELS[args.foot], min_frames=int(frames * max(args.speeds)) + 2, mocap=mocap)
+               for c in clips]
     return augmented(motions, mirrored=args.mirror, speeds=args.speeds)
 
 
@@ -191,23 +202,26 @@ class CheckpointAndEvaluate(BaseCallback):
         if score > self.best:
             self.best = score
             self._save(self.run_dir / "best", "model")
-            self.best_path.write_text(json.dumps(self._sidecar(record), indent=1, default=str))
+            self._sidecar(record).save(self.best_path)
         print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
               f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
         return summary["SR90"]
 
-    def _sidecar(self, record: dict) -> dict:
+    def _sidecar(self, record: dict) -> PolicySidecar:
         """How the best policy was made and how it scored (``agents/policy.py`` reads it)."""
         args = self.args
-        return {"env_id": args.env_id, "env_kwargs": {"clips": training_clips(args), "foot": args.foot},
-                "corrupted_fraction": args.corrupted_fraction, "strength": list(args.strength),
-                "augmentation": {"mirror": args.mirror, "speeds": list(args.speeds)},
-                "eval_clips": expand_clips(args.eval_clips) if args.eval_clips else training_clips(args),
-                "command": " ".join(["python"] + args.commands[-1]), "seed": args.seed,
-                "commands": [" ".join(["python"] + c) for c in args.commands],
-                "steps": record["steps"], "wall_s": record["wall_s"], "score": record["score"],
-                "metrics": {k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean", "rollouts")},
-                "net": args.net, "settings": {k: v for k, v in vars(args).items() if k != "command"}}
+        ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
+        training = TrainingRecord(
+            clips=training_clips(args),
+            eval_clips=expand_clips(args.eval_clips) if args.eval_clips else training_clips(args),
+            corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), mirror=args.mirror,
+            speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
+            commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
+            wall_s=record["wall_s"])
+        return PolicySidecar(env=EnvSpec(args.env_id, args.foot, asdict(env_config(args))), ppo=ppo,
+                             training=training, score=record["score"],
+                             metrics={k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean",
+                                                             "rollouts")})
 
     def save_checkpoint(self) -> None:
         """Save model and observation statistics as ``checkpoints/step_N``."""

@@ -63,7 +63,7 @@ def test_bad_or_mismatched_policy_files_give_clear_errors(policy_dir, tmp_path):
     other_foot = tmp_path / "other_foot"
     shutil.copytree(policy_dir, other_foot)
     sidecar = json.loads((other_foot / "sidecar.json").read_text())
-    sidecar["env_kwargs"]["foot"] = "two"
+    sidecar["env"]["foot"] = "two"  # the typed sidecar's environment (agents/sidecar.py)
     (other_foot / "sidecar.json").write_text(json.dumps(sidecar))
     with pytest.raises(SystemExit, match=r"expects observations \(273,\).*\(297,\)"):
         evaluate.main(["--policy", str(other_foot), "--clips", "deepmimic:walk", "--episodes", "1"])

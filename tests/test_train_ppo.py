@@ -52,3 +52,19 @@ def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
         main(["--run-dir", str(run)])
     with pytest.raises(SystemExit, match="--exclude names clips not in the training set"):
         main(["--run-dir", str(tmp_path / "x"), "--clips", "locomotion", "--exclude", "deepmimic:kick"])
+
+
+def test_sidecar_reads_both_layouts_and_rebuilds_the_env():
+    """The shipped walk policy has the earlier flat sidecar; the typed one round-trips."""
+    from agents.policy import load_policy
+    from agents.sidecar import PolicySidecar
+
+    policy = load_policy("models/mimic_walk")
+    record = policy.record
+    assert record.env.env_id == "MimicIMU-v0" and record.env.foot == "one"
+    assert record.ppo.lr == 1e-4 and record.ppo.net == "256,256" and record.training.clips == ["deepmimic:walk"]
+    assert record.training.steps == 1_500_000 and record.metrics["SR90"] == 1.0
+    again = PolicySidecar.from_dict(record.to_dict())
+    assert again.env == record.env and again.ppo == record.ppo and again.training == record.training
+    env = policy.make_env(["deepmimic:walk"])
+    assert env.unwrapped.config.episode_frames == 300 and env.observation_space.shape == (273,)

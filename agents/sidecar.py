@@ -1,0 +1,174 @@
+"""The sidecar of a trained policy: everything needed to rebuild its environment and its training.
+
+``sidecar.json`` beside ``model.zip`` is a :class:`PolicySidecar` written by ``agents/train_ppo.py``
+(and completed by ``agents/ship.py``). It records, typed:
+
+* :class:`EnvSpec` — the environment id and every constructor setting the policy was trained
+  under (foot model, episode length, the :class:`~envs.config.MimicConfig` constants), so
+  :meth:`EnvSpec.make` rebuilds the same task on any clips;
+* :class:`PPOSettings` — the PPO hyper-parameters and network;
+* :class:`TrainingRecord` — the data (clips, corruption mix, augmentation), every command that
+  trained the run, the seed, steps and wall time;
+* the evaluation metrics of the checkpoint.
+
+Sidecars written before this layout (a flat dict with ``env_id``, ``env_kwargs`` and an argparse
+``settings`` dump) are read too.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass, field, fields
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+
+from envs.config import MimicConfig
+from reference_motion.atomic import atomic_write
+
+SIDECAR_FORMAT = "physmimic.policy/2"
+
+
+def _known(cls: type, values: dict) -> dict:
+    """The entries of ``values`` that are fields of dataclass ``cls``."""
+    names = {f.name for f in fields(cls)}
+    return {k: v for k, v in values.items() if k in names}
+
+
+@dataclass(frozen=True)
+class EnvSpec:
+    """The task a policy was trained on.
+
+    Attributes:
+        env_id: registered id (``MimicIMU-v0``, ``MimicDReCon-v0``, ``MimicFullAction-v0``).
+        foot: ``"one"`` or ``"two"`` (humanoid model).
+        config: the :class:`~envs.config.MimicConfig` fields (timing, rewards, terminations).
+    """
+
+    env_id: str = "MimicIMU-v0"
+    foot: str = "one"
+    config: dict = field(default_factory=lambda: asdict(MimicConfig()))
+
+    def mimic_config(self) -> MimicConfig:
+        """The :class:`MimicConfig` (fields unknown to this version are dropped)."""
+        return MimicConfig(**_known(MimicConfig, self.config))
+
+    def make(self, clips: Any, **kwargs: Any) -> gym.Env:
+        """``gym.make`` of this task on ``clips`` (any ``clips`` the env takes); ``kwargs`` add or
+        override constructor arguments (``artefacts``, ``render_mode``, ``sampling`` ...)."""
+        return gym.make(self.env_id, clips=clips, **{"foot": self.foot, "config": self.mimic_config(), **kwargs})
+
+
+@dataclass(frozen=True)
+class PPOSettings:
+    """PPO hyper-parameters (see ``agents/train_ppo.py --help``)."""
+
+    net: str = "256,256"
+    lr: float = 5e-5
+    n_envs: int = 8
+    n_steps: int = 1024
+    batch_size: int = 512
+    epochs: int = 6
+    gamma: float = 0.99
+    gae_lambda: float = 0.95
+    clip_range: float = 0.2
+    action_variance: float = 0.03
+
+
+@dataclass(frozen=True)
+class TrainingRecord:
+    """How the policy was trained.
+
+    Attributes:
+        clips: the training clips (SOURCE strings, clip sets expanded).
+        eval_clips: the clips the checkpoint was selected on.
+        corrupted_fraction, strength: the IMU-corruption mix (share of episodes, strength range).
+        mirror, speeds: augmentation.
+        init_from: the policy it was warm-started from, if any.
+        commands: every command that trained the run, in order.
+        seed, steps, wall_s: the seed, control steps and training wall time (s) at this checkpoint.
+    """
+
+    clips: list[str] = field(default_factory=list)
+    eval_clips: list[str] = field(default_factory=list)
+    corrupted_fraction: float = 0.0
+    strength: tuple[float, float] = (0.5, 1.0)
+    mirror: bool = False
+    speeds: list[float] = field(default_factory=lambda: [1.0])
+    init_from: str | None = None
+    commands: list[str] = field(default_factory=list)
+    seed: int = 0
+    steps: int = 0
+    wall_s: float = 0.0
+
+
+@dataclass(frozen=True)
+class PolicySidecar:
+    """A policy's ``sidecar.json`` (see the module docstring).
+
+    Attributes:
+        env, ppo, training: see :class:`EnvSpec`, :class:`PPOSettings`, :class:`TrainingRecord`.
+        metrics: the checkpoint's evaluation (``ELR_mean``, ``SR90`` ...); ``score`` ranks checkpoints.
+        extra: further entries (``agents/ship.py``'s evaluation, a shipped name ...), kept as they are.
+    """
+
+    env: EnvSpec = field(default_factory=EnvSpec)
+    ppo: PPOSettings = field(default_factory=PPOSettings)
+    training: TrainingRecord = field(default_factory=TrainingRecord)
+    metrics: dict = field(default_factory=dict)
+    score: float | None = None
+    extra: dict = field(default_factory=dict)
+
+    def to_dict(self) -> dict:
+        """The JSON form; it also carries ``env_id``, ``env_kwargs``, ``command``, ``seed``,
+        ``steps`` and ``wall_s`` at the top level for readers of the earlier layout."""
+        t = self.training
+        return {"format": SIDECAR_FORMAT, "env": asdict(self.env), "ppo": asdict(self.ppo), "training": asdict(t),
+                "metrics": self.metrics, "score": self.score,
+                "env_id": self.env.env_id, "env_kwargs": {"clips": t.clips, "foot": self.env.foot},
+                "command": t.commands[-1] if t.commands else "", "seed": t.seed, "steps": t.steps,
+                "wall_s": t.wall_s, **self.extra}
+
+    @classmethod
+    def from_dict(cls, data: dict) -> "PolicySidecar":
+        """Read either layout (the earlier one: ``env_id``, ``env_kwargs``, ``settings``)."""
+        if data.get("format") == SIDECAR_FORMAT:
+            known = {"format", "env", "ppo", "training", "metrics", "score", "env_id", "env_kwargs", "command", "seed",
+                     "steps", "wall_s"}
+            training = dict(data["training"])
+            training["strength"] = tuple(training.get("strength", (0.5, 1.0)))
+            return cls(env=EnvSpec(**_known(EnvSpec, data["env"])), ppo=PPOSettings(**_known(PPOSettings, data["ppo"])),
+                       training=TrainingRecord(**_known(TrainingRecord, training)), metrics=data.get("metrics", {}),
+                       score=data.get("score"), extra={k: v for k, v in data.items() if k not in known})
+        settings = data.get("settings", {})
+        augmentation = data.get("augmentation", {})
+        env = EnvSpec(env_id=data.get("env_id", "MimicIMU-v0"), foot=data.get("env_kwargs", {}).get("foot", "one"))
+        training = TrainingRecord(clips=list(data.get("env_kwargs", {}).get("clips", [])),
+                                  eval_clips=list(data.get("eval_clips", [])),
+                                  corrupted_fraction=data.get("corrupted_fraction", 0.0),
+                                  strength=tuple(data.get("strength", (0.5, 1.0))),
+                                  mirror=augmentation.get("mirror", False), speeds=augmentation.get("speeds", [1.0]),
+                                  commands=data.get("commands", [data["command"]] if "command" in data else []),
+                                  seed=data.get("seed", 0), steps=data.get("steps", 0), wall_s=data.get("wall_s", 0.0))
+        legacy = {"env_id", "env_kwargs", "eval_clips", "corrupted_fraction", "strength", "augmentation", "command",
+                  "commands", "seed", "steps", "wall_s", "score", "metrics", "net", "settings"}
+        return cls(env=env, ppo=PPOSettings(**_known(PPOSettings, settings)), training=training,
+                   metrics=data.get("metrics", {}), score=data.get("score"),
+                   extra={k: v for k, v in data.items() if k not in legacy})
+
+    def save(self, path: str | Path) -> None:
+        """Write ``path`` (whole or not at all)."""
+        with atomic_write(path) as tmp:
+            tmp.write_text(json.dumps(self.to_dict(), indent=1, default=str))
+
+    @classmethod
+    def load(cls, path: str | Path) -> "PolicySidecar":
+        """Read ``path``; a missing file gives the defaults."""
+        path = Path(path)
+        if not path.exists():
+            return cls()
+        try:
+            return cls.from_dict(json.loads(path.read_text()))
+        except (json.JSONDecodeError, UnicodeDecodeError, TypeError, KeyError) as err:
+            raise ValueError(f"{path}: not a policy sidecar ({err})") from None
