@@ -339,3 +339,18 @@ def test_source_clip_of_every_format(exported, tmp_path):
     assert load_source_clip(_write_asf_amc(tmp_path)).source["format"] == "asf/amc"
     with pytest.raises(ValueError, match=r"expected deepmimic:NAME, library:DIR#TAKE, or a \.npz"):
         load_source_clip(tmp_path / "take.fbx")
+
+
+def test_our_own_bvh_export_reads_back_through_the_commands(exported, tmp_path, capsys):
+    """`info`, `perception contacts` and `clean.py` take the BVH that `make demo` writes, with no option."""
+    from agents.clean import main as clean_main
+    from perception.__main__ import main as perception_main
+    from reference_motion.__main__ import main as motion_main
+
+    assert motion_main(["info", str(exported), "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["frames"] == 76
+    result = perception_main(["contacts", str(exported), "--json", str(tmp_path / "c.json")])
+    assert np.array(result["contacts"]).shape == (76, 4)
+    out = tmp_path / "clean.npz"
+    clean_main([str(exported), "--policy", "models/mimic_walk", "--out", str(out), "--no-adapt"])
+    assert load_motion(out).n_frames == 76
