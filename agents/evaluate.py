@@ -26,8 +26,8 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import load_policy
-from agents.reporting import write_json
 from envs.config import FOOT_MODELS, MimicConfig
+from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
                                   one_line_errors, output_file, positive_int, require_frames)

@@ -15,8 +15,10 @@ from reference_motion.cli import CliParser, one_line_errors
 
 COMMANDS = {
     "motion": ("reference_motion.__main__", "clips: list, info, quality, render (python -m reference_motion)"),
-    "perception": ("perception.__main__", "contacts, vGRF, cleanup, gait, datasets and networks "
+    "perception": ("perception.__main__", "contacts, vGRF, cleanup, gait and the networks "
                                           "(python -m perception)"),
+    "dataset": ("agents.make_dataset", "a physics-labelled dataset: policies re-perform clips, recording vGRF "
+                                       "(agents/make_dataset.py)"),
     "train": ("agents.train_ppo", "train a mimic policy with PPO (agents/train_ppo.py)"),
     "evaluate": ("agents.evaluate", "evaluate a policy with ADAPT's protocol (agents/evaluate.py)"),
     "clean": ("agents.clean", "re-perform a clip with a policy under physics (agents/clean.py)"),

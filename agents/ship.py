@@ -24,7 +24,7 @@ if __package__ in (None, ""):  # `python agents/ship.py`: make the repository im
 
 from agents import evaluate
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE
-from agents.reporting import write_json
+from reference_motion.atomic import write_json
 from reference_motion.cli import CliParser, one_line_errors, output_dir
 
 MAX_MODEL_BYTES = 20 * 1024 * 1024

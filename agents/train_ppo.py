@@ -40,9 +40,9 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
-from agents.reporting import write_json
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS, MimicConfig
+from reference_motion.atomic import write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   one_line_errors, output_dir, positive_float, positive_int)

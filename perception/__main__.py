@@ -2,7 +2,6 @@
 
 Examples::
 
-    python -m perception make-dataset --out data/physics
     python -m perception train-vgrf --dataset data/physics --run-dir runs/vgrf --out models/vgrf
     python -m perception train-mlp --dataset data/physics --run-dir runs/contact_mlp --out models/contact_mlp
     python -m perception evaluate-contacts --dataset data/physics --split test --json out/contacts.json
@@ -20,12 +19,11 @@ from pathlib import Path
 
 import numpy as np
 
-from agents.reporting import write_json
 from tqdm import tqdm
 
 from perception.cleanup import CleanupConfig, cleanup
 from perception.contacts import CONTACT_NAMES, ContactFunction
-from perception.dataset import SPLITS, DatasetConfig, generate, load_split
+from perception.dataset import SPLITS, load_split
 from perception.contact_transformer import detect_contacts
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
 from perception.gait import gait_report
@@ -41,7 +39,7 @@ from perception.vgrf import estimate
 from perception.video import VIDEO_SUFFIXES, video_keypoints
 from perception.weights import load_network, record_metrics, ship
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
-from reference_motion.atomic import atomic_write
+from reference_motion.atomic import atomic_write, write_json
 from reference_motion.bvh_export import write_bvh
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
                                   one_line_errors, output_dir, output_file, positive_float, positive_int)
@@ -67,16 +65,6 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     sub = p.add_subparsers(dest="command", required=True)
-    d = DatasetConfig()
-    g = sub.add_parser("make-dataset", help="roll trained policies over the clip library, recording vGRF",
-                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    g.add_argument("--out", type=output_dir, required=True, help="dataset directory (resumes if it exists)")
-    g.add_argument("--policies", nargs="+", default=list(d.policies), help="policy directories")
-    g.add_argument("--clips", nargs="+", default=list(d.clips), help="SOURCE strings of the clip library")
-    g.add_argument("--variants", type=positive_int, default=d.variants, help="references per clip")
-    g.add_argument("--episodes", type=positive_int, default=d.episodes, help="windows performed per reference")
-    g.add_argument("--seed", type=int, default=d.seed)
-    g.add_argument("--no-progress", action="store_true")
     for name, kind, default_out in (("train-vgrf", "vgrf", "models/vgrf"), ("train-mlp", "mlp", "models/contact_mlp")):
         t = TrainConfig(kind=kind)
         g = sub.add_parser(name, help=f"train the {'vGRF network' if kind == 'vgrf' else '3-layer MLP baseline'}",
@@ -255,14 +243,6 @@ def _train_and_ship(args: argparse.Namespace, trainer, config, describe) -> dict
 def main(argv: list[str] | None = None, prog: str = "python -m perception") -> dict | None:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the command's result."""
     args = build_parser(prog).parse_args(argv)
-    if args.command == "make-dataset":
-        config = DatasetConfig(policies=tuple(args.policies), clips=tuple(args.clips), variants=args.variants,
-                               episodes=args.episodes, seed=args.seed)
-        manifest = generate(args.out, config, progress=not args.no_progress)
-        for split, s in manifest["summary"].items():
-            print(f"{split:>5}: {s['frames']:>7} frames, {s['episodes']:>4} episodes, {len(s['clips'])} clips, "
-                  f"endings {s['endings']}")
-        return manifest
     if args.command == "train-keypoints":
         config = KeypointTrainConfig(keypoints=args.keypoints, positional=args.positional, sampling=args.sampling,
                                      max_epochs=args.epochs, patience=args.patience, lr=args.lr,

@@ -1,7 +1,8 @@
-"""Writing a file so that it is never left half-written: write a temporary file beside it, then rename."""
+"""Writing files so that they are never left half-written: write a temporary file beside, then rename."""
 
 from __future__ import annotations
 
+import json
 import os
 from collections.abc import Iterator
 from contextlib import contextmanager
@@ -21,3 +22,11 @@ def atomic_write(path: str | Path) -> Iterator[Path]:
         os.replace(tmp, path)
     finally:
         tmp.unlink(missing_ok=True)
+
+
+def write_json(path: str | Path, data: dict) -> Path:
+    """Write ``data`` as indented JSON to ``path``, atomically, creating its folder; returns the path."""
+    path = Path(path)
+    with atomic_write(path) as tmp:
+        tmp.write_text(json.dumps(data, indent=1, default=str))
+    return path

@@ -1,6 +1,6 @@
 import pytest
 
-from perception.dataset import DatasetConfig, generate
+from agents.physics_dataset import DatasetConfig, generate
 from reference_motion.library import load_motion
 
 TINY = DatasetConfig(policies=("models/mimic_walk",),

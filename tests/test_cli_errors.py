@@ -15,6 +15,7 @@ import numpy as np
 import pytest
 
 import perception.__main__ as perception_cli
+from agents import make_dataset
 import reference_motion.__main__ as motion_cli
 from agents import clean, evaluate, physmimic, ship, train_ppo
 from agents.policy import load_policy
@@ -124,8 +125,6 @@ PERCEPTION_CASES = {
                             "argument --min-frames: expected a non-negative integer, got '-5'"),
     "unsupported plot": (("gait", "deepmimic:walk", "--plot", "gait.avi"), "gait.avi: cannot write a .avi file"),
     "output folder": (("cleanup", "deepmimic:walk", "--out", "{blocked}/c.npz"), "{blocked}/c.npz: cannot create"),
-    "dataset episodes": (("make-dataset", "--out", "{root}/d", "--episodes", "0"),
-                         "argument --episodes: expected a positive integer, got '0'"),
 }
 
 
@@ -134,6 +133,12 @@ def test_perception_cli(case, bad, capsys):
     argv, expected = PERCEPTION_CASES[case]
     assert expected.format(**bad) in _error_line(perception_cli.main, _fill(argv, bad), capsys)
     assert not Path(bad["root"], "c.npz").exists()
+
+
+def test_make_dataset_cli(bad, capsys):
+    line = _error_line(make_dataset.main, ["--out", f"{bad['root']}/d", "--episodes", "0"], capsys)
+    assert "argument --episodes: expected a positive integer, got '0'" in line
+    assert not Path(bad["root"], "d").exists()
 
 
 CLIP_CASES = {

@@ -12,7 +12,8 @@ from perception.__main__ import main
 from perception.cleanup import CleanupConfig, CleanupObjective, cleanup, contact_speed, contact_targets, contact_weights, foot_targets
 from perception.contacts import ContactFunction
 from perception.kinematics import torch_kinematics
-from perception.dataset import DatasetConfig, generate, load_split
+from agents.physics_dataset import DatasetConfig, generate
+from perception.dataset import load_split
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
 from perception.training import TrainConfig, train
 from perception.vgrf import VGRFNet
