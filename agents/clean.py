@@ -3,36 +3,48 @@
 Usage::
 
     python agents/clean.py --policy models/mimic_imu deepmimic:walker/turn_left1 --out out/clean.npz \\
-        [--corrupt imu --strength 1 --seed 7] [--bvh out/clean.bvh] [--video out/clean.mp4]
+        [--corrupt imu --strength 1 --seed 7] [--bvh out/clean.bvh] [--video out/clean.mp4] [--no-adapt]
 
-The clip (any length) is simulated segment by segment (episodes of the policy's length); each
-segment continues from the simulated state where the previous one ended, so the result is one
-continuous motion. If the character falls or lags behind, the rest of that segment is copied
-from the reference and the next segment restarts from the reference state; those frames are
-listed in the output's ``source["kinematic_frames"]``. Before/after artefact metrics are printed,
-and the video shows the reference (left) and the result (right).
+First the policy is adapted to the clip (PPO fine-tuning on it, :mod:`agents.adaptation`; cached,
+so cleaning the same clip again skips it; ``--no-adapt`` re-performs zero-shot). Then the clip
+(any length) is simulated in stretches of at most the policy's episode length, each continuing from
+the simulated state where the previous one ended, so the result is one continuous motion. Where
+the character fails (falls, lags behind the reference, or the simulation blows up), the
+simulation rewinds ``--rewind-s`` before the failure to the last good simulated state and retries
+that stretch with up to ``--retries`` stochastic rollouts of the policy (its Gaussian action
+noise, seeded), keeping the first that gets past the failure; only if every retry fails does it
+re-anchor: the simulation restarts from the reference state at a frame just before where the
+longest retry failed. Every output frame is simulated; the re-anchors (frame, reason, retries)
+are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
+a red border in the video, which shows the reference (left) and the result (right).
+Before/after artefact metrics are printed.
 """
 
 from __future__ import annotations
 
+import argparse
 import sys
+from collections import deque
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/clean.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-import gymnasium as gym
 import numpy as np
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
+from agents.adaptation import MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
 from agents.policy import MimicPolicy, load_policy
-from agents.reporting import write_json
+from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
+from reference_motion.atomic import write_json
 from reference_motion.bvh_export import write_bvh
-from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
-                                  one_line_errors, output_file, require_frames)
+from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
+                                  non_negative_int, one_line_errors, output_dir, output_file, positive_float,
+                                  positive_int, require_frames)
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
@@ -41,85 +53,334 @@ from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
 MIN_FRAMES = 3
 """Frames a clip needs to be cleaned (a first frame to start from and two to simulate)."""
 
+REANCHOR_MARK_S = 0.5
+"""How long (s) the video marks the result after each re-anchor."""
 
-def clean_motion(policy: MimicPolicy, reference: Motion, episode_frames: int = 300, progress: bool = True) -> Motion:
+
+@dataclass(frozen=True)
+class CleanConfig:
+    """How a clip is re-performed.
+
+    Attributes:
+        episode_frames: longest stretch simulated from one reset, in 60 Hz frames (``None``: the
+            policy's episode length, 300 for the shipped ones).
+        rewind_s: how far before a failure (s) the retries restart (0.5).
+        retries: stochastic rollouts tried from there before re-anchoring (4).
+        seed: seed of the first retry; each further retry of the clip takes the next one (0).
+    """
+
+    episode_frames: int | None = None
+    rewind_s: float = 0.5
+    retries: int = 4
+    seed: int = 0
+
+    def rewind_frames(self, fps: float, frames_per_control: int, episode_frames: int) -> int:
+        """:attr:`rewind_s` in frames at ``fps``: at least one control step, less than an episode
+        of ``episode_frames``."""
+        frames = max(frames_per_control, int(round(self.rewind_s * fps)))
+        if frames >= episode_frames:
+            raise ValueError(f"--rewind-s {self.rewind_s} is {frames} frames, not less than an episode "
+                             f"({episode_frames} frames)")
+        return frames
+
+
+@dataclass(frozen=True)
+class Reanchor:
+    """A place where the simulation restarted from the reference state.
+
+    Attributes:
+        frame: the frame restarted from the reference state.
+        reason: how the policy failed: ``"fallen"``, ``"lagging"`` or ``"unstable"``.
+        retries: stochastic retries tried (all failed).
+        failed_at: frame where the deterministic policy failed.
+        best_reached: frame where the longest-surviving attempt failed.
+        jump_m: distance (m) the root jumped from the simulated to the reference state (``None``
+            when the simulated state was not finite).
+    """
+
+    frame: int
+    reason: str
+    retries: int
+    failed_at: int
+    best_reached: int
+    jump_m: float | None
+
+
+@dataclass(frozen=True)
+class Recovery:
+    """A failure a stochastic retry got past.
+
+    Attributes:
+        frame: the frame rewound to; failed_at: where the policy had failed; reason: how.
+        retries: retries it took (the last one succeeded).
+    """
+
+    frame: int
+    failed_at: int
+    reason: str
+    retries: int
+
+
+class StateRing:
+    """The simulated states of the last ``capacity`` committed frames, by reference frame: where a
+    retry can rewind to."""
+
+    def __init__(self, capacity: int):
+        self._states: deque[tuple[int, np.ndarray, np.ndarray]] = deque(maxlen=capacity)
+
+    def push(self, frame: int, qpos: np.ndarray, qvel: np.ndarray) -> None:
+        """Append the state ``(qpos (nq,), qvel (nv,))`` of ``frame``, the frame after the newest."""
+        if self._states and frame != self._states[-1][0] + 1:
+            raise ValueError(f"frame {frame} does not follow the newest frame {self._states[-1][0]}")
+        self._states.append((frame, qpos, qvel))
+
+    def drop_after(self, frame: int) -> None:
+        """Forget the states of the frames after ``frame``."""
+        while self._states and self._states[-1][0] > frame:
+            self._states.pop()
+
+    def state(self, frame: int) -> tuple[np.ndarray, np.ndarray]:
+        """The ``(qpos, qvel)`` of ``frame``; ``KeyError`` when it is not (or no longer) held."""
+        for f, qpos, qvel in reversed(self._states):
+            if f == frame:
+                return qpos.copy(), qvel.copy()
+        raise KeyError(f"frame {frame} is not in the state ring")
+
+
+class _Performance:
+    """One re-performance of ``reference`` by ``policy`` (:func:`clean_motion`): the committed
+    simulated frames, the ring of their recent states, the re-anchors and the recoveries."""
+
+    def __init__(self, policy: MimicPolicy, reference: Motion, config: CleanConfig):
+        task = policy.record.env.mimic_config()
+        self.episode_frames = config.episode_frames or task.episode_frames
+        self.config = config
+        self.last = reference.n_frames - 1
+        # hold the last frame for one more episode so any stretch can start at any frame of the clip
+        hold = np.repeat(reference.qpos[-1:], self.episode_frames + 2, axis=0)
+        padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
+        self.env = policy.make_env([padded], artefacts=None, episode_frames=self.episode_frames)
+        self.act: Policy = policy
+        self.sample: Policy = sampling_policy(policy)
+        self.rewind = config.rewind_frames(reference.fps, task.frames_per_control, self.episode_frames)
+        self.qpos = np.full_like(reference.qpos, np.nan)
+        """``(T, nq)`` the committed simulated frames."""
+        self.ring = StateRing(self.rewind + 1)
+        self.anchor = 0
+        """The latest frame started from the reference state: retries never rewind past it."""
+        self.reanchors: list[Reanchor] = []
+        self.recoveries: list[Recovery] = []
+        self.tries = 0
+
+    # ------------------------------------------------------------ pieces
+    def _commit(self, episode: Episode, first: int, last: int) -> None:
+        """Keep ``episode``'s frames ``first..last`` (clamped to the episode) as the result, replacing
+        any later ones."""
+        first = max(first, episode.start_frame)
+        if last < first:
+            return
+        self.ring.drop_after(first - 1)
+        for f in range(first, last + 1):
+            qpos, qvel = episode.state(f)
+            self.qpos[f] = qpos
+            self.ring.push(f, qpos, qvel)
+
+    def _run(self, start: int, stop: int, policy: Policy) -> Episode:
+        """``policy`` from the committed simulated state of ``start`` until ``stop`` or a failure."""
+        return run_episode(self.env, policy, {"clip": 0, "start_frame": start, "state": self.ring.state(start)},
+                           max_frames=stop - start)
+
+    @staticmethod
+    def _survived(episode: Episode, stop: int) -> bool:
+        """Whether ``episode`` reached ``stop`` (a failure in the step that passes it counts as reached)."""
+        return not episode.failed or episode.end_frame > stop
+
+    def _anchor_at(self, frame: int) -> None:
+        """Restart from the reference state of ``frame`` (lifted above the floor if it reaches into it)."""
+        self._commit(run_episode(self.env, self.act, {"clip": 0, "start_frame": frame}, max_frames=0), frame, frame)
+        self.anchor = frame
+
+    # ------------------------------------------------------------ the algorithm
+    def perform(self, progress: bool) -> None:
+        """Simulate the whole clip into :attr:`qpos`."""
+        bar = tqdm(total=self.last, desc="cleaning", unit="frame", disable=not progress)
+        self._anchor_at(0)
+        done = 0  # frames 0..done are committed
+        while done < self.last:
+            stop = min(done + self.episode_frames, self.last)
+            episode = self._run(done, stop, self.act)
+            if self._survived(episode, stop):
+                self._commit(episode, done, stop)
+                done = stop
+            else:
+                done = self._retry(episode)
+            bar.update(max(0, done - bar.n))
+            bar.set_postfix(reanchors=len(self.reanchors), recoveries=len(self.recoveries))
+        bar.close()
+        self.env.close()
+
+    def _retry(self, failed: Episode) -> int:
+        """After ``failed`` (the deterministic policy from the last committed frame) failed: rewind,
+        retry, else re-anchor. Returns the new last committed frame."""
+        fail, reason = failed.end_frame, failed.ended_by
+        rewound = max(self.anchor, fail - self.rewind)
+        self._commit(failed, failed.start_frame, rewound)  # the good part, when it reaches that far
+        goal = min(fail + self.rewind, self.last)
+        best = failed
+        for k in range(1, self.config.retries + 1):
+            with seeded(self.config.seed + self.tries):
+                attempt = self._run(rewound, goal, self.sample)
+            self.tries += 1
+            if self._survived(attempt, goal):
+                end = min(attempt.end_frame, goal)
+                self._commit(attempt, rewound, end)
+                self.recoveries.append(Recovery(frame=rewound, failed_at=fail, reason=reason, retries=k))
+                return end
+            if attempt.end_frame > best.end_frame:
+                best = attempt
+        return self._reanchor(best, rewound, fail, reason)
+
+    def _reanchor(self, best: Episode, rewound: int, fail: int, reason: str) -> int:
+        """Keep ``best`` (the longest-surviving attempt) up to ``rewind`` frames before its failure
+        (but at least that far past the last anchor, so the clip advances), then restart there
+        from the reference state. Returns the re-anchored frame."""
+        frame = min(max(best.end_frame - self.rewind, self.anchor + self.rewind), best.end_frame, self.last)
+        finite = np.isfinite(best.qpos).all(axis=1) & np.isfinite(best.qvel).all(axis=1)
+        if not finite.all():  # "unstable": keep only the frames before the simulation blew up
+            frame = min(frame, best.start_frame + int(np.argmin(finite)))
+        self._commit(best, rewound, frame - 1)
+        simulated = best.qpos[frame - best.start_frame] if frame >= best.start_frame else self.qpos[frame]
+        self._anchor_at(frame)
+        jump = float(np.linalg.norm(simulated[:3] - self.qpos[frame, :3]))
+        self.reanchors.append(Reanchor(frame=frame, reason=reason, retries=self.config.retries, failed_at=fail,
+                                       best_reached=best.end_frame, jump_m=jump if np.isfinite(jump) else None))
+        return frame
+
+
+def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = CleanConfig(),
+                 progress: bool = True) -> Motion:
     """The simulated re-performance of ``reference`` (60 Hz, same length, at least
-    :data:`MIN_FRAMES`) by ``policy``."""
+    :data:`MIN_FRAMES`) by ``policy`` (see the module's documentation).
+
+    The result's ``source`` adds ``cleaned_by`` (the policy's directory), ``reanchors`` and
+    ``recoveries`` (lists of :class:`Reanchor` / :class:`Recovery` as dicts) and
+    ``simulated_fraction``: the share of frame-to-frame transitions that are physics steps, i.e.
+    ``1 − re-anchors / (frames − 1)`` (1.0: one continuous simulation from the first frame).
+    """
     require_frames(reference, MIN_FRAMES, reference.name, "cleaning")
-    last = reference.n_frames - 1
-    # hold the last frame for one more episode so every segment can start where the previous ended
-    hold = np.repeat(reference.qpos[-1:], episode_frames + 2, axis=0)
-    padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
-    env = gym.make(policy.env_id, clips=[padded], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
-    policy.check_env(env)
-    base = env.unwrapped
-    out = reference.qpos.copy()
-    kinematic: list[list[int]] = []
-    done, state = 0, None  # last frame written; simulated (qpos, qvel) at it, or None after a fall
-    bar = tqdm(total=last, desc=f"cleaning {reference.name}", unit="frame", disable=not progress)
-    while done < last:
-        options = {"start_frame": done} if state is None else {"start_frame": done, "state": state}
-        obs, _ = env.reset(seed=0, options=options)
-        log: list[np.ndarray] = []
-        base.frame_hook = lambda d: log.append(d.qpos.copy())
-        term = trunc = False
-        while not (term or trunc) and done + len(log) < last:
-            obs, _, term, trunc, _ = env.step(policy(obs))
-        frames = np.array(log)[: last - done]
-        base.frame_hook = None
-        end = done + len(frames)
-        out[done + 1:end + 1] = frames
-        if term and end < last:  # fell or lagged: the rest of the segment kinematically, then restart
-            seg_end = min(done + episode_frames, last)
-            kinematic.append([end + 1, seg_end])
-            state, end = None, seg_end
-        else:
-            state = (base.data.qpos.copy(), base.data.qvel.copy())
-        bar.update(end - done)
-        done = end
-    bar.close()
-    env.close()
-    source = {**reference.source, "cleaned_by": str(policy.path), "kinematic_frames": kinematic}
+    performance = _Performance(policy, reference, config)
+    with torch_threads(1):  # one observation at a time: more threads only wait on each other
+        performance.perform(progress)
+    out = performance.qpos
+    if not np.isfinite(out).all():  # every frame is committed from a finite simulated state
+        raise RuntimeError(f"cleaning {reference.name}: frames {np.flatnonzero(~np.isfinite(out).all(axis=1))} "
+                           "were left without a simulated state")
+    source = {**reference.source, "cleaned_by": str(policy.path),
+              "reanchors": [asdict(r) for r in performance.reanchors],
+              "recoveries": [asdict(r) for r in performance.recoveries],
+              "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last}
     return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
 
-@one_line_errors
-def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
-    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
-    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0])
+def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndarray:
+    """``(T,)`` bool: the frames of ``cleaned`` within ``seconds`` after a re-anchor (for the video)."""
+    marked = np.zeros(cleaned.n_frames, dtype=bool)
+    span = max(1, int(round(seconds * cleaned.fps)))
+    for r in cleaned.source.get("reanchors", []):
+        marked[r["frame"]:r["frame"] + span] = True
+    return marked
+
+
+def build_parser(prog: str | None = None) -> CliParser:
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
+                  formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, or a .npz / .bvh / .amc / .txt file")
     add_mocap_options(p)
     p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
     p.add_argument("--out", type=output_file(".npz"), required=True, help="cleaned motion (.npz)")
     p.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned motion as BVH")
     p.add_argument("--video", type=output_file(*VIDEO_SUFFIXES),
-                   help="side-by-side video (.mp4/.gif; .png: first frame): reference | cleaned")
+                   help="side-by-side video (.mp4/.gif; .png: first frame): reference | cleaned, re-anchors "
+                        "framed in red")
     p.add_argument("--min-frames", type=non_negative_int, help="loop a cyclic clip to at least this many 60 Hz frames")
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt the clip with IMU artefacts first")
     p.add_argument("--strength", type=non_negative_float, default=1.0)
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=int, default=0, help="artefact seed")
     p.add_argument("--json", type=output_file(".json"), help="write the before/after metrics as JSON")
-    args = p.parse_args(argv)
+    g = p.add_argument_group("failures")
+    g.add_argument("--rewind-s", type=positive_float, default=CleanConfig.rewind_s,
+                   help="after a failure, retry from this long before it (s)")
+    g.add_argument("--retries", type=non_negative_int, default=CleanConfig.retries,
+                   help="stochastic retries before re-anchoring to the reference")
+    g = p.add_argument_group("per-clip adaptation (PPO fine-tuning on the clip before cleaning)")
+    g.add_argument("--no-adapt", action="store_true", help="clean with the policy as given (zero-shot)")
+    g.add_argument("--adapt-budget-s", type=positive_float, default=AdaptConfig.budget_s,
+                   help="wall-time budget of the adaptation (s)")
+    g.add_argument("--adapt-target", type=fraction, default=AdaptConfig.target_sr90,
+                   help="stop adapting once SR90 on the clip reaches this")
+    g.add_argument("--adapt-steps", type=positive_int, default=None, help="most environment steps (None: no limit)")
+    g.add_argument("--adapt-chunk", type=positive_int, default=AdaptConfig.chunk_steps,
+                   help="environment steps between evaluations")
+    g.add_argument("--adapt-cache", type=output_dir, default=None,
+                   help=f"where adapted policies are cached (None: {default_cache_dir()})")
+    return p
+
+
+def _adapt(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> AdaptResult | None:
+    """The policy adapted to ``reference`` as the command line asks, printed; ``None`` without."""
+    if args.no_adapt:
+        return None
+    if reference.n_frames < MIN_ADAPT_FRAMES:
+        print(f"not adapting: {reference.n_frames} frames, adaptation needs {MIN_ADAPT_FRAMES}; cleaning zero-shot")
+        return None
+    config = AdaptConfig(budget_s=args.adapt_budget_s, target_sr90=args.adapt_target, max_steps=args.adapt_steps,
+                         chunk_steps=args.adapt_chunk, cache_dir=args.adapt_cache or default_cache_dir())
+    result = adapt_policy(policy, reference, config)
+    how = "reused from the cache" if result.cached else f"stopped by {result.stopped_by}"
+    print(f"adapted {policy.path} to the clip: SR90 {result.sr90_before:.2f} -> {result.sr90_after:.2f}, "
+          f"ELR {result.elr_before:.2f} -> {result.elr_after:.2f}, {result.steps} steps in {result.wall_s:.0f} s "
+          f"({how}; {result.path})")
+    return result
+
+
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
+    args = build_parser(prog).parse_args(argv)
     policy = load_policy(args.policy)
     reference = require_frames(load_motion(args.source, FOOT_MODELS[policy.foot], min_frames=args.min_frames,
                                            mocap=mocap_options(args)),
                                MIN_FRAMES, args.source, "cleaning")
     if args.corrupt:
         reference = corrupt(reference, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
-    cleaned = clean_motion(policy, reference)
+    config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries)
+    task = policy.record.env.mimic_config()
+    config.rewind_frames(reference.fps, task.frames_per_control, task.episode_frames)  # refuse before any work
+    adaptation = _adapt(policy, reference, args)
+    performer = adaptation.policy if adaptation else policy
+    cleaned = clean_motion(performer, reference, config)
     cleaned.save(args.out)
     before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
     print(f"{'metric':<24}{'input':>12}{'cleaned':>12}")
     for k in ARTEFACT_METRICS:
         print(f"{k:<24}{before[k]:>12.4f}{after[k]:>12.4f}")
-    kinematic = sum(b - a + 1 for a, b in cleaned.source["kinematic_frames"])
-    print(f"wrote {args.out} ({cleaned.n_frames} frames; {kinematic} copied from the reference after a fall)")
+    source = cleaned.source
+    print(f"wrote {args.out} ({cleaned.n_frames} frames, all simulated; simulated fraction "
+          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by a retry, "
+          f"{len(source['reanchors'])} re-anchored to the reference)")
+    for r in source["reanchors"]:
+        jump = f", root jumped {r['jump_m']:.2f} m" if r["jump_m"] is not None else ""
+        print(f"  re-anchored at frame {r['frame']} ({r['frame'] / cleaned.fps:.2f} s): {r['reason']} at frame "
+              f"{r['failed_at']}, {r['retries']} retries failed (best reached frame {r['best_reached']}){jump}")
     if args.bvh:
         print(f"wrote {write_bvh(cleaned, args.bvh)}")
     if args.video:
-        print(f"wrote {render([reference, cleaned], args.video)}")
-    result = {"source": args.source, "policy": str(args.policy), "input": before, "cleaned": after,
-              "kinematic_frames": cleaned.source["kinematic_frames"]}
+        marked = [None, reanchor_marks(cleaned)]  # the result framed in red after each re-anchor
+        print(f"wrote {render([reference, cleaned], args.video, marked=marked, progress=True)}")
+    result = {"source": args.source, "policy": str(args.policy), "cleaned_by": source["cleaned_by"],
+              "input": before, "cleaned": after, "simulated_fraction": source["simulated_fraction"],
+              "reanchors": source["reanchors"], "recoveries": source["recoveries"],
+              "adaptation": adaptation.as_dict() if adaptation else None}
     if args.json:
         write_json(args.json, result)
     return result

@@ -1,6 +1,7 @@
 """ADAPT's evaluation protocol (adapt §3.2.6, §4.1) for any policy on a mimic environment.
 
-A policy here is any function from an observation ``(D,)`` float32 to an action ``(A,)``. Each
+A policy here is any function from an observation ``(D,)`` float32 to an action ``(A,)``
+(:data:`agents.rollout.Policy`); episodes run through :func:`agents.rollout.run_episode`. Each
 clip is evaluated as one ``episode_frames`` segment (or up to its end, for a clip shorter than
 that), rolled out ``episodes`` times from start offsets ``0, offset_step, 2·offset_step, ...``
 frames (at most the clip's last start frame); the metrics of :mod:`agents.metrics` are
@@ -9,16 +10,16 @@ averaged over all rollouts.
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 
 import gymnasium as gym
 import numpy as np
 
 from agents.metrics import episode_length_ratio, max_reward_ratio, root_displacement_error, survived
+from agents.rollout import Policy, run_episode
 from reference_motion.motion import Motion
 
-Policy = Callable[[np.ndarray], np.ndarray]
+__all__ = ["Policy", "Rollout", "evaluate", "rollout", "zero_policy"]
 
 
 @dataclass(frozen=True)
@@ -51,31 +52,20 @@ def zero_policy(action_size: int) -> Policy:
 
 
 def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, corrupted: bool = False) -> Rollout:
-    """Run ``policy`` on ``env`` from ``start_frame`` of ``clip`` until the episode ends."""
-    base = env.unwrapped
-    obs, info = env.reset(options={"clip": clip, "start_frame": start_frame, "corrupted": corrupted})
-    track = base.current_track
-    log = [base.data.qpos.copy()]
-    base.frame_hook = lambda d: log.append(d.qpos.copy())
-    rewards = []
-    try:
-        while True:
-            obs, reward, term, trunc, info = env.step(policy(obs))
-            rewards.append(reward)
-            if term or trunc:
-                break
-        frames = np.array(log)
-    finally:
-        base.frame_hook = None
-    ref = track.motion
+    """Run ``policy`` on ``env`` from ``start_frame`` of ``clip`` until the episode ends
+    (:func:`agents.rollout.run_episode`), and score it."""
+    episode = run_episode(env, policy, {"clip": clip, "start_frame": start_frame, "corrupted": corrupted})
+    frames = episode.qpos
+    ref = env.unwrapped.current_track.motion
     reference = ref.with_qpos(ref.qpos[start_frame:start_frame + len(frames)], loop=False)
     simulated = reference.with_qpos(frames, source={**ref.source, "simulated_by": "policy"})
-    total = base.episode_end - start_frame
-    n = info["episode_frame"]
-    return Rollout(clip=info["clip"], start_frame=start_frame, elr=episode_length_ratio(n, total),
-                   sr90=survived(n, total), rde=root_displacement_error(frames[:, :3], reference.qpos[:, :3]),
-                   mrr=max_reward_ratio(np.array(rewards), total // base.config.frames_per_control),
-                   ended_by=info["ended_by"], simulated=simulated, reference=reference)
+    total = episode.episode_end - start_frame
+    steps = total // env.unwrapped.config.frames_per_control
+    return Rollout(clip=episode.clip, start_frame=start_frame, elr=episode_length_ratio(episode.frames, total),
+                   sr90=survived(episode.frames, total),
+                   rde=root_displacement_error(frames[:, :3], reference.qpos[:, :3]),
+                   mrr=max_reward_ratio(episode.rewards, steps), ended_by=episode.ended_by, simulated=simulated,
+                   reference=reference)
 
 
 def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None, episodes: int = 20,

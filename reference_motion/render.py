@@ -7,10 +7,12 @@ own character with the same camera angle.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import mujoco
 import numpy as np
+from tqdm import tqdm
 
 from reference_motion.atomic import atomic_write
 from reference_motion.humanoid.model import load_model
@@ -23,6 +25,9 @@ CLOTHES = {"skin": (0.87, 0.72, 0.6, 1.0), "shirt": (0.75, 0.15, 0.15, 1.0), "tr
            "shoes": (0.1, 0.1, 0.1, 1.0)}
 """Colours of a dressed character: person detectors (MediaPipe) find it in almost every frame,
 where they miss the grey mannequin most of the time."""
+
+MARK_RGB, MARK_BORDER_PX = (230, 20, 20), 10
+"""Colour and width of the border drawn around a marked frame (:func:`render_frames`' ``marked``)."""
 
 
 def _garment(geom_name: str) -> str:
@@ -37,13 +42,14 @@ def _garment(geom_name: str) -> str:
 
 def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: float | None = None,
                   azimuth: float = 90.0, elevation: float = -12.0, distance: float = 3.2,
-                  clothed: bool = False) -> np.ndarray:
+                  clothed: bool = False, marked: np.ndarray | None = None, progress: bool = False) -> np.ndarray:
     """RGB frames ``(N, height, width, 3)`` uint8 of ``motion`` replayed kinematically.
 
     ``fps`` (default: the motion's) picks frames by nearest time; the camera tracks the pelvis
     at MuJoCo's free-camera ``azimuth`` / ``elevation`` (degrees; azimuth 90° looks along +y, from
     the character's right when it walks along +x) and ``distance`` (m). ``clothed`` dresses the
-    character in :data:`CLOTHES`.
+    character in :data:`CLOTHES`. ``marked`` ``(motion.n_frames,)`` bool: frames showing a marked
+    motion frame get a red border (:data:`MARK_RGB`). ``progress`` shows a progress bar.
     """
     hm = load_model(motion.model)
     model = hm.model
@@ -53,7 +59,8 @@ def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: floa
             for g in range(model.ngeom):
                 if model.geom(g).name != "floor":
                     model.geom_rgba[g], model.geom_matid[g] = CLOTHES[_garment(model.geom(g).name)], -1
-            return render_frames(motion, width, height, fps, azimuth, elevation, distance, clothed=False)
+            return render_frames(motion, width, height, fps, azimuth, elevation, distance, clothed=False,
+                                 marked=marked, progress=progress)
         finally:
             model.geom_rgba[:], model.geom_matid[:] = saved
     data = mujoco.MjData(model)
@@ -65,27 +72,35 @@ def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: floa
     cam.azimuth, cam.elevation, cam.distance = azimuth, elevation, distance
     frames = np.empty((n_out, height, width, 3), dtype=np.uint8)
     with mujoco.Renderer(model, height=height, width=width) as renderer:
-        for k, t in enumerate(index):
+        for k, t in enumerate(tqdm(index, desc=f"rendering {motion.name}", unit="frame", disable=not progress)):
             data.qpos[:] = motion.qpos[t]
             mujoco.mj_forward(model, data)
             cam.lookat[:] = [data.qpos[0], data.qpos[1], 0.9]
             renderer.update_scene(data, camera=cam)
             frames[k] = renderer.render()
+    if marked is not None:
+        b = MARK_BORDER_PX
+        for k in np.flatnonzero(np.asarray(marked, bool)[index]):
+            frames[k, :b], frames[k, -b:], frames[k, :, :b], frames[k, :, -b:] = (MARK_RGB,) * 4
     return frames
 
 
 def render(motions: Motion | list[Motion], out: str | Path, fps: float = 30.0, width: int = 480,
-           height: int = 360) -> Path:
+           height: int = 360, marked: Sequence[np.ndarray | None] | None = None, progress: bool = False) -> Path:
     """Render one motion, or several side by side, to ``out`` (.mp4, .gif, or .png = first frame).
 
     Panels are padded to the longest motion by holding their last frame; the file is written
-    atomically.
+    atomically. ``marked`` (one entry per motion, ``None`` or see :func:`render_frames`) draws a red
+    border around the marked frames of each panel; ``progress`` shows a progress bar per panel.
     """
     out = Path(out)
     if out.suffix.lower() not in SUPPORTED:
         raise ValueError(f"{out}: unsupported output type {out.suffix!r}; use one of {', '.join(SUPPORTED)}")
     motions = [motions] if isinstance(motions, Motion) else list(motions)
-    panels = [render_frames(m, width, height, fps) for m in motions]
+    marked = [None] * len(motions) if marked is None else list(marked)
+    if len(marked) != len(motions):
+        raise ValueError(f"marked has {len(marked)} entries for {len(motions)} motions")
+    panels = [render_frames(m, width, height, fps, marked=k, progress=progress) for m, k in zip(motions, marked)]
     n = max(len(p) for p in panels)
     panels = [np.concatenate([p, np.repeat(p[-1:], n - len(p), axis=0)]) for p in panels]
     video = np.concatenate(panels, axis=2)

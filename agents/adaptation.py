@@ -1,0 +1,305 @@
+"""Per-clip adaptation: PPO fine-tunes a trained mimic policy on the one clip it is asked to clean.
+
+A general policy (``models/mimic_imu``) often fails on a clip it never saw; a few minutes of PPO
+on that clip alone, starting from its weights, specialise it to that clip. :func:`adapt_policy`
+builds ``AdaptConfig.n_envs`` environments of the policy's id and foot model on the clip as given
+(corrupted or not; ``artefacts=None``, episodes start where the policy fails more often), wraps
+them in the policy's observation statistics, loads its PPO weights and learns in chunks of
+``chunk_steps``; after each chunk the deterministic policy is evaluated on the clip
+(:func:`agents.evaluation.evaluate`, ``eval_episodes`` start frames spread over the clip). It stops
+when SR90 reaches ``target_sr90``, when ``budget_s`` of wall time (evaluations included) or
+``max_steps`` run out, and keeps the best chunk (SR90, then ELR; the policy as given when no
+chunk beats it).
+
+The observation statistics stay frozen (``VecNormalize.training = False``, unless
+``update_normalizer``): the policy's layers were trained on inputs normalised by them, so moving
+them on one clip would shift every input of the pre-trained network at once, and with the millions
+of steps they already count a few thousand more would move them by well under 1% anyway.
+
+The adapted policy is a policy directory like any other (``model.zip``,
+``model_vecnormalize.pkl``, ``sidecar.json`` with an ``adaptation`` record), cached under
+``cache_dir/<key>/`` where ``key`` (:func:`adaptation_key`) hashes the clip's content, rate and
+model with the policy's path and weights, so cleaning the same clip again skips the training.
+"""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+import os
+import shutil
+import time
+from dataclasses import asdict, dataclass, field, replace
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3 import PPO
+from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.vec_env import VecNormalize
+from tqdm import tqdm
+
+import envs  # noqa: F401  (registers the ids)
+from agents.evaluation import evaluate
+from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy
+from agents.rollout import torch_threads
+from agents.sidecar import PolicySidecar
+from envs.config import MimicConfig
+from reference_motion.motion import Motion
+
+
+def default_cache_dir() -> Path:
+    """``$XDG_CACHE_HOME/physmimic/adapted`` (default ``~/.cache/physmimic/adapted``)."""
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "physmimic" / "adapted"
+
+
+MIN_ADAPT_FRAMES = MimicConfig().min_clip_frames + 1
+"""Frames a clip needs for a mimic environment to train on it (31 at 60 Hz)."""
+
+
+@dataclass(frozen=True)
+class AdaptConfig:
+    """How a policy is adapted to one clip.
+
+    Attributes:
+        budget_s: wall-time budget (s) of the whole adaptation, evaluations included (300).
+        target_sr90: stop once an evaluation reaches this SR90 (0.9).
+        chunk_steps: environment (control) steps between evaluations (20 000).
+        max_steps: most environment steps in all (``None``: only the budget limits).
+        n_envs: environments stepped together (4; a DummyVecEnv, one process).
+        n_steps: rollout length per environment per PPO update (512; 2048 steps per update).
+        eval_episodes: deterministic rollouts per evaluation, start frames spread over the clip (5).
+        seed: seed of the environments and of PPO's sampling (0).
+        update_normalizer: let the observation statistics follow this clip (False: frozen, see
+            the module's documentation).
+        torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
+            and where other processes use the cores, more threads wait on each other: 2 threads
+            took 69 s for what 1 does in 3 s beside a training run on 2 cores).
+        cache_dir: where adapted policies are kept (:func:`default_cache_dir`).
+    """
+
+    budget_s: float = 300.0
+    target_sr90: float = 0.9
+    chunk_steps: int = 20_000
+    max_steps: int | None = None
+    n_envs: int = 4
+    n_steps: int = 512
+    eval_episodes: int = 5
+    seed: int = 0
+    update_normalizer: bool = False
+    torch_threads: int = 1
+    cache_dir: Path = field(default_factory=default_cache_dir)
+
+    def __post_init__(self) -> None:
+        if not self.budget_s > 0:
+            raise ValueError(f"budget_s must be positive, got {self.budget_s}")
+        for name in ("chunk_steps", "n_envs", "n_steps", "eval_episodes", "torch_threads"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
+        if self.max_steps is not None and self.max_steps < 1:
+            raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
+
+    def covers(self, other: AdaptConfig) -> bool:
+        """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
+        steps = self.max_steps or float("inf")
+        return self.budget_s >= other.budget_s and steps >= (other.max_steps or float("inf"))
+
+
+@dataclass(frozen=True)
+class AdaptResult:
+    """What adaptation achieved.
+
+    Attributes:
+        policy: the adapted policy (loaded from :attr:`path`).
+        path: its directory in the cache.
+        key: its cache key (:func:`adaptation_key`).
+        cached: whether it came from the cache (no training in this call).
+        sr90_before, sr90_after: SR90 on the clip of the policy as given and as adapted.
+        elr_before, elr_after: the same for ELR.
+        steps: environment steps trained.
+        wall_s: wall time of the adaptation (s; of the run that made it, when cached).
+        stopped_by: ``"target"`` (SR90 reached ``target_sr90``), ``"already_good"`` (it had before
+            any training), ``"budget"`` or ``"max_steps"``.
+        chunks: one record per evaluated chunk: ``steps``, ``wall_s``, ``SR90``, ``ELR_mean``.
+    """
+
+    policy: MimicPolicy
+    path: Path
+    key: str
+    cached: bool
+    sr90_before: float
+    sr90_after: float
+    elr_before: float
+    elr_after: float
+    steps: int
+    wall_s: float
+    stopped_by: str
+    chunks: list[dict]
+
+    def as_dict(self) -> dict:
+        """JSON-ready record (without the policy object)."""
+        return {"path": str(self.path), "key": self.key, "cached": self.cached, "SR90_before": self.sr90_before,
+                "SR90_after": self.sr90_after, "ELR_before": self.elr_before, "ELR_after": self.elr_after,
+                "steps": self.steps, "wall_s": self.wall_s, "stopped_by": self.stopped_by, "chunks": self.chunks}
+
+
+def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
+    """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
+    resolved path and the bytes of its ``model.zip``)."""
+    h = hashlib.sha1()
+    h.update(np.ascontiguousarray(reference.qpos, dtype=np.float64).tobytes())
+    h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
+    h.update((Path(policy.path) / MODEL_FILE).read_bytes())
+    return h.hexdigest()
+
+
+class _Budget(BaseCallback):
+    """Stops ``learn`` at ``deadline`` (``time.monotonic()``) and moves the progress bar (seconds)."""
+
+    def __init__(self, deadline: float, started: float, bar: tqdm):
+        super().__init__()
+        self.deadline, self.started, self.bar = deadline, started, bar
+
+    def _on_step(self) -> bool:
+        now = time.monotonic()
+        elapsed = min(int(now - self.started), int(self.bar.total))
+        if elapsed > self.bar.n:
+            self.bar.update(elapsed - self.bar.n)
+        return now < self.deadline
+
+
+def _evaluate(env: gym.Env, policy: MimicPolicy, episodes: int) -> dict[str, float]:
+    """SR90 and ELR of ``policy`` on ``env``'s one clip: ``episodes`` rollouts from start frames
+    spread evenly over the clip."""
+    offset_step = env.unwrapped.last_start(0) // max(episodes - 1, 1)
+    summary, _ = evaluate(env, policy, episodes=episodes, offset_step=offset_step)
+    return summary
+
+
+def _result(path: Path, record: dict, cached: bool) -> AdaptResult:
+    """The :class:`AdaptResult` of the adapted policy in ``path`` with its ``adaptation`` record."""
+    return AdaptResult(policy=load_policy(path), path=path, key=record["key"], cached=cached,
+                       sr90_before=record["SR90_before"], sr90_after=record["SR90_after"],
+                       elr_before=record["ELR_before"], elr_after=record["ELR_after"], steps=record["steps"],
+                       wall_s=record["wall_s"], stopped_by=record["stopped_by"], chunks=record["chunks"])
+
+
+def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
+    """The cached adaptation in ``path`` if there is one that reached ``config``'s target or was
+    made with at least ``config``'s budget and steps."""
+    sidecar = path / SIDECAR_FILE
+    if not sidecar.is_file():
+        return None
+    try:
+        record = json.loads(sidecar.read_text())["adaptation"]
+        made_with = AdaptConfig(**{**record["config"], "cache_dir": config.cache_dir})
+    except (ValueError, KeyError, TypeError):
+        return None  # an older or damaged entry: adapt again
+    if record["SR90_after"] < config.target_sr90 and not made_with.covers(config):
+        return None
+    return _result(path, record, cached=True)
+
+
+def adapt_policy(policy: MimicPolicy, reference: Motion, config: AdaptConfig = AdaptConfig(),
+                 progress: bool = True) -> AdaptResult:
+    """``policy`` fine-tuned with PPO on ``reference`` (at least :data:`MIN_ADAPT_FRAMES` frames,
+    the policy's model, 60 Hz), or the cached result of an earlier call (see the module's
+    documentation)."""
+    if reference.n_frames < MIN_ADAPT_FRAMES:
+        raise ValueError(f"{reference.name}: {reference.n_frames} frames; adaptation needs at least "
+                         f"{MIN_ADAPT_FRAMES}")
+    key = adaptation_key(reference, policy)
+    path = Path(config.cache_dir) / key
+    with torch_threads(config.torch_threads):
+        return _load_cached(path, config) or _adapt(policy, reference, config, key, path, progress)
+
+
+def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str, path: Path,
+           progress: bool) -> AdaptResult:
+    """:func:`adapt_policy` without the cache: train, keep the best chunk, write ``path``."""
+    started = time.monotonic()
+    eval_env = policy.make_env([reference], artefacts=None)  # the policy's own task, on this clip as given
+    eval_env.reset(seed=config.seed)
+    venv = VecNormalize.load(str(Path(policy.path) / STATS_FILE),
+                             make_vec_env(lambda: policy.make_env([reference], artefacts=None), n_envs=config.n_envs,
+                                          seed=config.seed))
+    venv.training = config.update_normalizer
+    batch_size = min(policy.model.batch_size, config.n_steps * config.n_envs)
+    model = PPO.load(Path(policy.path) / MODEL_FILE, env=venv, device="cpu", n_steps=config.n_steps,
+                     batch_size=batch_size, seed=config.seed, tensorboard_log=None, verbose=0)
+    model.policy.log_std.requires_grad_(False)  # the exploration noise stays as trained (train_ppo.py)
+    adapted = MimicPolicy(Path(policy.path), model, venv, policy.sidecar)
+
+    def snapshot() -> tuple[dict, object]:
+        return copy.deepcopy(model.policy.state_dict()), copy.deepcopy(venv.obs_rms)
+
+    t0 = time.monotonic()
+    before = best = _evaluate(eval_env, adapted, config.eval_episodes)
+    eval_s = time.monotonic() - t0
+    best_state = snapshot()
+    first_step, chunks = model.num_timesteps, []
+    stopped_by = "already_good" if before["SR90"] >= config.target_sr90 else ""
+    bar = tqdm(total=int(np.ceil(config.budget_s)), desc=f"adapting to {reference.name}", unit="s",
+               disable=not progress)
+    bar.set_postfix(SR90=f"{before['SR90']:.2f}", steps=0)
+    while not stopped_by:
+        trained = model.num_timesteps - first_step
+        deadline = started + config.budget_s - eval_s  # leave time for the evaluation after the chunk
+        if time.monotonic() >= deadline:
+            stopped_by = "budget"
+            break
+        chunk = config.chunk_steps if config.max_steps is None else min(config.chunk_steps, config.max_steps - trained)
+        model.learn(chunk, callback=_Budget(deadline, started, bar), reset_num_timesteps=False, progress_bar=False)
+        t0 = time.monotonic()
+        summary = _evaluate(eval_env, adapted, config.eval_episodes)
+        eval_s = time.monotonic() - t0
+        trained = model.num_timesteps - first_step
+        chunks.append({"steps": trained, "wall_s": time.monotonic() - started, "SR90": summary["SR90"],
+                       "ELR_mean": summary["ELR_mean"]})
+        bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
+        if (summary["SR90"], summary["ELR_mean"]) > (best["SR90"], best["ELR_mean"]):  # survive first, then longer
+            best, best_state = summary, snapshot()
+        if summary["SR90"] >= config.target_sr90:
+            stopped_by = "target"
+        elif config.max_steps is not None and trained >= config.max_steps:
+            stopped_by = "max_steps"
+        elif time.monotonic() >= started + config.budget_s - eval_s:
+            stopped_by = "budget"
+    bar.close()
+    model.policy.load_state_dict(best_state[0])
+    venv.obs_rms = best_state[1]
+    wall_s = time.monotonic() - started
+    record = {"key": key, "base_policy": str(policy.path), "clip": reference.name, "SR90_before": before["SR90"],
+              "SR90_after": best["SR90"], "ELR_before": before["ELR_mean"], "ELR_after": best["ELR_mean"],
+              "steps": model.num_timesteps - first_step, "wall_s": wall_s, "stopped_by": stopped_by, "chunks": chunks,
+              "config": {k: v for k, v in asdict(config).items() if k != "cache_dir"}}
+    _save(path, model, venv, _sidecar(policy, reference, record, best))
+    venv.close()
+    eval_env.close()
+    return _result(path, record, cached=False)
+
+
+def _sidecar(policy: MimicPolicy, reference: Motion, record: dict, metrics: dict) -> PolicySidecar:
+    """The adapted policy's sidecar: the base policy's task and PPO settings, its training record
+    continued on ``reference`` (``init_from`` the base policy), the evaluation on the clip, and
+    the ``adaptation`` record."""
+    base = policy.record
+    training = replace(base.training, clips=[reference.name], eval_clips=[reference.name], corrupted_fraction=0.0,
+                       mirror=False, speeds=[1.0], init_from=str(policy.path),
+                       steps=base.training.steps + record["steps"], wall_s=base.training.wall_s + record["wall_s"])
+    return replace(base, training=training, metrics=metrics, score=None, extra={**base.extra, "adaptation": record})
+
+
+def _save(path: Path, model: PPO, venv: VecNormalize, sidecar: PolicySidecar) -> None:
+    """Write the policy directory ``path`` whole: into a temporary folder beside it, then renamed."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    model.save(tmp / MODEL_FILE)
+    venv.save(str(tmp / STATS_FILE))
+    sidecar.save(tmp / SIDECAR_FILE)
+    shutil.rmtree(path, ignore_errors=True)
+    os.replace(tmp, path)

@@ -1,0 +1,145 @@
+"""clean.py: retries and re-anchors after a failure, per-clip adaptation and its cache, the video
+marks, with the shipped walk policy (each test a few seconds)."""
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from agents import clean
+from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key
+from agents.clean import CleanConfig, StateRing, clean_motion, reanchor_marks
+from agents.policy import MimicPolicy, load_policy
+from agents.rollout import FAILURES, run_episode
+from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+from reference_motion.render import MARK_RGB, render_frames
+
+WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
+
+
+@pytest.fixture(scope="module")
+def walk_policy() -> MimicPolicy:
+    return load_policy(WALK_POLICY)
+
+
+class Flailing(MimicPolicy):
+    """The walk policy, except that its calls number ``first`` to ``first + count - 1`` output the
+    largest action on every driven hinge (a forced failure)."""
+
+    def __init__(self, base: MimicPolicy, first: int = 1, count: int = 10**9):
+        super().__init__(base.path, base.model, base.normalizer, base.sidecar)
+        self.first, self.count, self.calls = first, count, 0
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        self.calls += 1
+        if self.first <= self.calls < self.first + self.count:
+            return np.ones(self.model.action_space.shape, dtype=np.float32)
+        return super().__call__(obs)
+
+
+def test_a_good_policy_performs_the_whole_clip_in_one_simulation(walk_policy, walk):
+    cleaned = clean_motion(walk_policy, walk, progress=False)
+    assert cleaned.n_frames == walk.n_frames and np.isfinite(cleaned.qpos).all()
+    assert cleaned.source["simulated_fraction"] == 1.0
+    assert cleaned.source["reanchors"] == [] and cleaned.source["recoveries"] == []
+    assert not reanchor_marks(cleaned).any()
+    # it is the physics, not the reference: the first stretch is the policy's own rollout from frame 0
+    env = walk_policy.make_env([walk], artefacts=None)
+    episode = run_episode(env, walk_policy, {"clip": 0, "start_frame": 0})
+    assert episode.ended_by == "time_limit"
+    np.testing.assert_allclose(cleaned.qpos[:100], episode.qpos[:100], atol=1e-9)
+    assert not np.allclose(cleaned.qpos, walk.qpos, atol=1e-3)
+
+
+def test_a_failure_is_retried_from_before_it(walk_policy, walk):
+    """The policy flails for 30 steps (a failure); stochastic retries of the walk policy from 1 s
+    before it get past it: recorded as recoveries, no re-anchor, every frame simulated."""
+    cleaned = clean_motion(Flailing(walk_policy, first=60, count=30), walk, CleanConfig(rewind_s=1.0), progress=False)
+    recoveries = cleaned.source["recoveries"]
+    assert recoveries and all(r["reason"] in FAILURES and r["frame"] < r["failed_at"] for r in recoveries)
+    assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
+    assert np.isfinite(cleaned.qpos).all()
+
+
+def test_when_every_retry_fails_it_reanchors_and_says_where_and_why(walk_policy, walk, monkeypatch):
+    monkeypatch.setattr(clean, "sampling_policy", lambda policy: policy)  # the retries flail too
+    cleaned = clean_motion(Flailing(walk_policy), walk, CleanConfig(retries=2), progress=False)
+    reanchors = cleaned.source["reanchors"]
+    assert reanchors, "a policy at the action limit must fail"
+    frames = [r["frame"] for r in reanchors]
+    assert frames == sorted(set(frames)) and 0 < frames[0] and frames[-1] <= walk.n_frames - 1
+    for r in reanchors:
+        assert r["reason"] in FAILURES and r["retries"] == 2 and r["failed_at"] <= r["best_reached"]
+        assert r["jump_m"] is None or r["jump_m"] >= 0
+    assert cleaned.source["simulated_fraction"] == pytest.approx(1 - len(reanchors) / (walk.n_frames - 1))
+    assert cleaned.n_frames == walk.n_frames and np.isfinite(cleaned.qpos).all()
+    # a re-anchored frame is the reference state there (lifted above the floor at most)
+    f = frames[0]
+    np.testing.assert_allclose(cleaned.qpos[f, 3:], walk.qpos[f, 3:], atol=1e-9)
+    marks = reanchor_marks(cleaned)
+    assert marks[f:f + 30].all() and not marks[:f].any()
+
+
+def test_state_ring_keeps_the_last_frames_only():
+    ring = StateRing(3)
+    for f in range(5):
+        ring.push(f, np.full(2, f), np.zeros(1))
+    assert ring.state(4)[0][0] == 4 and ring.state(2)[0][0] == 2
+    with pytest.raises(KeyError):
+        ring.state(1)
+    ring.drop_after(2)
+    ring.push(3, np.full(2, 7), np.zeros(1))
+    assert ring.state(3)[0][0] == 7
+    with pytest.raises(ValueError):
+        ring.push(5, np.zeros(2), np.zeros(1))
+
+
+def test_marked_frames_get_a_red_border():
+    motion = load_motion("deepmimic:walk")
+    motion = motion.with_qpos(motion.qpos[:4])
+    frames = render_frames(motion, 64, 48, marked=np.array([False, True, False, False]))
+    assert tuple(frames[1, 0, 0]) == MARK_RGB and tuple(frames[1, 24, -1]) == MARK_RGB
+    assert tuple(frames[0, 0, 0]) != MARK_RGB
+
+
+def test_adaptation_writes_the_cache_and_reuses_it(walk_policy, tmp_path):
+    """A tiny budget: one PPO update on a clip the walk policy lags on, then the cache."""
+    turn = load_motion("deepmimic:walker/turn_left1", min_frames=600)
+    config = AdaptConfig(budget_s=20, max_steps=1024, chunk_steps=1024, n_envs=2, eval_episodes=2,
+                         cache_dir=tmp_path)
+    first = adapt_policy(walk_policy, turn, config, progress=False)
+    assert not first.cached and first.stopped_by in ("max_steps", "target", "budget")
+    assert first.steps >= 1024 and first.wall_s < 20 and len(first.chunks) == 1
+    assert first.path == tmp_path / adaptation_key(turn, walk_policy)
+    assert (first.sr90_after, first.elr_after) >= (first.sr90_before, first.elr_before)  # the best chunk is kept
+    sidecar = json.loads((first.path / "sidecar.json").read_text())
+    assert sidecar["adaptation"]["steps"] == first.steps and sidecar["training"]["init_from"] == str(WALK_POLICY)
+    assert first.policy.foot == walk_policy.foot and first.policy.env_id == walk_policy.env_id
+    started = time.perf_counter()
+    second = adapt_policy(walk_policy, turn, config, progress=False)
+    assert second.cached and second.path == first.path and second.steps == first.steps
+    assert time.perf_counter() - started < 5
+    # another clip (here: the same one corrupted) is another entry; a bigger budget adapts again
+    assert adaptation_key(turn.with_qpos(turn.qpos + 1e-6), walk_policy) != first.key
+    assert not AdaptConfig(budget_s=20, max_steps=1024).covers(AdaptConfig(budget_s=60, max_steps=1024))
+
+
+def test_cli_adapts_by_default_and_not_with_no_adapt(tmp_path):
+    common = ["deepmimic:walker/turn_left1", "--policy", str(WALK_POLICY), "--min-frames", "200"]
+    adapted = clean.main([*common, "--out", str(tmp_path / "a.npz"), "--json", str(tmp_path / "a.json"),
+                          "--adapt-budget-s", "20", "--adapt-steps", "512", "--adapt-chunk", "512",
+                          "--adapt-cache", str(tmp_path / "cache")])
+    record = json.loads((tmp_path / "a.json").read_text())
+    assert record["adaptation"]["steps"] >= 512 and not record["adaptation"]["cached"]
+    assert record["cleaned_by"] == record["adaptation"]["path"] != str(WALK_POLICY)
+    frames = Motion.load(tmp_path / "a.npz").n_frames
+    assert adapted["simulated_fraction"] == 1 - len(adapted["reanchors"]) / (frames - 1)
+    zero_shot = clean.main([*common, "--no-adapt", "--out", str(tmp_path / "z.npz"),
+                            "--json", str(tmp_path / "z.json")])
+    assert zero_shot["adaptation"] is None and zero_shot["cleaned_by"] == str(WALK_POLICY)
+    cleaned = Motion.load(tmp_path / "z.npz")
+    assert cleaned.source["reanchors"] == zero_shot["reanchors"] and np.isfinite(cleaned.qpos).all()
+    assert set(zero_shot["input"]) >= {"foot_skate_mps", "jitter"}
