@@ -28,13 +28,13 @@ import re
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
-import gymnasium as gym
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.policy import MimicPolicy, load_policy
+from agents.rollout import run_episode
 from envs.config import FOOT_MODELS, MimicConfig
 from perception.dataset import summarize
 from perception.skeleton import N_JOINTS, joint_map
@@ -185,8 +185,7 @@ def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tup
                          f"{variant.speed:.2f}x time warp, not more than min_episode_s = {config.min_episode_s} s: "
                          "no episode could be kept")
     episode_frames = min(longest, reference.n_frames - 1)
-    env = gym.make(policy.env_id, clips=[reference], artefacts=None, foot=policy.foot, episode_frames=episode_frames)
-    policy.check_env(env)
+    env = policy.make_env([reference], artefacts=None, episode_frames=episode_frames)
     base = env.unwrapped
     recorder = FrameRecorder(model)
     base.frame_hook, base.substep_hook = recorder, recorder.substep
@@ -194,20 +193,17 @@ def perform(variant: Variant, policy: MimicPolicy, config: DatasetConfig) -> tup
     chunks, records = [], []
     rng = np.random.default_rng([config.seed, variant.artefact_seed])
     for e, start in enumerate(starts):
-        obs, _ = env.reset(seed=int(rng.integers(2**31)), options={"start_frame": int(start)})
         recorder.take(0)
-        term = trunc = False
-        info: dict = {}
-        while not (term or trunc):
-            obs, _, term, trunc, info = env.step(policy(obs))
+        episode = run_episode(env, policy, {"start_frame": int(start)}, seed=int(rng.integers(2**31)))
         n = len(recorder.frames["qpos"])
-        keep = n if info.get("ended_by") == "time_limit" else max(0, n - int(round(config.fall_margin_s * fps)))
+        ended_by = episode.ended_by
+        keep = n if ended_by == "time_limit" else max(0, n - int(round(config.fall_margin_s * fps)))
         frames = recorder.take(keep)
         frames["forces_raw"] = frames["forces"]
         frames["forces"] = insole(frames["forces_raw"], fps, config.insole_smoothing_s)
         frames["contacts"] = np.array([recorder.humanoid.foot_contacts(None, c)
                                        for c in frames["forces_raw"]]).reshape(-1, 4)
-        records.append({"start_frame": int(start), "frames": int(keep), "ended_by": info.get("ended_by", "")})
+        records.append({"start_frame": int(start), "frames": int(keep), "ended_by": ended_by})
         if keep >= config.min_episode_s * fps:
             frames["episode"] = np.full(keep, e, dtype=np.int32)
             chunks.append(frames)
