@@ -2,13 +2,16 @@
 
 :class:`MimicConfig` holds the task's timing, action, reward and termination constants (adapt
 Tables 2 and 3); :class:`ArtefactMix` says which episodes get an IMU-corrupted reference (ADAPT's
-clean/faulty training mix). The three registered ids differ only in ``obs_mode`` and
-``action_mode``.
+clean/faulty training mix). The three ADAPT ids differ only in ``obs_mode`` and
+``action_mode``. :class:`GaitConfig` holds the constants of ``MimicGait-v0`` (ContactVision's
+reconstruction reward, contactvision App. C).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from reference_motion.artefacts import ArtefactRecipe
 
@@ -19,11 +22,18 @@ OBS_MODES = ("adapt", "drecon")
 """``adapt``: adapt Table 1 over all bodies (273-D on ``humanoid_1seg``); ``drecon``: the same
 terms over DReCon's key bodies only (:data:`DRECON_BODIES`), the reduced-state ablation."""
 
-ACTION_MODES = ("key", "full")
-"""``key``: offsets on the 8 key joints (20 hinges, adapt eq. 4); ``full``: every actuated hinge."""
-
 KEY_JOINT_BODIES = ("r_upper_arm", "r_thigh", "r_shin", "r_foot", "l_upper_arm", "l_thigh", "l_shin", "l_foot")
 """Bodies whose hinges the policy drives in ``key`` action mode: shoulders, hips, knees, ankles (adapt eq. 4)."""
+
+TOE_BODIES = ("l_toe", "r_toe")
+"""The toe segments of ``humanoid_2seg``, each on one hinge (pitch; + bends the toes up)."""
+
+ACTION_BODIES = {"key": KEY_JOINT_BODIES, "key_toes": KEY_JOINT_BODIES + TOE_BODIES}
+"""Driven bodies of the action modes that drive a subset of the hinges."""
+
+ACTION_MODES = ("key", "key_toes", "full")
+"""``key``: offsets on the 8 key joints (20 hinges, adapt eq. 4); ``key_toes``: those and the two
+toe hinges (22; ``humanoid_2seg`` only, the ``MimicGait-v0`` default); ``full``: every actuated hinge."""
 
 DRECON_BODIES = ("pelvis", "head", "l_hand", "r_hand", "l_foot", "r_foot")
 """Bodies observed in ``drecon`` mode: the root and the end effectors, as DReCon's reduced state."""
@@ -117,3 +127,92 @@ class ArtefactMix:
             raise ValueError(f"ArtefactMix.fraction must be in [0, 1], got {self.fraction}")
         if self.variants_per_clip < 1:
             raise ValueError(f"ArtefactMix.variants_per_clip must be >= 1, got {self.variants_per_clip}")
+
+
+CONTACT_MODES = ("vgrf", "keypoints")
+"""Named sources of ``MimicGait-v0``'s contact targets: VGRFNet + Γ on the reference's joints, or
+the ContactTransformer on 2D keypoints of the reference filmed from the side."""
+
+MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
+DEFAULT_VGRF_NET = MODELS_DIR / "vgrf"
+"""The shipped VGRFNet (``python -m perception train-vgrf``)."""
+DEFAULT_CONTACT_NET = MODELS_DIR / "contact_transformer"
+"""The shipped ContactTransformer (``python -m perception train-keypoints``)."""
+
+
+@dataclass(frozen=True)
+class GaitConfig:
+    """Constants of ``MimicGait-v0``: ContactVision's reconstruction reward (contactvision eq. 6,
+    App. C) and what the policy observes of the gait targets.
+
+    R = w_q r_q + w_v r_v + w_e r_e + w_fc r_fc + w_up r_up + w_root_ori r_root_ori + w_torque r_torque,
+    each term exp(−α · squared error) (:mod:`envs.rewards`). The weights are ContactVision's
+    (App. C; they sum to 1, so R ≤ 1). ContactVision gives no α. r_q and r_e take DeepMimic's
+    (Peng et al. 2018: pose 2, end effector 40), on whose reward terms Yu et al. [YPL21], and so
+    ContactVision, build; the other five are ours, each set so that the term halves at an error
+    one would call clearly wrong, or, for r_v and r_torque, is about 0.5 and 0.9 where PD
+    controllers following the reference leave it (measured on ``deepmimic:walk``).
+
+    Attributes:
+        w_q, w_v, w_e, w_fc, w_up, w_root_ori, w_torque: term weights (contactvision App. C).
+        alpha_q: r_q, per rad² summed over all 45 hinges (DeepMimic's 2; the toe hinges' reference
+            is the ToeRefEstimator's angle).
+        alpha_v: r_v, per (rad/s)² summed over all hinges: halves at 28 (rad/s)² (ours). The PD
+            controllers following the 60 Hz reference from its own state leave 20–30 (rad/s)²,
+            where DeepMimic's 0.1 would already give 0.05–0.1, and so no signal.
+        alpha_e: r_e, per m² summed over the end effectors (DeepMimic's 40).
+        alpha_fc: r_fc, per wrong contact channel: one channel wrong gives exp(−1) ≈ 0.37, two
+            0.14 (ours; ContactVision's xor count is small, 0–4, so α_fc ~ 1 makes each mistake count).
+        alpha_up: r_up, per rad² of upper-body tilt error: halves at 15° (ours).
+        alpha_root_ori: r_root_ori, on (1 − cos tilt)²: halves at a 28° pelvis tilt, 0.01 at 45°
+            (ours; walking tilts the pelvis < 10°, which costs at most 1.2%).
+        alpha_torque: r_torque, on Σ (τ / τ_max)² over the actuators (torque over force limit):
+            halves at a sum of 0.69, e.g. three joints at 48% of their limit (ours; following the
+            reference on walk the sum is 0.1–0.2, r_torque ≈ 0.85, and a stumble reaches 0.8).
+        end_effectors: bodies of r_e (hands and feet, contactvision App. C).
+        preview_frames: the observation carries the contact and toe targets of this many next
+            reference frames (60 Hz; 4 = the next two policy steps).
+        keypoint_azimuth_deg: ``contacts="keypoints"`` films the reference from this direction
+            (degrees from +x towards +y; 90 = from the character's left, a side view of a clip
+            that starts facing +x) at ContactVision's rig distance and height (4 m, 1 m).
+    """
+
+    w_q: float = 0.3
+    w_v: float = 0.05
+    w_e: float = 0.05
+    w_fc: float = 0.3
+    w_up: float = 0.1
+    w_root_ori: float = 0.15
+    w_torque: float = 0.05
+    alpha_q: float = 2.0
+    alpha_v: float = 0.025
+    alpha_e: float = 40.0
+    alpha_fc: float = 1.0
+    alpha_up: float = math.log(2.0) / math.radians(15.0) ** 2
+    alpha_root_ori: float = math.log(2.0) / (1.0 - math.cos(math.radians(28.0))) ** 2
+    alpha_torque: float = 1.0
+    end_effectors: tuple[str, ...] = ("l_hand", "r_hand", "l_foot", "r_foot")
+    preview_frames: int = 4
+    keypoint_azimuth_deg: float = 90.0
+
+    def __post_init__(self) -> None:
+        named = {**{f"w_{k[2:]}": w for k, w in self.weights.items()}, **{f"alpha_{k[2:]}": a for k, a in self.alphas.items()}}
+        bad = {k: v for k, v in named.items() if not (math.isfinite(v) and v >= 0)}
+        if bad:
+            raise ValueError(f"GaitConfig weights and alphas must be finite and >= 0, got {bad}")
+        if self.preview_frames < 1:
+            raise ValueError(f"GaitConfig.preview_frames must be >= 1, got {self.preview_frames}")
+        if not self.end_effectors:
+            raise ValueError("GaitConfig.end_effectors is empty")
+
+    @property
+    def weights(self) -> dict[str, float]:
+        """``{term: w}`` for the terms of :data:`envs.rewards.GAIT_TERMS`."""
+        return {"r_q": self.w_q, "r_v": self.w_v, "r_e": self.w_e, "r_fc": self.w_fc, "r_up": self.w_up,
+                "r_root_ori": self.w_root_ori, "r_torque": self.w_torque}
+
+    @property
+    def alphas(self) -> dict[str, float]:
+        """``{term: α}`` for the terms of :data:`envs.rewards.GAIT_TERMS`."""
+        return {"r_q": self.alpha_q, "r_v": self.alpha_v, "r_e": self.alpha_e, "r_fc": self.alpha_fc,
+                "r_up": self.alpha_up, "r_root_ori": self.alpha_root_ori, "r_torque": self.alpha_torque}

@@ -19,13 +19,14 @@ import mujoco
 import numpy as np
 
 from envs.bodies import read_body_state, update_kinematics
-from envs.config import (ACTION_MODES, DRECON_BODIES, FOOT_MODELS, KEY_JOINT_BODIES, OBS_MODES, SPINAL_BODIES,
+from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig)
-from envs.observations import mimic_observation, observation_size, observation_slices
+from envs.observations import mimic_observation, observation_slices
 from envs.reference import ReferenceTrack
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
-from envs.rewards import cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward, unstable
+from envs.rewards import (RewardTerms, cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
+                          unstable)
 from reference_motion import rotations as rot
 from reference_motion.artefacts import corrupt
 from reference_motion.humanoid.model import load_model
@@ -50,7 +51,8 @@ class MimicEnv(gym.Env):
         foot: ``"one"`` (``humanoid_1seg``) or ``"two"`` (``humanoid_2seg``, toe joint open loop).
         episode_frames: longest episode in reference frames (default 300 = 5 s at 60 Hz).
         obs_mode: ``"adapt"`` (all bodies, adapt Table 1) or ``"drecon"`` (key bodies only).
-        action_mode: ``"key"`` (20 hinges of the 8 key joints) or ``"full"`` (every actuated hinge).
+        action_mode: ``"key"`` (20 hinges of the 8 key joints), ``"key_toes"`` (those and the two toe
+            hinges; ``foot="two"`` only) or ``"full"`` (every actuated hinge).
         config: the remaining constants (:class:`MimicConfig`); ``episode_frames`` overrides its field.
         sampling: how episodes pick their clip and start frame (:class:`envs.sampling.SamplingConfig`;
             default: where the policy currently fails more often).
@@ -82,6 +84,8 @@ class MimicEnv(gym.Env):
         _check_choice("foot", foot, tuple(FOOT_MODELS))
         _check_choice("obs_mode", obs_mode, OBS_MODES)
         _check_choice("action_mode", action_mode, ACTION_MODES)
+        if action_mode == "key_toes" and foot != "two":
+            raise ValueError(f"action_mode 'key_toes' drives the toe hinges, which only foot='two' has; got foot={foot!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         if artefacts is not None and not isinstance(artefacts, ArtefactMix):
@@ -111,8 +115,8 @@ class MimicEnv(gym.Env):
         self.parent = m.body_parentid[1:] - 1
         self.jointed = np.flatnonzero(m.body_jntnum[1:] > 0)
         self.head = names.index("head")
-        if action_mode == "key":
-            self.driven = np.array([actuator_of_qpos[int(q)] for b in KEY_JOINT_BODIES
+        if action_mode in ACTION_BODIES:
+            self.driven = np.array([actuator_of_qpos[int(q)] for b in ACTION_BODIES[action_mode]
                                     for q in self.humanoid.body_joints[b].qpos_index])
         else:
             self.driven = np.arange(m.nu)
@@ -122,10 +126,11 @@ class MimicEnv(gym.Env):
         """Bodies in the observation (all, or DReCon's key bodies)."""
         n_obs_bodies = len(names) if obs_mode == "adapt" else len(DRECON_BODIES)
         n_act = len(self.driven)
-        self.obs_slices = observation_slices(n_obs_bodies, n_act)
+        self.obs_slices = self._observation_slices(n_obs_bodies, n_act)
+        """Named slices of the observation vector (:mod:`envs.observations`)."""
         lim = config.action_limit_rad
         self.action_space = gym.spaces.Box(-lim, lim, (n_act,), dtype=np.float32)
-        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (observation_size(n_obs_bodies, n_act),),
+        self.observation_space = gym.spaces.Box(-np.inf, np.inf, (max(s.stop for s in self.obs_slices.values()),),
                                                 dtype=np.float32)
 
         self._floor = m.geom("floor").id
@@ -146,6 +151,8 @@ class MimicEnv(gym.Env):
         """Called after every physics substep (to average contact forces over a frame)."""
         self._track: ReferenceTrack | None = None
         self._action = np.zeros(n_act)
+        self._sim_contacts = np.zeros(4, dtype=bool)
+        """The simulated contacts (LT, RT, LH, RH) at the current frame."""
         self._obs = np.zeros(self.observation_space.shape, dtype=np.float32)
 
     # ------------------------------------------------------------------ setup
@@ -253,9 +260,10 @@ class MimicEnv(gym.Env):
         update_kinematics(m, d)
         self._bad_qacc = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
         self._action = np.zeros(len(self.driven))
+        self._sim_contacts = self._contacts(self._floor_contact_geoms())
         self._obs = self._observe(read_body_state(m, d))
         info = {"frame": self._frame, "episode_frame": 0, "clip": track.motion.name, "corrupted": variant >= 0,
-                "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._contacts(self._floor_contact_geoms()),
+                "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._sim_contacts.copy(),
                 "unstable": False, "ended_by": ""}
         return self._obs, info
 
@@ -295,28 +303,41 @@ class MimicEnv(gym.Env):
         info = {"frame": f, "episode_frame": f - self._start, "clip": track.motion.name,
                 "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc or unstable(d.qvel, cfg.max_joint_speed):
-            info.update(r_local=0.0, r_p=0.0, r_v=0.0, e_discount=0.0, total=0.0, reward=0.0,
+            info.update(dict.fromkeys(self.reward_info_keys, 0.0), reward=0.0,
                         contacts=np.zeros(4, bool), unstable=True, ended_by="unstable")
             self._sampler.record(self._clip, self._start, failed=True)
             return self._obs, 0.0, True, False, info
 
         update_kinematics(m, d)
         state = read_body_state(m, d)
-        terms = mimic_reward(
-            rot.relative_to_parent(state.quat, self.parent)[self.jointed], track.local[f],
-            cube_face_points(state.pos - state.pos[0], state.axes, cfg.cube_size_m), track.faces_rel_root[f],
-            cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), track.face_vel[f],
-            state.pos[self.head], track.pos[f, self.head], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
         touching = self._floor_contact_geoms()
-        ended_by = ("lagging" if lagging(terms.e_discount, cfg.discount_threshold)
+        self._sim_contacts = self._contacts(touching)
+        reward, terms = self._reward(state)
+        ended_by = ("lagging" if lagging(terms["e_discount"], cfg.discount_threshold)
                     else "fallen" if fallen(self._spinal_contacts(touching), cfg.fall_contacts) else "")
         truncated = not ended_by and f >= self.episode_end
         if ended_by or truncated:
             self._sampler.record(self._clip, self._start, failed=bool(ended_by))
         self._obs = self._observe(state)
-        info.update(terms.as_dict(), reward=terms.total, contacts=self._contacts(touching), unstable=False,
+        info.update(terms, reward=reward, contacts=self._sim_contacts.copy(), unstable=False,
                     ended_by=ended_by or ("time_limit" if truncated else ""))
-        return self._obs, terms.total, bool(ended_by), truncated, info
+        return self._obs, reward, bool(ended_by), truncated, info
+
+    reward_info_keys: tuple[str, ...] = tuple(RewardTerms.__dataclass_fields__)
+    """The ``info`` entries :meth:`_reward` fills (all 0 after an unstable step); they include
+    ``e_discount``, which the lag termination reads."""
+
+    def _reward(self, state) -> tuple[float, dict[str, float]]:
+        """Reward of the current frame and its terms for ``info`` (keys :attr:`reward_info_keys`),
+        from the simulated body state (:class:`envs.bodies.BodyState`, current) and the running
+        track: ADAPT's r = e_discount·(r_local + r_p + r_v) (adapt eq. 10)."""
+        cfg, track, f = self.config, self._track, self._frame
+        terms = mimic_reward(
+            rot.relative_to_parent(state.quat, self.parent)[self.jointed], track.local[f],
+            cube_face_points(state.pos - state.pos[0], state.axes, cfg.cube_size_m), track.faces_rel_root[f],
+            cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), track.face_vel[f],
+            state.pos[self.head], track.pos[f, self.head], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
+        return terms.total, terms.as_dict()
 
     @property
     def current_track(self) -> ReferenceTrack:
@@ -326,6 +347,11 @@ class MimicEnv(gym.Env):
         return self._track
 
     # ---------------------------------------------------------------- pieces
+    def _observation_slices(self, n_bodies: int, n_action: int) -> dict[str, slice]:
+        """Layout of the observation (:func:`envs.observations.observation_slices`); the observation
+        space's size is the end of the last slice."""
+        return observation_slices(n_bodies, n_action)
+
     def _observe(self, state) -> np.ndarray:
         f, obs = self._frame, self.observed
         return mimic_observation(state.pos[obs], state.linvel[obs], state.com, state.com_vel,

@@ -61,3 +61,41 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
         com_vel, ref_com_vel, dv_com, ref_com_vel[:2], dv_com[:2],
         p.ravel(), linvel.ravel(), (p - ref_pos_rel).ravel(), (linvel - ref_linvel).ravel(), prev_action,
     ]).astype(np.float32)
+
+
+# --------------------------------------------------------------------------- MimicGait-v0
+def gait_observation_slices(n_bodies: int, n_action: int, preview_frames: int) -> dict[str, slice]:
+    """Named slices of the ``MimicGait-v0`` observation: the mimic observation
+    (:func:`observation_slices`), then, with ``P = preview_frames``:
+
+    ============  ====  =====================================================================
+    name          size  content
+    ============  ====  =====================================================================
+    ref_contacts  4P    the contact targets ĉ of the next P reference frames, frame by frame,
+                        each (LT, RT, LH, RH) as 0/1
+    ref_toe       2P    the toe target angles of the same frames, each (left, right), rad
+    contacts      4     the simulated contacts c of the current frame (LT, RT, LH, RH), 0/1
+    ============  ====  =====================================================================
+    """
+    out = observation_slices(n_bodies, n_action)
+    start = out["prev_action"].stop
+    for name, size in (("ref_contacts", 4 * preview_frames), ("ref_toe", 2 * preview_frames), ("contacts", 4)):
+        out[name] = slice(start, start + size)
+        start += size
+    return out
+
+
+def gait_observation(mimic_obs: np.ndarray, ref_contacts: np.ndarray, ref_toe: np.ndarray,
+                     contacts: np.ndarray) -> np.ndarray:
+    """The ``MimicGait-v0`` observation ``(13 + 12·B + A + 6P + 4,)`` float32
+    (:func:`gait_observation_slices`).
+
+    Args:
+        mimic_obs: the mimic observation (:func:`mimic_observation`).
+        ref_contacts: ``(P, 4)`` contact targets (bool or 0/1) of the next ``P`` frames.
+        ref_toe: ``(P, 2)`` toe target angles (rad; left, right) of the same frames.
+        contacts: ``(4,)`` the simulated contacts now.
+    """
+    return np.concatenate([mimic_obs, np.asarray(ref_contacts, dtype=np.float32).ravel(),
+                           np.asarray(ref_toe, dtype=np.float32).ravel(),
+                           np.asarray(contacts, dtype=np.float32)]).astype(np.float32)

@@ -113,3 +113,105 @@ def unstable(qvel: np.ndarray, max_speed: float) -> bool:
     """The simulation blew up: a NaN/inf or a speed above ``max_speed`` in ``qvel`` (positions
     are integrated from velocities, so they cannot go bad alone)."""
     return not np.abs(qvel).max() <= max_speed  # NaN compares False
+
+
+# --------------------------------------------------------------------------- MimicGait-v0
+# ContactVision's reconstruction reward (contactvision eq. 4 and App. C, eqs. 6–9). Every term
+# is exp(−α · squared error) of arrays handed in by the environment; ``GaitConfig`` holds the
+# weights and α's with their sources.
+
+WORLD_UP = np.array([0.0, 0.0, 1.0])
+
+
+def squared_error_reward(value: np.ndarray, ref_value: np.ndarray, alpha: float) -> float:
+    """exp(−α ‖v̂ − v‖²) of two arrays of the same shape (the squared norm sums every entry)."""
+    diff = np.asarray(value, dtype=float) - np.asarray(ref_value, dtype=float)
+    return math.exp(-alpha * float(np.sum(diff * diff)))
+
+
+def joint_pose_reward(hinges: np.ndarray, ref_hinges: np.ndarray, alpha: float) -> float:
+    """r_q = exp(−α_q ‖q̂ − q‖²) of hinge angles ``(H,)`` (rad) against their reference ``(H,)``
+    (contactvision eq. 7)."""
+    return squared_error_reward(hinges, ref_hinges, alpha)
+
+
+def joint_velocity_reward(hinge_rates: np.ndarray, ref_hinge_rates: np.ndarray, alpha: float) -> float:
+    """r_v = exp(−α_v ‖v̂ − v‖²) of hinge rates ``(H,)`` (rad/s) against their reference
+    (contactvision eq. 7)."""
+    return squared_error_reward(hinge_rates, ref_hinge_rates, alpha)
+
+
+def end_effector_reward(effectors: np.ndarray, pelvis: np.ndarray, ref_effectors: np.ndarray, ref_pelvis: np.ndarray,
+                        alpha: float) -> float:
+    """r_e = exp(−α_e Σ_e ‖p̂_e − p_e‖²) of end-effector positions ``(E, 3)`` taken relative to
+    the pelvis ``(3,)`` (world axes, m), against the reference's (contactvision eq. 7)."""
+    return squared_error_reward(np.asarray(effectors) - pelvis, np.asarray(ref_effectors) - ref_pelvis, alpha)
+
+
+def contact_mismatches(ref_contacts: np.ndarray, contacts: np.ndarray) -> int:
+    """Σ_l xor(ĉ_l, c_l)² over the contact channels (LT, RT, LH, RH): how many of the target
+    contacts ``ĉ (4,)`` the simulated contacts ``c (4,)`` get wrong (booleans or 0/1)."""
+    return int(np.count_nonzero(np.asarray(ref_contacts, dtype=bool) ^ np.asarray(contacts, dtype=bool)))
+
+
+def contact_reward(ref_contacts: np.ndarray, contacts: np.ndarray, alpha: float) -> float:
+    """r_fc = exp(−α_fc Σ_l xor(ĉ_l, c_l)²) (contactvision eq. 4): 1 when every channel of the
+    simulated contacts ``c (4,)`` matches the targets ``ĉ (4,)``, exp(−α_fc·n) with n wrong."""
+    return math.exp(-alpha * contact_mismatches(ref_contacts, contacts))
+
+
+def upper_body_tilt(pelvis: np.ndarray, head: np.ndarray) -> float:
+    """θ: angle (rad, 0..π) between the pelvis→head vector (positions ``(3,)``, world) and the
+    world's vertical (contactvision App. C, r_up)."""
+    up = np.asarray(head, dtype=float) - np.asarray(pelvis, dtype=float)
+    norm = float(np.linalg.norm(up))
+    return math.acos(min(1.0, max(-1.0, float(up[2]) / norm))) if norm > 0 else 0.0
+
+
+def upper_body_reward(tilt: float, ref_tilt: float, alpha: float) -> float:
+    """r_up = exp(−α_up (θ̂ − θ)²) of the upper-body tilts (rad; :func:`upper_body_tilt`) of the
+    character and of the reference (contactvision eq. 9)."""
+    return math.exp(-alpha * (ref_tilt - tilt) ** 2)
+
+
+def root_orientation_reward(root_z_axis: np.ndarray, alpha: float) -> float:
+    """r_root_ori = exp(−α_root_ori (1 − z_root · ẑ_world)²) of the root body's z axis ``(3,)``
+    (a unit vector in world coordinates; contactvision eq. 8)."""
+    return math.exp(-alpha * (1.0 - float(np.dot(root_z_axis, WORLD_UP))) ** 2)
+
+
+def torque_reward(torques: np.ndarray, alpha: float) -> float:
+    """r_torque = exp(−α_torque ‖τ‖²) of joint torques ``(H,)`` (contactvision eq. 8); the
+    environment passes each actuator's torque over its force limit, so τ is dimensionless."""
+    return squared_error_reward(torques, np.zeros_like(torques, dtype=float), alpha)
+
+
+@dataclass(frozen=True)
+class GaitRewardTerms:
+    """The seven terms of R = Σ_k w_k r_k (contactvision eq. 6) and ``total`` = R."""
+
+    r_q: float
+    r_v: float
+    r_e: float
+    r_fc: float
+    r_up: float
+    r_root_ori: float
+    r_torque: float
+    total: float
+
+    def as_dict(self) -> dict[str, float]:
+        return dict(self.__dict__)
+
+
+GAIT_TERMS = ("r_q", "r_v", "r_e", "r_fc", "r_up", "r_root_ori", "r_torque")
+"""Names of the terms of :class:`GaitRewardTerms`, in the order of contactvision eq. 6."""
+
+
+def gait_reward(terms: dict[str, float], weights: dict[str, float]) -> GaitRewardTerms:
+    """R = Σ_k w_k r_k over :data:`GAIT_TERMS`, from each term's value ``terms[name]`` and weight
+    ``weights[name]`` (both keyed by the names of :data:`GAIT_TERMS`)."""
+    missing = [k for k in GAIT_TERMS if k not in terms or k not in weights]
+    if missing:
+        raise KeyError(f"gait_reward needs a value and a weight for every term; missing {missing}")
+    total = sum(weights[k] * terms[k] for k in GAIT_TERMS)
+    return GaitRewardTerms(**{k: float(terms[k]) for k in GAIT_TERMS}, total=float(total))

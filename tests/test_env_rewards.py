@@ -5,9 +5,14 @@ import math
 import numpy as np
 import pytest
 
-from envs.observations import mimic_observation, observation_size, observation_slices
-from envs.rewards import (MAX_STEP_REWARD, cube_face_points, cube_face_velocities, fall_discount, fallen, lagging,
-                          local_pose_reward, mimic_reward, point_reward, unstable)
+from envs.config import GaitConfig
+from envs.observations import (gait_observation, gait_observation_slices, mimic_observation, observation_size,
+                               observation_slices)
+from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, contact_mismatches, contact_reward, cube_face_points,
+                          cube_face_velocities, end_effector_reward, fall_discount, fallen, gait_reward,
+                          joint_pose_reward, joint_velocity_reward, lagging, local_pose_reward, mimic_reward,
+                          point_reward, root_orientation_reward, torque_reward, unstable, upper_body_reward,
+                          upper_body_tilt)
 from reference_motion import rotations as rot
 
 Z = np.array([0.0, 0.0, 1.0])
@@ -108,3 +113,109 @@ def test_observation_layout_is_adapt_table_1():
     assert np.allclose(obs[slices["p"]], (pos - com).ravel(), atol=1e-6)
     assert np.allclose(obs[slices["dp"]], 0.0) and np.allclose(obs[slices["dv"]], -1.0)
     assert np.array_equal(obs[slices["prev_action"]], action)
+
+
+# ----------------------------------------------------------------------------- MimicGait-v0 terms
+def test_joint_pose_reward_by_hand():
+    # errors 0.1 and -0.2 rad on two of three hinges: 0.01 + 0.04 = 0.05 rad²; alpha 2 -> exp(-0.1)
+    assert joint_pose_reward(np.array([0.1, -0.2, 0.3]), np.array([0.0, 0.0, 0.3]), 2.0) == pytest.approx(math.exp(-0.1))
+    assert joint_pose_reward(np.zeros(45), np.zeros(45), 2.0) == 1.0
+
+
+def test_joint_velocity_reward_by_hand():
+    # rate errors 1 and 2 rad/s: 1 + 4 = 5 (rad/s)²; alpha 0.025 -> exp(-0.125) = 0.8825
+    assert joint_velocity_reward(np.array([1.0, -2.0]), np.zeros(2), 0.025) == pytest.approx(math.exp(-0.125))
+
+
+def test_end_effector_reward_is_pelvis_relative():
+    # character: pelvis at z 1, hands 0.1 m in front and 0.2 m to the left of it; reference: the
+    # same 1 m higher, but its first hand on the pelvis. Only that hand's 0.1 m counts: 0.01 m²,
+    # alpha 40 -> exp(-0.4) = 0.670
+    pelvis, effectors = np.array([0.0, 0.0, 1.0]), np.array([[0.1, 0, 1.0], [0, 0.2, 1.0]])
+    ref_pelvis, ref_effectors = np.array([0.0, 0.0, 2.0]), np.array([[0.0, 0, 2.0], [0, 0.2, 2.0]])
+    assert end_effector_reward(effectors, pelvis, ref_effectors, ref_pelvis, 40.0) == pytest.approx(math.exp(-0.4))
+    # moving the whole character changes nothing
+    assert end_effector_reward(effectors + 5, pelvis + 5, ref_effectors, ref_pelvis, 40.0) == pytest.approx(math.exp(-0.4))
+
+
+def test_contact_reward_counts_xor_channels():
+    target = np.array([True, False, True, False])        # LT, RT, LH, RH
+    assert contact_mismatches(target, target) == 0 and contact_reward(target, target, 1.0) == 1.0
+    # simulated (LT, RT on; heels off): RT and LH disagree -> xor sum 2 -> exp(-2) = 0.1353
+    sim = np.array([1, 1, 0, 0])
+    assert contact_mismatches(target, sim) == 2
+    assert contact_reward(target, sim, 1.0) == pytest.approx(math.exp(-2.0))
+    assert contact_reward(target, ~target, 0.5) == pytest.approx(math.exp(-2.0))   # all 4 wrong, alpha 0.5
+
+
+def test_upper_body_tilt_and_reward_by_hand():
+    pelvis = np.array([1.0, 2.0, 1.0])
+    assert upper_body_tilt(pelvis, pelvis + [0, 0, 0.6]) == 0.0
+    assert upper_body_tilt(pelvis, pelvis + [0.3, 0, 0.3]) == pytest.approx(math.pi / 4)   # leaning 45° forward
+    assert upper_body_tilt(pelvis, pelvis + [0, -0.3, -0.3]) == pytest.approx(3 * math.pi / 4)
+    # 45° against the reference's 30°: (π/12)² = 0.06854 rad²; alpha 10 -> exp(-0.6854) = 0.5039
+    assert upper_body_reward(math.pi / 4, math.pi / 6, 10.0) == pytest.approx(0.5039, abs=1e-4)
+
+
+def test_root_orientation_reward_by_hand():
+    assert root_orientation_reward(np.array([0.0, 0.0, 1.0]), 50.0) == 1.0
+    # pelvis z axis tilted 60°: 1 - cos 60° = 0.5, squared 0.25; alpha 4 -> exp(-1)
+    tilted = np.array([math.sin(math.pi / 3), 0.0, math.cos(math.pi / 3)])
+    assert root_orientation_reward(tilted, 4.0) == pytest.approx(math.exp(-1.0))
+    # upside down: (1 - (-1))² = 4 -> exp(-4 alpha)
+    assert root_orientation_reward(np.array([0.0, 0.0, -1.0]), 0.25) == pytest.approx(math.exp(-1.0))
+
+
+def test_torque_reward_by_hand():
+    # two joints at half their limit: 0.25 + 0.25 = 0.5; alpha 2 -> exp(-1)
+    assert torque_reward(np.array([0.5, -0.5, 0.0]), 2.0) == pytest.approx(math.exp(-1.0))
+    assert torque_reward(np.zeros(45), 1.0) == 1.0
+
+
+def test_gait_reward_is_the_weighted_sum_of_contactvision_eq_6():
+    weights = GaitConfig().weights
+    assert weights == {"r_q": 0.3, "r_v": 0.05, "r_e": 0.05, "r_fc": 0.3, "r_up": 0.1, "r_root_ori": 0.15,
+                       "r_torque": 0.05}
+    assert tuple(weights) == GAIT_TERMS and sum(weights.values()) == pytest.approx(1.0)
+    perfect = gait_reward(dict.fromkeys(GAIT_TERMS, 1.0), weights)
+    assert perfect.total == pytest.approx(1.0)
+    # everything perfect but two contact channels wrong (r_fc = exp(-2) = 0.1353):
+    # R = 1 - 0.3 (1 - 0.1353) = 0.7406
+    terms = {**dict.fromkeys(GAIT_TERMS, 1.0), "r_fc": math.exp(-2.0)}
+    assert gait_reward(terms, weights).total == pytest.approx(0.7406, abs=1e-4)
+    # hand-picked values: 0.3·0.5 + 0.05·0.2 + 0.05·0.4 + 0.3·1 + 0.1·0.8 + 0.15·0.9 + 0.05·0.6
+    #                   = 0.15 + 0.01 + 0.02 + 0.3 + 0.08 + 0.135 + 0.03 = 0.725
+    values = dict(zip(GAIT_TERMS, (0.5, 0.2, 0.4, 1.0, 0.8, 0.9, 0.6)))
+    result = gait_reward(values, weights)
+    assert result.total == pytest.approx(0.725) and result.as_dict()["r_e"] == 0.4
+    with pytest.raises(KeyError, match="r_torque"):
+        gait_reward({k: 1.0 for k in GAIT_TERMS[:-1]}, weights)
+
+
+def test_gait_config_scales_mean_what_they_say():
+    g = GaitConfig()
+    assert upper_body_reward(math.radians(15.0), 0.0, g.alpha_up) == pytest.approx(0.5)
+    tilt28 = np.array([math.sin(math.radians(28.0)), 0.0, math.cos(math.radians(28.0))])
+    assert root_orientation_reward(tilt28, g.alpha_root_ori) == pytest.approx(0.5)
+    assert joint_velocity_reward(np.array([math.sqrt(28.0)]), np.zeros(1), g.alpha_v) == pytest.approx(0.5, abs=0.01)
+    assert torque_reward(np.array([math.sqrt(0.69)]), g.alpha_torque) == pytest.approx(0.5, abs=0.01)
+    with pytest.raises(ValueError, match="finite and >= 0"):
+        GaitConfig(w_fc=-0.3)
+    with pytest.raises(ValueError, match="preview_frames"):
+        GaitConfig(preview_frames=0)
+
+
+def test_gait_observation_appends_targets_and_contacts():
+    slices = gait_observation_slices(22, 22, preview_frames=3)
+    assert list(slices)[-3:] == ["ref_contacts", "ref_toe", "contacts"]
+    assert slices["ref_contacts"].start == observation_size(22, 22) == 13 + 12 * 22 + 22
+    assert slices["contacts"].stop == observation_size(22, 22) + 12 + 6 + 4
+    base = np.arange(observation_size(22, 22), dtype=np.float32)
+    ref_contacts = np.array([[1, 0, 0, 1], [1, 1, 0, 1], [0, 1, 0, 1]], bool)
+    ref_toe = np.array([[0.0, 0.1], [0.0, 0.2], [0.0, 0.3]])
+    obs = gait_observation(base, ref_contacts, ref_toe, np.array([True, False, False, True]))
+    assert obs.dtype == np.float32 and obs.shape == (slices["contacts"].stop,)
+    assert np.array_equal(obs[: base.size], base)
+    assert np.array_equal(obs[slices["ref_contacts"]], [1, 0, 0, 1, 1, 1, 0, 1, 0, 1, 0, 1])   # frame by frame
+    assert np.allclose(obs[slices["ref_toe"]], [0, 0.1, 0, 0.2, 0, 0.3])
+    assert np.array_equal(obs[slices["contacts"]], [1, 0, 0, 1])
