@@ -133,6 +133,11 @@ def training_clips(args: argparse.Namespace) -> list[str]:
     return [c for c in clips if c not in args.exclude]
 
 
+def evaluation_clips(args: argparse.Namespace) -> list[str]:
+    """The clips the periodic evaluation runs on: ``--eval-clips`` (sets expanded), else the training clips."""
+    return expand_clips(args.eval_clips) if args.eval_clips else training_clips(args)
+
+
 def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     """The training clips as the envs get them: SOURCE strings, or, with ``--mirror``,
     ``--speeds`` or mocap options (``--joint-map`` ...), the loaded clips plus their mirrored and
@@ -213,7 +218,7 @@ class CheckpointAndEvaluate(BaseCallback):
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
         training = TrainingRecord(
             clips=training_clips(args),
-            eval_clips=expand_clips(args.eval_clips) if args.eval_clips else training_clips(args),
+            eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), mirror=args.mirror,
             speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
@@ -269,7 +274,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     vec_cls = SubprocVecEnv if args.vec == "subproc" else DummyVecEnv
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls,
                         env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
-    eval_kwargs = env_kwargs(args, expand_clips(args.eval_clips) if args.eval_clips else training_clips(args), 0.0)
+    eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes)

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from reference_motion.source import CANONICAL_JOINTS, CANONICAL_PARENTS
+from reference_motion.source import CANONICAL_JOINTS, CANONICAL_PARENTS, Y_UP_TO_Z_UP
 
 _LIMB_JOINTS = ("hip", "knee", "ankle", "toe_end", "shoulder", "elbow", "wrist")
 
@@ -218,7 +218,7 @@ def unit_scale(head_height: float, where: str) -> float:
 
 _TO_Z_UP = {
     "z": np.eye(3),
-    "y": np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]]),  # (x, y, z) → (x, −z, y)
+    "y": Y_UP_TO_Z_UP,  # (x, y, z) → (x, −z, y), as every y-up loader converts
     "x": np.array([[0.0, 1.0, 0.0], [0.0, 0.0, 1.0], [1.0, 0.0, 0.0]]),  # (x, y, z) → (y, z, x)
 }
 """Proper rotations taking a file whose up axis is the key to the z-up world."""
