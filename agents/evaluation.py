@@ -64,7 +64,7 @@ def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, cor
     return Rollout(clip=episode.clip, start_frame=start_frame, elr=episode_length_ratio(episode.frames, total),
                    sr90=survived(episode.frames, total),
                    rde=root_displacement_error(frames[:, :3], reference.qpos[:, :3]),
-                   mrr=max_reward_ratio(episode.rewards, steps), ended_by=episode.ended_by, simulated=simulated,
+                   mrr=max_reward_ratio(episode.rewards, steps, env.unwrapped.max_step_reward), ended_by=episode.ended_by, simulated=simulated,
                    reference=reference)
 
 

@@ -32,9 +32,10 @@ def root_displacement_error(root: np.ndarray, ref_root: np.ndarray) -> float:
     return float(np.mean(np.sum((root - ref_root) ** 2, axis=1)))
 
 
-def max_reward_ratio(rewards: np.ndarray, reference_steps: int) -> float:
+def max_reward_ratio(rewards: np.ndarray, reference_steps: int, max_step_reward: float = MAX_STEP_REWARD) -> float:
     """MRR (eqs. 14–15): Σ r over the rollout's steps / the most a full-length rollout could
-    collect (``reference_steps`` steps of reward 3 = e_discount·(1 + 1 + 1))."""
+    collect (``reference_steps`` steps of ``max_step_reward``: ADAPT's 3 = e_discount·(1 + 1 + 1);
+    1 for ``MimicGait-v0``, whose weights sum to 1)."""
     if reference_steps <= 0:
         raise ValueError(f"reference_steps must be positive, got {reference_steps}")
-    return float(np.sum(rewards)) / (MAX_STEP_REWARD * reference_steps)
+    return float(np.sum(rewards)) / (max_step_reward * reference_steps)

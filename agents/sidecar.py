@@ -24,10 +24,13 @@ from typing import Any
 
 import gymnasium as gym
 
-from envs.config import MimicConfig
+from envs.config import GaitConfig, MimicConfig
 from reference_motion.atomic import atomic_write
 
 SIDECAR_FORMAT = "physmimic.policy/2"
+
+GAIT_ENV_ID = "MimicGait-v0"
+"""The environment whose constructor also takes ``gait`` and ``contacts``."""
 
 
 def _known(cls: type, values: dict) -> dict:
@@ -41,23 +44,40 @@ class EnvSpec:
     """The task a policy was trained on.
 
     Attributes:
-        env_id: registered id (``MimicIMU-v0``, ``MimicDReCon-v0``, ``MimicFullAction-v0``).
+        env_id: registered id (``MimicIMU-v0``, ``MimicDReCon-v0``, ``MimicFullAction-v0``,
+            ``MimicGait-v0``).
         foot: ``"one"`` or ``"two"`` (humanoid model).
         config: the :class:`~envs.config.MimicConfig` fields (timing, rewards, terminations).
+        gait: ``MimicGait-v0`` only: the :class:`~envs.config.GaitConfig` fields (reward weights and
+            scales, toe reference on or off).
+        contacts: ``MimicGait-v0`` only: where the contact targets came from (``"vgrf"`` or
+            ``"keypoints"``); :meth:`make` uses it unless given ``contacts=``.
     """
 
     env_id: str = "MimicIMU-v0"
     foot: str = "one"
     config: dict = field(default_factory=lambda: asdict(MimicConfig()))
+    gait: dict | None = None
+    contacts: str = "vgrf"
 
     def mimic_config(self) -> MimicConfig:
         """The :class:`MimicConfig` (fields unknown to this version are dropped)."""
         return MimicConfig(**_known(MimicConfig, self.config))
 
+    def gait_config(self) -> GaitConfig:
+        """The :class:`GaitConfig` (defaults where none was recorded)."""
+        values = _known(GaitConfig, self.gait or {})
+        if "end_effectors" in values:
+            values["end_effectors"] = tuple(values["end_effectors"])
+        return GaitConfig(**values)
+
     def make(self, clips: Any, **kwargs: Any) -> gym.Env:
         """``gym.make`` of this task on ``clips`` (any ``clips`` the env takes); ``kwargs`` add or
-        override constructor arguments (``artefacts``, ``render_mode``, ``sampling`` ...)."""
-        return gym.make(self.env_id, clips=clips, **{"foot": self.foot, "config": self.mimic_config(), **kwargs})
+        override constructor arguments (``artefacts``, ``render_mode``, ``sampling``, ``contacts`` ...)."""
+        task = {"foot": self.foot, "config": self.mimic_config()}
+        if self.env_id == GAIT_ENV_ID:
+            task.update(gait=self.gait_config(), contacts=self.contacts)
+        return gym.make(self.env_id, clips=clips, **{**task, **kwargs})
 
 
 @dataclass(frozen=True)

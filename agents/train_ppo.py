@@ -39,9 +39,10 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
-from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
-from envs import ArtefactMix
-from envs.config import FOOT_MODELS, MimicConfig
+from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
+from envs import ENV_IDS, ArtefactMix
+from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
+from envs.observations import OBS_FRAMES
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
@@ -57,13 +58,15 @@ def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     g = p.add_argument_group("task")
-    g.add_argument("--env-id", default="MimicIMU-v0", help="MimicIMU-v0, MimicDReCon-v0 or MimicFullAction-v0")
+    g.add_argument("--env-id", default="MimicIMU-v0", choices=ENV_IDS,
+                   help="task: ADAPT (MimicIMU-v0), its two ablations, or ContactVision's gait reconstruction")
     g.add_argument("--clips", nargs="+", default=["deepmimic:walk"],
                    help="training clips: SOURCE strings, or one named set (locomotion, deepmimic)")
     g.add_argument("--exclude", nargs="*", default=[], help="clips to leave out of a named set (held out)")
     g.add_argument("--eval-clips", nargs="*", default=None, help="evaluation clips (default: the training clips)")
     add_mocap_options(p)
-    g.add_argument("--foot", choices=["one", "two"], default="one")
+    g.add_argument("--foot", choices=["one", "two"], default=None,
+                   help="humanoid: one- or two-segment feet (default: two for MimicGait-v0, else one)")
     g.add_argument("--corrupted-fraction", type=fraction, default=0.0,
                    help="share of episodes with an IMU-corrupted reference (ADAPT's mix: 0.5; 0 = clean only)")
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
@@ -73,6 +76,15 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
                    help="reference tracks each env keeps in memory (~2 MB each; more clips × variants than "
                         "this are rebuilt on use, which slows training)")
+    g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
+                   help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
+                        "offset from the reference (envs.observations)")
+    g.add_argument("--contacts", choices=CONTACT_MODES, default="vgrf",
+                   help="MimicGait-v0: contact targets from VGRFNet on the reference's joints or from the "
+                        "ContactTransformer on its 2D keypoints")
+    g.add_argument("--gait-ablation", choices=GAIT_ABLATIONS, default=None,
+                   help="MimicGait-v0: ContactVision Fig. 12's ablations: no_fc (no contact reward), no_toeref "
+                        "(toe targets 0); the one-segment foot is --foot one")
     g.add_argument("--mirror", action="store_true", help="also train on every clip mirrored left/right")
     g.add_argument("--speeds", type=positive_float, nargs="+", default=[1.0],
                    help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
@@ -115,14 +127,36 @@ def build_parser(prog: str | None = None) -> CliParser:
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
     mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
-                       variants_per_clip=args.variants_per_clip)
+                       variants_per_clip=args.variants_per_clip, seed=args.seed)
            if corrupted_fraction > 0 else None)
-    return {"clips": clips, "artefacts": mix, "foot": args.foot, "config": env_config(args)}
+    kwargs = {"clips": clips, "artefacts": mix, "foot": foot(args), "config": env_config(args)}
+    if args.env_id == GAIT_ENV_ID:
+        kwargs.update(contacts=args.contacts, gait=gait_config(args))
+    return kwargs
+
+
+def foot(args: argparse.Namespace) -> str:
+    """The run's foot model: ``--foot``, else two segments for ``MimicGait-v0`` and one otherwise."""
+    return args.foot or ("two" if args.env_id == GAIT_ENV_ID else "one")
+
+
+GAIT_ABLATIONS = ("no_fc", "no_toeref")
+"""``--gait-ablation`` choices (contactvision Fig. 12): no contact reward, toe targets 0."""
+
+
+def gait_config(args: argparse.Namespace) -> GaitConfig:
+    """``MimicGait-v0``'s reward constants for this run: ContactVision's, or an ablation's."""
+    ablation = args.gait_ablation
+    if ablation == "no_fc":
+        return GaitConfig(w_fc=0.0)
+    if ablation == "no_toeref":
+        return GaitConfig(toe_reference=False)
+    return GaitConfig()
 
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
-    """The environments' constants for this run (defaults, with the memory setting of ``--track-cache``)."""
-    return MimicConfig(track_cache_size=args.track_cache)
+    """The environments' constants for this run (defaults, with ``--track-cache`` and ``--obs-frame``)."""
+    return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:
@@ -147,7 +181,7 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions():
         return clips
     frames = 2 * (MimicConfig().episode_frames + 1)
-    motions = [load_motion(c, FOOT_MODELS[args.foot], min_frames=int(frames * max(args.speeds)) + 2, mocap=mocap)
+    motions = [load_motion(c, FOOT_MODELS[foot(args)], min_frames=int(frames * max(args.speeds)) + 2, mocap=mocap)
                for c in clips]
     return augmented(motions, mirrored=args.mirror, speeds=args.speeds)
 
@@ -223,7 +257,9 @@ class CheckpointAndEvaluate(BaseCallback):
             speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
-        return PolicySidecar(env=EnvSpec(args.env_id, args.foot, asdict(env_config(args))), ppo=ppo,
+        gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None
+        env = EnvSpec(args.env_id, foot(args), asdict(env_config(args)), gait, args.contacts)
+        return PolicySidecar(env=env, ppo=ppo,
                              training=training, score=record["score"],
                              metrics={k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean",
                                                              "rollouts")})
@@ -269,6 +305,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"{run_dir}: already holds a run; pass --resume to continue it or pick a new --run-dir")
     else:
         history = []
+    if args.gait_ablation is not None and args.env_id != GAIT_ENV_ID:
+        raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     torch.set_num_threads(args.torch_threads)
     clips = training_motions(args)
     vec_cls = SubprocVecEnv if args.vec == "subproc" else DummyVecEnv

@@ -66,3 +66,20 @@ def read_body_state(model: mujoco.MjModel, data: mujoco.MjData) -> BodyState:
     n = pos.shape[0]
     return BodyState(pos=pos, quat=data.xquat[1:].copy(), axes=data.xmat[1:].reshape(n, 3, 3).transpose(0, 2, 1).copy(),
                      linvel=linvel, angvel=omega, com=com, com_vel=data.subtree_linvel[1].copy())
+
+
+def floor_contact_geoms(data: mujoco.MjData, floor: int) -> np.ndarray:
+    """Geoms touching geom ``floor`` in ``data``'s current contacts (one entry per contact)."""
+    pairs = data.contact.geom
+    on_floor = (pairs == floor).any(axis=1)
+    return np.where(pairs[:, 0] == floor, pairs[:, 1], pairs[:, 0])[on_floor]
+
+
+def region_contacts(touching: np.ndarray, geom_channel: np.ndarray) -> np.ndarray:
+    """Contact states ``(4,)`` bool (LT, RT, LH, RH): any sole sphere of that region among the
+    floor-touching geoms ``touching``; ``geom_channel`` is each geom's channel or -1
+    (:attr:`reference_motion.humanoid.model.HumanoidModel.geom_contact_channel`)."""
+    channels = geom_channel[touching]
+    out = np.zeros(4, dtype=bool)
+    out[channels[channels >= 0]] = True
+    return out

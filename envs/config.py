@@ -13,6 +13,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from envs.observations import OBS_FRAMES
 from reference_motion.artefacts import ArtefactRecipe
 
 FOOT_MODELS = {"one": "humanoid_1seg", "two": "humanoid_2seg"}
@@ -65,6 +66,9 @@ class MimicConfig:
             than an episode are played to their end.
         track_cache_size: reference tracks (clip or corrupted variant) kept in memory per env,
             least recently used dropped first (each is ~10 kB per frame; rebuilt in ~20 ms).
+        obs_frame: axes of the observation's vectors (:data:`envs.observations.OBS_FRAMES`):
+            ``"world"`` (ADAPT's, adapt §3.2.1) or ``"heading"`` (the character's heading frame,
+            plus its CoM offset from the reference's; 3 values longer).
     """
 
     frame_rate_hz: float = 60.0
@@ -82,8 +86,11 @@ class MimicConfig:
     max_joint_speed: float = 200.0
     min_clip_frames: int = 30
     track_cache_size: int = 128
+    obs_frame: str = "world"
 
     def __post_init__(self) -> None:
+        if self.obs_frame not in OBS_FRAMES:
+            raise ValueError(f"obs_frame must be one of {', '.join(map(repr, OBS_FRAMES))}, got {self.obs_frame!r}")
         ratio = self.frame_rate_hz / self.control_rate_hz
         if ratio < 1 or abs(ratio - round(ratio)) > 1e-9:
             raise ValueError(f"frame_rate_hz ({self.frame_rate_hz}) must be a whole multiple of "
@@ -110,14 +117,19 @@ class ArtefactMix:
             uniformly from this range.
         fraction: probability that an episode gets a corrupted reference (0 = clean only,
             1 = corrupted only).
-        variants_per_clip: corrupted variants made per clip (lazily, seeded from the env's
-            seed) and reused; each needs one corruption and one reference precomputation.
+        variants_per_clip: corrupted variants made per clip (lazily) and reused; each needs one
+            corruption and one reference precomputation.
+        seed: base seed of the variants. ``None``: the seed given to ``reset`` (each environment
+            of a vector env its own variants); an int: every environment with this mix makes the
+            same variants, so the environments of one process build each once and share it
+            (``agents/train_ppo.py`` sets it: 8 environments, 1/8 of the building and memory).
     """
 
     recipe: ArtefactRecipe = field(default_factory=ArtefactRecipe.imu)
     strength: tuple[float, float] = (0.5, 1.0)
     fraction: float = 0.5
     variants_per_clip: int = 4
+    seed: int | None = None
 
     def __post_init__(self) -> None:
         lo, hi = self.strength
@@ -175,6 +187,8 @@ class GaitConfig:
         keypoint_azimuth_deg: ``contacts="keypoints"`` films the reference from this direction
             (degrees from +x towards +y; 90 = from the character's left, a side view of a clip
             that starts facing +x) at ContactVision's rig distance and height (4 m, 1 m).
+        toe_reference: the toe hinges' targets come from the ToeRefEstimator (True) or are 0, the
+            toes held straight (False: ContactVision's "without ToeRefEstimator" ablation, Fig. 12).
     """
 
     w_q: float = 0.3
@@ -194,6 +208,7 @@ class GaitConfig:
     end_effectors: tuple[str, ...] = ("l_hand", "r_hand", "l_foot", "r_foot")
     preview_frames: int = 4
     keypoint_azimuth_deg: float = 90.0
+    toe_reference: bool = True
 
     def __post_init__(self) -> None:
         named = {**{f"w_{k[2:]}": w for k, w in self.weights.items()}, **{f"alpha_{k[2:]}": a for k, a in self.alphas.items()}}

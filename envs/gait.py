@@ -183,12 +183,14 @@ class MimicGaitEnv(MimicEnv):
             serve its corrupted variants too.
         artefacts: IMU-corrupted references (:class:`envs.config.ArtefactMix`); ``None`` (default)
             mimics the clips as given.
-        foot: must be ``"two"`` (the toe hinges are what the task is about); accepted so that
-            code passing ``foot=`` to every env works.
+        foot: ``"two"`` (default, ``humanoid_2seg``: the toe hinges are what the task is about) or
+            ``"one"`` (``humanoid_1seg``, ContactVision's one-segment-foot ablation: the same
+            reward, which then has no toe hinges in r_q and r_v, and toe targets of 0).
         episode_frames: longest episode in reference frames (default 300 = 5 s at 60 Hz).
         obs_mode: ``"adapt"`` (all 22 bodies) or ``"drecon"`` (key bodies), as ``MimicEnv``.
-        action_mode: ``"key_toes"`` (default: the 8 key joints and both toe hinges, 22 values),
-            ``"key"`` (toes open loop on their targets) or ``"full"`` (all 45 hinges).
+        action_mode: ``"key_toes"`` (the 8 key joints and both toe hinges, 22 values; the default
+            with ``foot="two"``), ``"key"`` (toes open loop on their targets; the default with
+            ``foot="one"``) or ``"full"`` (every hinge).
         config: timing, action, termination constants (:class:`envs.config.MimicConfig`; its
             ADAPT reward scales are unused here).
         gait: reward weights and scales, preview length, keypoint view (:class:`envs.config.GaitConfig`).
@@ -224,16 +226,23 @@ class MimicGaitEnv(MimicEnv):
 
     reward_info_keys = GAIT_TERMS + ("total", "e_discount")
 
+    @property
+    def max_step_reward(self) -> float:
+        """The most R can be: the sum of the weights (1 with ContactVision's), each term being ≤ 1."""
+        return float(sum(self.gait_config.weights.values()))
+
     def __init__(self, clips: str | Sequence[ClipSpec] = "locomotion",
                  contacts: ContactSpec | Sequence[ContactSpec] = "vgrf", artefacts: ArtefactMix | None = None,
                  foot: str = "two", episode_frames: int | None = None, obs_mode: str = "adapt",
-                 action_mode: str = "key_toes", config: MimicConfig | None = None, gait: GaitConfig | None = None,
+                 action_mode: str | None = None, config: MimicConfig | None = None, gait: GaitConfig | None = None,
                  sampling: SamplingConfig = SamplingConfig(), render_mode: str | None = None, width: int = 480,
                  height: int = 360, vgrf_net: str | Path = DEFAULT_VGRF_NET,
                  contact_net: str | Path = DEFAULT_CONTACT_NET):
-        if foot != "two":
-            raise ValueError(f"MimicGait-v0 simulates humanoid_2seg, whose toe hinges follow the ToeRefEstimator: "
-                             f"foot must be 'two', got {foot!r}")
+        if foot not in ("one", "two"):
+            raise ValueError(f"MimicGait-v0: foot must be 'two' (humanoid_2seg, toe hinges following the "
+                             f"ToeRefEstimator) or 'one' (the one-segment-foot ablation), got {foot!r}")
+        if action_mode is None:
+            action_mode = "key_toes" if foot == "two" else "key"
         if gait is not None and not isinstance(gait, GaitConfig):
             raise TypeError(f"gait must be an envs.GaitConfig or None, got {type(gait).__name__}")
         self.gait_config = gait or GaitConfig()
@@ -244,7 +253,8 @@ class MimicGaitEnv(MimicEnv):
         self.contact_targets: list[np.ndarray] = []
         """Per clip: the contact targets ĉ ``(T, 4)`` bool (LT, RT, LH, RH)."""
         self.toe_targets: list[np.ndarray] = []
-        """Per clip: the ToeRefEstimator's angles ``(T, 2)`` (rad; left, right) of ĉ."""
+        """Per clip: the ToeRefEstimator's angles ``(T, 2)`` (rad; left, right) of ĉ (zeros with
+        ``gait.toe_reference=False`` or ``foot="one"``)."""
         super().__init__(clips, artefacts, foot, episode_frames, obs_mode, action_mode, config, sampling,
                          render_mode, width, height)
         m, names = self.model, self.humanoid.body_names
@@ -266,6 +276,9 @@ class MimicGaitEnv(MimicEnv):
         vgrf_net, contact_net = self._nets
         azimuth = self.gait_config.keypoint_azimuth_deg
         self.contact_targets = [contact_targets(s, mo, vgrf_net, contact_net, azimuth) for s, mo in zip(specs, motions)]
+        if not self.gait_config.toe_reference or not all(b in self.humanoid.body_joints for b in TOE_BODIES):
+            self.toe_targets = [np.zeros((len(c), 2)) for c in self.contact_targets]
+            return motions  # toes held straight, or no toes to bend
         from perception.gait import toe_reference_angles  # numpy only: no torch
         self.toe_targets = [toe_reference_angles(c) for c in self.contact_targets]
         toe_qpos = [int(self.humanoid.body_joints[b].qpos_index[0]) for b in TOE_BODIES]
@@ -273,7 +286,8 @@ class MimicGaitEnv(MimicEnv):
 
     # ----------------------------------------------------------------- hooks
     def _observation_slices(self, n_bodies: int, n_action: int) -> dict[str, slice]:
-        return gait_observation_slices(n_bodies, n_action, self.gait_config.preview_frames)
+        return gait_observation_slices(n_bodies, n_action, self.gait_config.preview_frames,
+                                       com_offset=self.config.obs_frame == "heading")
 
     def _observe(self, state) -> np.ndarray:
         ahead = np.minimum(self._frame + self._preview, len(self.contact_targets[self._clip]) - 1)

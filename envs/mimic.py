@@ -9,6 +9,8 @@ they need are precomputed per clip (:class:`envs.reference.ReferenceTrack`).
 
 from __future__ import annotations
 
+import hashlib
+import weakref
 from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import replace
@@ -18,14 +20,14 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
-from envs.bodies import read_body_state, update_kinematics
+from envs.bodies import floor_contact_geoms, read_body_state, region_contacts, update_kinematics
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig)
-from envs.observations import mimic_observation, observation_slices
+from envs.observations import heading_rotation, mimic_observation, observation_slices
 from envs.reference import ReferenceTrack
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
-from envs.rewards import (RewardTerms, cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
+from envs.rewards import (MAX_STEP_REWARD, RewardTerms, cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
                           unstable)
 from reference_motion import rotations as rot
 from reference_motion.artefacts import corrupt
@@ -59,7 +61,7 @@ class MimicEnv(gym.Env):
         render_mode: ``None`` or ``"rgb_array"`` (character with the reference translucent beside it).
         width, height: rendered image size (pixels).
 
-    Observation: ``Box(13 + 12·B + A,)`` float32 — layout in :mod:`envs.observations`,
+    Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"``) — layout in :mod:`envs.observations`,
     named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
     added to the reference PD targets of the driven hinges.
 
@@ -138,6 +140,8 @@ class MimicEnv(gym.Env):
         self._geom_spinal_body = np.where(np.isin(m.geom_bodyid, list(spinal)), m.geom_bodyid, -1)
 
         self.clips = self._load_clips(clips)
+        self._clip_keys = [_content_key(c) for c in self.clips]
+        """Per clip: a key of its content (:func:`_content_key`), for :data:`_SHARED_TRACKS`."""
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
         self._tracks: OrderedDict[tuple[int, int], ReferenceTrack] = OrderedDict()
@@ -197,32 +201,42 @@ class MimicEnv(gym.Env):
 
     def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``) or its corrupted variant
-        ``variant``, built on first use. A variant's artefact seed and strength depend only on
-        (the last seed given to :meth:`reset`, clip, variant), so the same seed always gives the
-        same references whatever order episodes come in."""
+        ``variant``, built on first use (or taken from another environment of this process that
+        holds the same one, :data:`_SHARED_TRACKS`). A variant's artefact seed and strength depend
+        only on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant),
+        so the same seed always gives the same references whatever order episodes come in."""
         key = (clip, variant)
         if key in self._tracks:
             self._tracks.move_to_end(key)
-        else:
-            while len(self._tracks) >= self.config.track_cache_size:
-                self._tracks.popitem(last=False)  # least recently used; rebuilt identically when needed
-            motion = self.clips[clip]
-            if variant >= 0:
-                if self._variant_base is None:
-                    self._variant_base = int(self.np_random.integers(2**31))
-                rng = np.random.default_rng([self._variant_base, clip, variant])
-                seed = int(rng.integers(2**31))
-                strength = float(rng.uniform(*self.artefacts.strength))
-                motion = corrupt(motion, self.artefacts.recipe.scaled(strength), seed)
-                self._variant_seeds[key] = seed
-            self._tracks[key] = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed,
-                                                     self.parent, self.config.cube_size_m)
-        return self._tracks[key]
+            return self._tracks[key]
+        while len(self._tracks) >= self.config.track_cache_size:
+            self._tracks.popitem(last=False)  # least recently used; rebuilt identically when needed
+        corruption = None
+        if variant >= 0:
+            mix = self.artefacts
+            if mix.seed is not None:
+                self._variant_base = mix.seed
+            elif self._variant_base is None:
+                self._variant_base = int(self.np_random.integers(2**31))
+            rng = np.random.default_rng([self._variant_base, clip, variant])
+            seed = int(rng.integers(2**31))
+            corruption = (mix.recipe.scaled(float(rng.uniform(*mix.strength))), seed)
+            self._variant_seeds[key] = seed
+        content = (self.humanoid.name, self._clip_keys[clip], corruption, self.config.cube_size_m)
+        track = _SHARED_TRACKS.get(content)
+        if track is None:
+            motion = self.clips[clip] if corruption is None else corrupt(self.clips[clip], *corruption)
+            track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
+                                         self.config.cube_size_m)
+            _SHARED_TRACKS[content] = track
+        self._tracks[key] = track
+        return track
 
     # --------------------------------------------------------------- episode
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        if seed is not None and seed != self._variant_base:  # corrupted variants follow the new seed
+        fixed = self.artefacts is not None and self.artefacts.seed is not None
+        if seed is not None and seed != self._variant_base and not fixed:  # corrupted variants follow the new seed
             self._variant_base = seed
             self._tracks = OrderedDict((k, t) for k, t in self._tracks.items() if k[1] < 0)
             self._variant_seeds.clear()
@@ -323,6 +337,9 @@ class MimicEnv(gym.Env):
                     ended_by=ended_by or ("time_limit" if truncated else ""))
         return self._obs, reward, bool(ended_by), truncated, info
 
+    max_step_reward: float = MAX_STEP_REWARD
+    """The most one step's reward can be (ADAPT: 3; the MRR metric divides by it)."""
+
     reward_info_keys: tuple[str, ...] = tuple(RewardTerms.__dataclass_fields__)
     """The ``info`` entries :meth:`_reward` fills (all 0 after an unstable step); they include
     ``e_discount``, which the lag termination reads."""
@@ -350,19 +367,21 @@ class MimicEnv(gym.Env):
     def _observation_slices(self, n_bodies: int, n_action: int) -> dict[str, slice]:
         """Layout of the observation (:func:`envs.observations.observation_slices`); the observation
         space's size is the end of the last slice."""
-        return observation_slices(n_bodies, n_action)
+        return observation_slices(n_bodies, n_action, com_offset=self.config.obs_frame == "heading")
 
     def _observe(self, state) -> np.ndarray:
-        f, obs = self._frame, self.observed
+        f, obs, track = self._frame, self.observed, self._track
+        heading = ref_com = None
+        if self.config.obs_frame == "heading":
+            heading = heading_rotation(state.axes[0, 0])
+            ref_com = track.pos[f, 0] - track.pos_rel_com[f, 0]
         return mimic_observation(state.pos[obs], state.linvel[obs], state.com, state.com_vel,
-                                 self._track.pos_rel_com[f, obs], self._track.linvel[f, obs],
-                                 self._track.com_vel[f], self._action)
+                                 track.pos_rel_com[f, obs], track.linvel[f, obs], track.com_vel[f], self._action,
+                                 heading, ref_com)
 
     def _floor_contact_geoms(self) -> np.ndarray:
         """Geoms touching the floor, one entry per contact."""
-        pairs = self.data.contact.geom
-        floor = (pairs == self._floor).any(axis=1)
-        return np.where(pairs[:, 0] == self._floor, pairs[:, 1], pairs[:, 0])[floor]
+        return floor_contact_geoms(self.data, self._floor)
 
     def _spinal_contacts(self, touching: np.ndarray) -> int:
         """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""
@@ -372,10 +391,7 @@ class MimicEnv(gym.Env):
     def _contacts(self, touching: np.ndarray) -> np.ndarray:
         """Four contact states (LT, RT, LH, RH): any sole sphere of that region among the
         floor-touching geoms ``touching``."""
-        channels = self.humanoid.geom_contact_channel[touching]
-        out = np.zeros(4, dtype=bool)
-        out[channels[channels >= 0]] = True
-        return out
+        return region_contacts(touching, self.humanoid.geom_contact_channel)
 
     # ---------------------------------------------------------------- render
     def render(self):
@@ -391,6 +407,19 @@ class MimicEnv(gym.Env):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+_SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+"""The reference tracks alive in this process, by content (model, clip content, corruption, cube
+size): environments of one process on the same clips with the same variant seeds (the envs of a
+``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy. A
+track lives while some environment's LRU cache holds it."""
+
+
+def _content_key(motion: Motion) -> str:
+    """A key of ``motion``'s content: two clips with the same key have the same frames, rate and model."""
+    digest = hashlib.blake2b(np.ascontiguousarray(motion.qpos).tobytes(), digest_size=16).hexdigest()
+    return f"{motion.model}:{motion.fps:g}:{digest}"
 
 
 def _check_choice(name: str, value: str, choices: tuple[str, ...]) -> None:

@@ -10,7 +10,8 @@ ref_v_com     3     CoM velocity of the reference
 dv_com        3     v_com − ref_v_com
 ref_v_hor     2     horizontal (x, y) CoM velocity of the reference
 dv_hor        2     horizontal CoM velocity of the character − ref_v_hor
-p             3B    body origins relative to the character's CoM (world axes)
+dp_com        3     (``heading`` frame only) the character's CoM − the reference's CoM
+p             3B    body origins relative to the character's CoM
 v             3B    body origin velocities
 dp            3B    p − the reference's body origins relative to its CoM
 dv            3B    v − the reference's body velocities
@@ -18,17 +19,29 @@ prev_action   A     the smoothed action of the previous step
 ============  ====  =====================================================================
 
 With all 20 bodies and the 20-D key-joint action this is the 273-D state of ADAPT.
+
+Frames (:data:`OBS_FRAMES`): ADAPT expresses every vector in world axes (``"world"``, adapt
+§3.2.1), so the same step walked towards +x and towards +y are different inputs and a policy must
+learn each heading apart; nor does it see how far the character has drifted from the reference,
+although the lag termination is on exactly that distance. ``"heading"`` rotates every vector
+into the character's heading frame (z up, x = the pelvis x axis on the ground, as DeepMimic and
+DReCon observe) and adds ``dp_com``, so the observation is the same whatever way the clip walks
+and shows the drift the policy must correct.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
+OBS_FRAMES = ("world", "heading")
+"""Axes the observation's vectors are expressed in (module docstring)."""
 
-def observation_slices(n_bodies: int, n_action: int) -> dict[str, slice]:
-    """Named slices of the observation vector (the module table, in order)."""
+
+def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False) -> dict[str, slice]:
+    """Named slices of the observation vector (the module table, in order); ``com_offset``: with
+    ``dp_com`` (the ``heading`` frame's layout)."""
     sizes = {"v_com": 3, "ref_v_com": 3, "dv_com": 3, "ref_v_hor": 2, "dv_hor": 2,
-             "p": 3 * n_bodies, "v": 3 * n_bodies, "dp": 3 * n_bodies, "dv": 3 * n_bodies,
+             **({"dp_com": 3} if com_offset else {}), "p": 3 * n_bodies, "v": 3 * n_bodies, "dp": 3 * n_bodies, "dv": 3 * n_bodies,
              "prev_action": n_action}
     out, start = {}, 0
     for name, size in sizes.items():
@@ -37,34 +50,61 @@ def observation_slices(n_bodies: int, n_action: int) -> dict[str, slice]:
     return out
 
 
-def observation_size(n_bodies: int, n_action: int) -> int:
-    """Length of the observation: 13 + 12·B + A."""
-    return 13 + 12 * n_bodies + n_action
+def observation_size(n_bodies: int, n_action: int, com_offset: bool = False) -> int:
+    """Length of the observation: 13 + 12·B + A (+ 3 with ``dp_com``)."""
+    return 13 + 12 * n_bodies + n_action + (3 if com_offset else 0)
+
+
+def heading_rotation(root_x_axis: np.ndarray) -> np.ndarray:
+    """``(3, 3)`` rotation taking world vectors into the heading frame of a root whose x axis is
+    ``root_x_axis (3,)`` (world): a yaw about world z that turns that axis's ground projection
+    onto +x. A root x axis pointing straight up or down (no heading) gives the identity."""
+    x, y = float(root_x_axis[0]), float(root_x_axis[1])
+    norm = np.hypot(x, y)
+    if norm < 1e-9:
+        return np.eye(3)
+    c, s = x / norm, y / norm
+    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
 def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_vel: np.ndarray,
                       ref_pos_rel: np.ndarray, ref_linvel: np.ndarray, ref_com_vel: np.ndarray,
-                      prev_action: np.ndarray) -> np.ndarray:
-    """Observation vector ``(13 + 12·B + A,)`` float32.
+                      prev_action: np.ndarray, heading: np.ndarray | None = None,
+                      ref_com: np.ndarray | None = None) -> np.ndarray:
+    """Observation vector ``(13 + 12·B + A,)`` float32 (world frame), or ``(16 + 12·B + A,)`` in
+    the heading frame when ``heading`` is given.
 
     Args:
-        pos, linvel: ``(B, 3)`` the character's observed body origins and their velocities.
-        com, com_vel: ``(3,)`` the character's CoM and its velocity.
-        ref_pos_rel: ``(B, 3)`` the reference's body origins relative to the reference CoM.
-        ref_linvel: ``(B, 3)`` the reference's body velocities.
-        ref_com_vel: ``(3,)`` the reference's CoM velocity.
+        pos, linvel: ``(B, 3)`` the character's observed body origins and their velocities (world, m, m/s).
+        com, com_vel: ``(3,)`` the character's CoM and its velocity (world).
+        ref_pos_rel: ``(B, 3)`` the reference's body origins relative to the reference CoM (world axes).
+        ref_linvel: ``(B, 3)`` the reference's body velocities (world).
+        ref_com_vel: ``(3,)`` the reference's CoM velocity (world).
         prev_action: ``(A,)`` smoothed previous action.
+        heading: ``(3, 3)`` world → heading-frame rotation (:func:`heading_rotation` of the
+            character's root); ``None``: world axes, ADAPT's layout.
+        ref_com: ``(3,)`` the reference's CoM (world); needed with ``heading``, for ``dp_com``.
     """
     p = pos - com
     dv_com = com_vel - ref_com_vel
+    parts = [com_vel, ref_com_vel, dv_com]
+    offset = []
+    if heading is not None:
+        if ref_com is None:
+            raise ValueError("mimic_observation: the heading frame needs ref_com, for dp_com")
+        parts = [v @ heading.T for v in parts]
+        p, linvel, ref_pos_rel, ref_linvel = (v @ heading.T for v in (p, linvel, ref_pos_rel, ref_linvel))
+        offset = [(com - ref_com) @ heading.T]
+    com_vel, ref_com_vel, dv_com = parts
     return np.concatenate([
-        com_vel, ref_com_vel, dv_com, ref_com_vel[:2], dv_com[:2],
+        com_vel, ref_com_vel, dv_com, ref_com_vel[:2], dv_com[:2], *offset,
         p.ravel(), linvel.ravel(), (p - ref_pos_rel).ravel(), (linvel - ref_linvel).ravel(), prev_action,
     ]).astype(np.float32)
 
 
 # --------------------------------------------------------------------------- MimicGait-v0
-def gait_observation_slices(n_bodies: int, n_action: int, preview_frames: int) -> dict[str, slice]:
+def gait_observation_slices(n_bodies: int, n_action: int, preview_frames: int,
+                            com_offset: bool = False) -> dict[str, slice]:
     """Named slices of the ``MimicGait-v0`` observation: the mimic observation
     (:func:`observation_slices`), then, with ``P = preview_frames``:
 
@@ -77,7 +117,7 @@ def gait_observation_slices(n_bodies: int, n_action: int, preview_frames: int) -
     contacts      4     the simulated contacts c of the current frame (LT, RT, LH, RH), 0/1
     ============  ====  =====================================================================
     """
-    out = observation_slices(n_bodies, n_action)
+    out = observation_slices(n_bodies, n_action, com_offset)
     start = out["prev_action"].stop
     for name, size in (("ref_contacts", 4 * preview_frames), ("ref_toe", 2 * preview_frames), ("contacts", 4)):
         out[name] = slice(start, start + size)

@@ -11,6 +11,7 @@ def test_rollout_metrics_on_a_hand_made_rollout():
     ref = np.array([[0, 0, 0], [0.1, 0, 0], [0, 0.2, 0], [0, 0, 0.3]])
     assert root_displacement_error(root, ref) == pytest.approx((0.01 + 0.04 + 0.09) / 4)
     assert max_reward_ratio(np.full(75, 1.5), 150) == pytest.approx(0.25)  # 75 x 1.5 / (3 x 150)
+    assert max_reward_ratio(np.full(75, 0.5), 150, max_step_reward=1.0) == pytest.approx(0.25)  # MimicGait-v0
 
 
 def test_rollout_metrics_reject_bad_input():

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from envs.config import GaitConfig
-from envs.observations import (gait_observation, gait_observation_slices, mimic_observation, observation_size,
-                               observation_slices)
+from envs.observations import (gait_observation, gait_observation_slices, heading_rotation, mimic_observation,
+                               observation_size, observation_slices)
 from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, contact_mismatches, contact_reward, cube_face_points,
                           cube_face_velocities, end_effector_reward, fall_discount, fallen, gait_reward,
                           joint_pose_reward, joint_velocity_reward, lagging, local_pose_reward, mimic_reward,
@@ -113,6 +113,38 @@ def test_observation_layout_is_adapt_table_1():
     assert np.allclose(obs[slices["p"]], (pos - com).ravel(), atol=1e-6)
     assert np.allclose(obs[slices["dp"]], 0.0) and np.allclose(obs[slices["dv"]], -1.0)
     assert np.array_equal(obs[slices["prev_action"]], action)
+
+
+def test_heading_rotation_by_hand():
+    # a pelvis facing +y (x axis along world y, tilted down a little): a 90° yaw back to +x
+    r = heading_rotation(np.array([0.0, 0.8, -0.6]))
+    assert np.allclose(r @ [0.0, 1.0, 0.0], [1.0, 0.0, 0.0]) and np.allclose(r @ [1.0, 0.0, 0.0], [0.0, -1.0, 0.0])
+    assert np.allclose(r @ [0.0, 0.0, 1.0], [0.0, 0.0, 1.0])
+    assert np.array_equal(heading_rotation(np.array([0.0, 0.0, 1.0])), np.eye(3))  # no heading: identity
+
+
+def test_heading_frame_observation_is_the_same_whichever_way_the_character_faces():
+    slices = observation_slices(20, 20, com_offset=True)
+    assert observation_size(20, 20, com_offset=True) == 276 == slices["prev_action"].stop
+    assert slices["dp_com"] == slice(13, 16)
+    rng = np.random.default_rng(2)
+    pos, vel, ref_rel, ref_vel = (rng.standard_normal((20, 3)) for _ in range(4))
+    com, com_vel, ref_com, ref_com_vel = (rng.standard_normal(3) for _ in range(4))
+    action = np.arange(20.0)
+    root_x = np.array([1.0, 0.0, 0.2])  # facing +x: the heading frame is the world frame
+    facing_x = mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action,
+                                 heading_rotation(root_x), ref_com)
+    world = mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action)
+    assert np.allclose(np.delete(facing_x, slices["dp_com"]), world, atol=1e-6)
+    assert np.allclose(facing_x[slices["dp_com"]], com - ref_com, atol=1e-6)
+    # the whole scene (character and reference) yawed by 40° about the world origin: same observation
+    c, s = np.cos(0.7), np.sin(0.7)
+    yaw = np.array([[c, -s, 0], [s, c, 0], [0, 0, 1.0]])
+    turned = mimic_observation(pos @ yaw.T, vel @ yaw.T, yaw @ com, yaw @ com_vel, ref_rel @ yaw.T, ref_vel @ yaw.T,
+                               yaw @ ref_com_vel, action, heading_rotation(yaw @ root_x), yaw @ ref_com)
+    assert np.allclose(turned, facing_x, atol=1e-5)
+    with pytest.raises(ValueError, match="ref_com"):
+        mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action, heading_rotation(root_x))
 
 
 # ----------------------------------------------------------------------------- MimicGait-v0 terms

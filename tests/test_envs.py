@@ -150,6 +150,22 @@ def test_reference_tracks_are_precomputed_once():
     assert track.face_vel.shape == track.faces_rel_root.shape and track.local.shape[1:] == (18, 4)
 
 
+def test_environments_with_a_fixed_variant_seed_share_their_tracks():
+    """ArtefactMix(seed=...): every env makes the same corrupted variants, and the envs of one
+    process build each track once (one copy); without it each env has its own variants."""
+    mix = ArtefactMix(fraction=1.0, variants_per_clip=2, seed=7)
+    a, b = (gym.make("MimicIMU-v0", clips=["deepmimic:walk"], artefacts=mix).unwrapped for _ in range(2))
+    a.reset(seed=0)
+    b.reset(seed=1)
+    assert a.track(0, 1) is b.track(0, 1) and a.track(0, -1) is b.track(0, -1)
+    assert not np.allclose(a.track(0, 0).motion.qpos, a.track(0, 1).motion.qpos)
+    own = ArtefactMix(fraction=1.0, variants_per_clip=2)
+    c, d = (gym.make("MimicIMU-v0", clips=["deepmimic:walk"], artefacts=own).unwrapped for _ in range(2))
+    c.reset(seed=0)
+    d.reset(seed=1)
+    assert not np.allclose(c.track(0, 1).motion.qpos, d.track(0, 1).motion.qpos)
+
+
 def test_render_shows_the_reference_beside_the_character():
     env = gym.make("MimicIMU-v0", clips=WALK, render_mode="rgb_array", width=200, height=150)
     env.reset(seed=0)

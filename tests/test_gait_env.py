@@ -178,8 +178,8 @@ def test_bad_arguments_raise_clear_errors(walk2):
         _make(walk2, contacts[1:])
     with pytest.raises(ValueError, match="must be bool or 0/1"):
         _make(walk2, np.full((walk2.n_frames, 4), 0.5))
-    with pytest.raises(ValueError, match="foot must be 'two'"):
-        _make(walk2, contacts, foot="one")
+    with pytest.raises(ValueError, match="foot must be 'two' .* or 'one'"):
+        _make(walk2, contacts, foot="three")
     with pytest.raises(ValueError, match="a list of 2, but the env has 1 clips"):
         _make(walk2, [contacts, contacts])
     with pytest.raises(ValueError, match="fits one clip, but the env has 2 clips"):
@@ -192,6 +192,27 @@ def test_bad_arguments_raise_clear_errors(walk2):
         _make(walk2, contacts, gait=GaitConfig(end_effectors=("l_hand", "tail")))
     with pytest.raises(ValueError, match="action_mode 'key_toes' .* only foot='two'"):
         gym.make("MimicIMU-v0", clips=["deepmimic:walk"], action_mode="key_toes")
+
+
+def test_ablations_one_segment_foot_and_toes_held_straight(walk2):
+    """ContactVision Fig. 12's ablations: the one-segment foot (no toe hinges: 20-D key action, toe
+    targets 0) and the ToeRefEstimator off (toe targets 0, the toes' reference angle unchanged)."""
+    walk1 = load_motion("deepmimic:walk", "humanoid_1seg")
+    contacts = np.zeros((walk1.n_frames, 4), bool)
+    one = gym.make("MimicGait-v0", clips=[walk1], contacts=contacts, foot="one")
+    assert one.action_space.shape == (20,) and one.unwrapped.humanoid.name == "humanoid_1seg"
+    _, info = one.reset(seed=0)
+    assert np.array_equal(info["toe_targets"], [0.0, 0.0])
+    _, _, _, _, info = one.step(np.zeros(20, np.float32))
+    assert set(GAIT_TERMS) <= set(info) and 0.0 <= info["reward"] <= 1.0
+    contacts2 = np.ones((walk2.n_frames, 4), bool)
+    contacts2[30:40, 2] = False  # left heel-off at 30 with the toe down: the ToeRefEstimator bends the left toe
+    with_ref = _make(walk2, contacts2)
+    straight = _make(walk2, contacts2, gait=GaitConfig(toe_reference=False))
+    assert with_ref.unwrapped.toe_targets[0][35, 0] > math.radians(20)
+    assert not straight.unwrapped.toe_targets[0].any()
+    toe = with_ref.unwrapped.humanoid.body_joints["l_toe"].qpos_index[0]
+    assert np.array_equal(straight.unwrapped.clips[0].qpos[:, toe], walk2.qpos[:, toe])
 
 
 def test_import_envs_stays_light():
