@@ -4,6 +4,10 @@ Usage::
 
     python agents/clean.py --policy models/mimic_imu deepmimic:walker/turn_left1 --out out/clean.npz \\
         [--corrupt imu --strength 1 --seed 7] [--bvh out/clean.bvh] [--video out/clean.mp4] [--no-adapt]
+    python agents/clean.py --method diffpd --policy models/diffpd deepmimic:run --out out/clean.npz [...]
+
+``--method diffpd`` tracks the clip with the trained differentiable PD cycle instead
+(:mod:`agents.diffpd_clean`: no adaptation, no retries; the same outputs and report).
 
 First the policy is adapted to the clip (PPO fine-tuning on it, :mod:`agents.adaptation`; cached,
 so cleaning the same clip again skips it; ``--no-adapt`` re-performs zero-shot). Then the clip
@@ -52,6 +56,9 @@ from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
 
 MIN_FRAMES = 3
 """Frames a clip needs to be cleaned (a first frame to start from and two to simulate)."""
+
+METHODS = ("ppo", "diffpd")
+"""Cleaning methods of the command line (``--method``)."""
 
 REANCHOR_MARK_S = 0.5
 """How long (s) the video marks the result after each re-anchor."""
@@ -296,7 +303,13 @@ def build_parser(prog: str | None = None) -> CliParser:
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, or a .npz / .bvh / .amc / .txt file")
     add_mocap_options(p)
-    p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
+    p.add_argument("--method", choices=METHODS, default="ppo",
+                   help="ppo: a mimic policy re-performs the clip (--policy: its directory); diffpd: the "
+                        "differentiable PD cycle tracks it (--policy: a diff-PD model directory, e.g. "
+                        "models/diffpd; agents/diffpd_clean.py)")
+    p.add_argument("--policy", required=True,
+                   help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json); with --method diffpd "
+                        "a diff-PD model directory (diffpd.pt)")
     p.add_argument("--out", type=output_file(".npz"), required=True, help="cleaned motion (.npz)")
     p.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned motion as BVH")
     p.add_argument("--video", type=output_file(*VIDEO_SUFFIXES),
@@ -307,6 +320,13 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--strength", type=non_negative_float, default=1.0)
     p.add_argument("--seed", type=int, default=0, help="artefact seed")
     p.add_argument("--json", type=output_file(".json"), help="write the before/after metrics as JSON")
+    add_performance_options(p)
+    return p
+
+
+def add_performance_options(p: argparse.ArgumentParser) -> None:
+    """The options of how a clip is re-performed (failures, per-clip adaptation), shared by every
+    command that cleans a clip with a policy; read back by :func:`clean_config` and :func:`adapt_to_clip`."""
     g = p.add_argument_group("failures")
     g.add_argument("--rewind-s", type=positive_float, default=CleanConfig.rewind_s,
                    help="after a failure, retry from this long before it (s)")
@@ -323,10 +343,46 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="environment steps between evaluations")
     g.add_argument("--adapt-cache", type=output_dir, default=None,
                    help=f"where adapted policies are cached (None: {default_cache_dir()})")
-    return p
 
 
-def _adapt(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> AdaptResult | None:
+def load_reference(policy: MimicPolicy, args: argparse.Namespace) -> Motion:
+    """The clip of ``args.source`` for ``policy``'s humanoid, looped to ``--min-frames`` and
+    corrupted as ``--corrupt`` asks (the options of :func:`build_parser`)."""
+    return load_clip(FOOT_MODELS[policy.foot], args)
+
+
+def load_clip(model: str, args: argparse.Namespace) -> Motion:
+    """The clip of ``args.source`` for humanoid ``model``, as :func:`load_reference`."""
+    reference = require_frames(load_motion(args.source, model, min_frames=args.min_frames,
+                                           mocap=mocap_options(args)),
+                               MIN_FRAMES, args.source, "cleaning")
+    if args.corrupt:
+        reference = corrupt(reference, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
+    return reference
+
+
+def print_performance(cleaned: Motion, out: Path) -> None:
+    """Print how ``cleaned`` (written to ``out``) was simulated: its simulated fraction, the
+    recoveries and every re-anchor."""
+    source = cleaned.source
+    print(f"wrote {out} ({cleaned.n_frames} frames, all simulated; simulated fraction "
+          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by a retry, "
+          f"{len(source['reanchors'])} re-anchored to the reference)")
+    for r in source["reanchors"]:
+        jump = f", root jumped {r['jump_m']:.2f} m" if r["jump_m"] is not None else ""
+        print(f"  re-anchored at frame {r['frame']} ({r['frame'] / cleaned.fps:.2f} s): {r['reason']} at frame "
+              f"{r['failed_at']}, {r['retries']} retries failed (best reached frame {r['best_reached']}){jump}")
+
+
+def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> CleanConfig:
+    """The :class:`CleanConfig` of the command line, checked against ``policy``'s task before any work."""
+    config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries)
+    task = policy.record.env.mimic_config()
+    config.rewind_frames(reference.fps, task.frames_per_control, task.episode_frames)
+    return config
+
+
+def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> AdaptResult | None:
     """The policy adapted to ``reference`` as the command line asks, printed; ``None`` without."""
     if args.no_adapt:
         return None
@@ -346,32 +402,27 @@ def _adapt(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> 
 @one_line_errors
 def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
-    args = build_parser(prog).parse_args(argv)
-    policy = load_policy(args.policy)
-    reference = require_frames(load_motion(args.source, FOOT_MODELS[policy.foot], min_frames=args.min_frames,
-                                           mocap=mocap_options(args)),
-                               MIN_FRAMES, args.source, "cleaning")
-    if args.corrupt:
-        reference = corrupt(reference, ArtefactRecipe.named(args.corrupt, args.strength), args.seed)
-    config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries)
-    task = policy.record.env.mimic_config()
-    config.rewind_frames(reference.fps, task.frames_per_control, task.episode_frames)  # refuse before any work
-    adaptation = _adapt(policy, reference, args)
-    performer = adaptation.policy if adaptation else policy
-    cleaned = clean_motion(performer, reference, config)
+    parser = build_parser(prog)
+    args = parser.parse_args(argv)
+    adaptation, extra = None, {}
+    if args.method == "diffpd":
+        from agents.diffpd_clean import clean_from_args  # torch cycle only when asked for
+
+        reference, cleaned, extra = clean_from_args(args, parser)
+    else:
+        policy = load_policy(args.policy)
+        reference = load_reference(policy, args)
+        config = clean_config(policy, reference, args)
+        adaptation = adapt_to_clip(policy, reference, args)
+        performer = adaptation.policy if adaptation else policy
+        cleaned = clean_motion(performer, reference, config)
     cleaned.save(args.out)
     before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
     print(f"{'metric':<24}{'input':>12}{'cleaned':>12}")
     for k in ARTEFACT_METRICS:
         print(f"{k:<24}{before[k]:>12.4f}{after[k]:>12.4f}")
+    print_performance(cleaned, args.out)
     source = cleaned.source
-    print(f"wrote {args.out} ({cleaned.n_frames} frames, all simulated; simulated fraction "
-          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by a retry, "
-          f"{len(source['reanchors'])} re-anchored to the reference)")
-    for r in source["reanchors"]:
-        jump = f", root jumped {r['jump_m']:.2f} m" if r["jump_m"] is not None else ""
-        print(f"  re-anchored at frame {r['frame']} ({r['frame'] / cleaned.fps:.2f} s): {r['reason']} at frame "
-              f"{r['failed_at']}, {r['retries']} retries failed (best reached frame {r['best_reached']}){jump}")
     if args.bvh:
         print(f"wrote {write_bvh(cleaned, args.bvh)}")
     if args.video:
@@ -380,7 +431,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     result = {"source": args.source, "policy": str(args.policy), "cleaned_by": source["cleaned_by"],
               "input": before, "cleaned": after, "simulated_fraction": source["simulated_fraction"],
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
-              "adaptation": adaptation.as_dict() if adaptation else None}
+              "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method, **extra}
     if args.json:
         write_json(args.json, result)
     return result

@@ -86,12 +86,16 @@ def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: floa
 
 
 def render(motions: Motion | list[Motion], out: str | Path, fps: float = 30.0, width: int = 480,
-           height: int = 360, marked: Sequence[np.ndarray | None] | None = None, progress: bool = False) -> Path:
+           height: int = 360, marked: Sequence[np.ndarray | None] | None = None, progress: bool = False,
+           footer: np.ndarray | None = None) -> Path:
     """Render one motion, or several side by side, to ``out`` (.mp4, .gif, or .png = first frame).
 
     Panels are padded to the longest motion by holding their last frame; the file is written
     atomically. ``marked`` (one entry per motion, ``None`` or see :func:`render_frames`) draws a red
     border around the marked frames of each panel; ``progress`` shows a progress bar per panel.
+    ``footer`` ``(h, len(motions)·width, 3)`` uint8: an image shown under the panels (e.g. a
+    timeline whose x axis spans the clip), with a cursor moving across it from the first frame
+    to the last.
     """
     out = Path(out)
     if out.suffix.lower() not in SUPPORTED:
@@ -104,6 +108,8 @@ def render(motions: Motion | list[Motion], out: str | Path, fps: float = 30.0, w
     n = max(len(p) for p in panels)
     panels = [np.concatenate([p, np.repeat(p[-1:], n - len(p), axis=0)]) for p in panels]
     video = np.concatenate(panels, axis=2)
+    if footer is not None:
+        video = _with_footer(video, footer)
     import imageio.v2 as imageio
 
     with atomic_write(out) as tmp:
@@ -114,3 +120,22 @@ def render(motions: Motion | list[Motion], out: str | Path, fps: float = 30.0, w
         else:
             imageio.mimsave(tmp, video, fps=fps, macro_block_size=1)
     return out
+
+
+CURSOR_RGB = (230, 20, 20)
+"""Colour of the time cursor drawn on a :func:`render` footer."""
+
+
+def _with_footer(video: np.ndarray, footer: np.ndarray) -> np.ndarray:
+    """``video (N, H, W, 3)`` with ``footer (h, W, 3)`` under every frame and a 2-pixel cursor at
+    the frame's time (frame 0 at the left edge, frame N − 1 at the right)."""
+    n, _, w, _ = video.shape
+    footer = np.asarray(footer)
+    if footer.ndim != 3 or footer.shape[1:] != (w, 3) or footer.dtype != np.uint8:
+        raise ValueError(f"footer must be a (h, {w}, 3) uint8 image for panels {w} pixels wide, got "
+                         f"{footer.shape} {footer.dtype}")
+    strips = np.repeat(footer[None], n, axis=0)
+    x = np.round(np.arange(n) * (w - 2) / max(n - 1, 1)).astype(int)
+    for k in range(n):
+        strips[k, :, x[k]:x[k] + 2] = CURSOR_RGB
+    return np.concatenate([video, strips], axis=1)

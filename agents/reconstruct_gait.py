@@ -1,0 +1,165 @@
+"""Reconstruct a walk under physics with the two-segment foot: ContactVision's pipeline end to end.
+
+Usage::
+
+    python agents/reconstruct_gait.py library:data/library#dataset-1_walk_old_001 \\
+        --policy models/mimic_gait --out out/walk_old.npz [--bvh out/walk_old.bvh] \\
+        [--video out/walk_old.mp4] [--json out/walk_old.json] [--no-adapt]
+
+Contacts → toe targets → a policy adapted to the clip → the simulated motion (contactvision §6.4):
+the contact targets ĉ of the clip come from the policy's perception source (its sidecar's
+``contacts``: VGRFNet on the reference's joints, or the ContactTransformer on its keypoints), the
+ToeRefEstimator turns them into toe targets, the ``MimicGait-v0`` policy is fine-tuned on the clip
+(:mod:`agents.adaptation`, cached; ``--no-adapt`` skips it) and re-performs it as
+``agents/clean.py`` does (rewind-and-retry, re-anchoring only as a last resort). Printed and
+written with ``--json``: the joint-angle RMSE against the gait reference, the F1 of the simulated
+contacts against ĉ, the push-offs (peak toe dorsiflexion and its timing against the ToeRef
+target), the forward displacement error, and the gait parameters (stance, swing, single and
+double support) of the simulated contacts against those of ĉ. ``--video`` shows the gait
+reference (toes bent by the targets) beside the simulation, over a timeline of ĉ and the
+simulated contacts.
+"""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+if __package__ in (None, ""):  # `python agents/reconstruct_gait.py`: make the repository importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import numpy as np
+
+import envs  # noqa: F401  (registers the ids)
+from agents.clean import (adapt_to_clip, build_parser as clean_parser, clean_config, clean_motion, load_reference,
+                          print_performance, reanchor_marks)
+from agents.gait_metrics import (contact_f1, forward_displacement_error, joint_angle_rmse_deg, simulated_contacts,
+                                 summarize_push_offs, toe_push_off)
+from agents.policy import MimicPolicy, PolicyError, load_policy
+from agents.sidecar import GAIT_ENV_ID
+from envs.config import TOE_BODIES
+from perception.gait import gait_parameters, gait_phases
+from reference_motion.atomic import write_json
+from reference_motion.bvh_export import write_bvh
+from reference_motion.cli import CliParser, one_line_errors
+from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
+from reference_motion.motion import Motion
+from reference_motion.render import render
+
+TIMELINE_HEIGHT_PX = 150
+"""Height of the contact timeline under the video."""
+
+
+def build_parser(prog: str | None = None) -> CliParser:
+    """``agents/clean.py``'s options; ``--policy`` must be a ``MimicGait-v0`` policy."""
+    p = clean_parser(prog)
+    p.description = __doc__.split("\n\n")[0]
+    return p
+
+
+def gait_targets(policy: MimicPolicy, reference: Motion) -> tuple[np.ndarray, np.ndarray, Motion]:
+    """``(ĉ (T, 4) bool, toe targets (T, 2) rad, gait reference)`` of ``reference`` as ``policy``'s
+    task sees it: the contacts from its perception source, the ToeRefEstimator's toe angles, and
+    the clip with its toes so bent."""
+    env = policy.make_env([reference], artefacts=None)
+    base = env.unwrapped
+    out = base.contact_targets[0], base.toe_targets[0], base.clips[0]
+    env.close()
+    return out
+
+
+def reconstruction_metrics(simulated: Motion, gait_reference: Motion, targets: np.ndarray,
+                           toe_targets: np.ndarray) -> dict:
+    """Everything the command reports about ``simulated`` against ``gait_reference`` (same frames),
+    the contact targets ``targets`` (T, 4) and ``toe_targets`` (T, 2) rad (see the module docstring)."""
+    contacts = simulated_contacts(simulated)
+    joints = load_model(simulated.model).body_joints
+    push_offs = []
+    if all(b in joints for b in TOE_BODIES):  # humanoid_2seg: the toe hinges' angles
+        push_offs = toe_push_off(simulated.qpos[:, [joints[b].qpos_index[0] for b in TOE_BODIES]], toe_targets)
+    target_parameters = gait_parameters(gait_phases(targets)).as_dict()
+    simulated_parameters = gait_parameters(gait_phases(contacts)).as_dict()
+    return {
+        "frames": simulated.n_frames,
+        "joint_rmse_deg": joint_angle_rmse_deg(simulated.qpos[:, 7:], gait_reference.qpos[:, 7:]),
+        "contact_f1": contact_f1(contacts, targets),
+        "contact_f1_per_channel": {c: contact_f1(contacts[:, i:i + 1], targets[:, i:i + 1])
+                                   for i, c in enumerate(CONTACT_CHANNELS)},
+        "push_off": summarize_push_offs(push_offs, simulated.fps).as_dict(),
+        "forward_displacement_error": forward_displacement_error(simulated.qpos[:, :3], gait_reference.qpos[:, :3]),
+        "gait_parameters": {"simulated": simulated_parameters, "targets": target_parameters},
+        "contacts": {"simulated": contacts.astype(int).tolist(), "targets": np.asarray(targets).astype(int).tolist()},
+    }
+
+
+def contact_timeline(targets: np.ndarray, contacts: np.ndarray, width: int, height: int = TIMELINE_HEIGHT_PX) -> np.ndarray:
+    """``(height, width, 3)`` uint8: one row pair per contact channel, the target ĉ (grey) above the
+    simulated contact (blue), time from the left edge (first frame) to the right (last frame)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig = plt.figure(figsize=(width / 100, height / 100), dpi=100)
+    ax = fig.add_axes((0, 0, 1, 1))
+    n = len(targets)
+    for i, name in enumerate(CONTACT_CHANNELS):
+        y = 2 * (len(CONTACT_CHANNELS) - 1 - i)
+        for row, values, colour in ((y + 1, targets[:, i], "0.55"), (y, contacts[:, i], "tab:blue")):
+            on = np.flatnonzero(values)
+            ax.bar(on, 0.8, width=1.0, bottom=row + 0.1, color=colour, align="edge", linewidth=0)
+        ax.text(3, y + 1.05, f"{name.replace('_', ' ')}: target / simulated", fontsize=7, va="center",
+                bbox={"facecolor": "white", "alpha": 0.75, "linewidth": 0, "pad": 1})
+    ax.set_xlim(0, n)
+    ax.set_ylim(0, 2 * len(CONTACT_CHANNELS))
+    ax.axis("off")
+    fig.canvas.draw()
+    image = np.asarray(fig.canvas.buffer_rgba())[..., :3].copy()
+    plt.close(fig)
+    return image
+
+
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the report."""
+    args = build_parser(prog).parse_args(argv)
+    if args.method != "ppo":
+        raise ValueError(f"--method {args.method}: gait reconstruction re-performs the clip with a {GAIT_ENV_ID} "
+                         "PPO policy (--method ppo)")
+    policy = load_policy(args.policy)
+    if policy.env_id != GAIT_ENV_ID:
+        raise PolicyError(f"{args.policy}: a {policy.env_id} policy; gait reconstruction needs a {GAIT_ENV_ID} "
+                          f"policy (agents/train_ppo.py --env-id {GAIT_ENV_ID})")
+    reference = load_reference(policy, args)
+    config = clean_config(policy, reference, args)
+    targets, toe_targets, gait_reference = gait_targets(policy, reference)
+    adaptation = adapt_to_clip(policy, reference, args)
+    simulated = clean_motion(adaptation.policy if adaptation else policy, reference, config)
+    simulated.save(args.out)
+    print_performance(simulated, args.out)
+    metrics = reconstruction_metrics(simulated, gait_reference, targets, toe_targets)
+    push, params = metrics["push_off"], metrics["gait_parameters"]
+    print(f"joint-angle RMSE {metrics['joint_rmse_deg']:.2f} deg; contact F1 {metrics['contact_f1']:.3f}; "
+          f"forward displacement error {metrics['forward_displacement_error']:.1%}")
+    print(f"push-offs: {push['count']}, peak toe angle {push['peak_deg']:.1f} deg (target {push['target_peak_deg']:.1f}), "
+          f"peak {push['timing_ms']:+.0f} ms from the target's")
+    print(f"{'gait parameter':<16}{'simulated':>10}{'targets':>10}")
+    for k in ("stance", "swing", "single_support", "double_support"):
+        print(f"{k:<16}{params['simulated'][k]:>10.3f}{params['targets'][k]:>10.3f}")
+    if args.bvh:
+        print(f"wrote {write_bvh(simulated, args.bvh)}")
+    if args.video:
+        width = 480
+        footer = contact_timeline(targets, np.array(metrics["contacts"]["simulated"], bool), 2 * width)
+        marked = [None, reanchor_marks(simulated)]
+        print(f"wrote {render([gait_reference, simulated], args.video, width=width, marked=marked, progress=True, footer=footer)}")
+    result = {"source": args.source, "policy": str(args.policy), "contacts_from": policy.record.env.contacts,
+              "simulated_fraction": simulated.source["simulated_fraction"],
+              "reanchors": simulated.source["reanchors"], "recoveries": simulated.source["recoveries"],
+              "adaptation": adaptation.as_dict() if adaptation else None, **metrics}
+    if args.json:
+        write_json(args.json, result)
+    return result
+
+
+if __name__ == "__main__":
+    main()

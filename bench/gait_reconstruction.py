@@ -1,0 +1,113 @@
+"""ContactVision's gait reconstruction on held-out walks, and its Fig. 12 ablations, side by side.
+
+Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
+[no_fc=DIR no_toeref=DIR one_segment=DIR] [--clips SOURCE ...] [--seconds 10] [--episodes 5]
+[--json [OUT]]``
+
+For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
+``agents/train_ppo.py --env-id MimicGait-v0 --gait-ablation no_fc|no_toeref`` or ``--foot one``)
+and each held-out walk (default: the library test split's forward walks, styles never trained on),
+the clip is re-performed end to end by ``agents/clean.py``'s algorithm, zero-shot (rewind-and-retry,
+re-anchoring only as a last resort) and scored against its gait reference and contact targets
+(:mod:`agents.gait_metrics`): joint-angle RMSE (goal ≤ 3°; ContactVision 3.27°), contact F1
+against ĉ (goal ≥ 0.85), push-off peak toe angle and timing against the ToeRef target, forward
+displacement error (goal ≤ 5%), the gait parameters of the simulated contacts against those of
+ĉ, re-anchors; plus ADAPT's ELR / SR90 over ``--episodes`` 5-s segments per clip. Means over
+the clips per policy are printed as one table; ``--json`` writes every per-clip figure too.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+
+import numpy as np
+
+import envs  # noqa: F401  (registers the ids)
+from agents.clean import CleanConfig, clean_motion
+from agents.evaluation import evaluate
+from agents.policy import load_policy
+from agents.reconstruct_gait import gait_targets, reconstruction_metrics
+from envs.config import FOOT_MODELS
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from reference_motion.library import expand_clips, load_motion
+
+CLIPS = tuple(f"library:data/library#dataset-1_walk_{style}_{take:03d}" for style in ("giant", "old", "tired")
+              for take in (1, 2))
+"""The library test split's six forward walks (three styles never trained on)."""
+
+PARAMETERS = ("stance", "swing", "single_support", "double_support")
+
+
+def score(policy_dir: str, clips: list[str], seconds: float, episodes: int) -> dict:
+    """Per-clip metrics of one policy and their means."""
+    policy = load_policy(policy_dir)
+    rows = []
+    for clip in clips:
+        reference = load_motion(clip, FOOT_MODELS[policy.foot], min_frames=int(seconds * 60) + 1)
+        reference = reference.with_qpos(reference.qpos[:int(seconds * 60) + 1], loop=False)
+        targets, toe_targets, gait_reference = gait_targets(policy, reference)
+        start = time.perf_counter()
+        simulated = clean_motion(policy, reference, CleanConfig(), progress=False)
+        wall = time.perf_counter() - start
+        metrics = reconstruction_metrics(simulated, gait_reference, targets, toe_targets)
+        metrics.pop("contacts")
+        env = policy.make_env([reference], artefacts=None)
+        adapt, _ = evaluate(env, policy, episodes=episodes, offset_step=30)
+        env.close()
+        rows.append({"clip": clip, **metrics, "reanchors": len(simulated.source["reanchors"]),
+                     "ELR": adapt["ELR_mean"], "SR90": adapt["SR90"], "wall_s": wall})
+        print(f"  {clip.split('#')[-1]:<32} RMSE {metrics['joint_rmse_deg']:5.2f} deg  F1 {metrics['contact_f1']:.3f}  "
+              f"disp err {metrics['forward_displacement_error']:6.1%}  re-anchors {rows[-1]['reanchors']}  "
+              f"ELR {adapt['ELR_mean']:.2f}", flush=True)
+    return {"policy": policy_dir, "clips": rows, "mean": means(rows)}
+
+
+def means(rows: list[dict]) -> dict:
+    """The mean of every scalar figure over the clips (push-off figures over the clips that have any)."""
+    def mean(values: list[float]) -> float:
+        finite = [v for v in values if v is not None and math.isfinite(v)]
+        return float(np.mean(finite)) if finite else float("nan")
+
+    out = {k: mean([r[k] for r in rows]) for k in ("joint_rmse_deg", "contact_f1", "forward_displacement_error",
+                                                    "reanchors", "ELR", "SR90", "wall_s")}
+    for k in ("peak_deg", "target_peak_deg", "timing_ms"):
+        out[f"push_off_{k}"] = mean([r["push_off"][k] for r in rows])
+    for who in ("simulated", "targets"):
+        for k in PARAMETERS:
+            out[f"{k}_{who}"] = mean([r["gait_parameters"][who][k] for r in rows])
+    return out
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--policies", nargs="+", required=True, metavar="NAME=DIR", help="policies to compare")
+    p.add_argument("--clips", nargs="+", default=list(CLIPS), help="held-out walks (SOURCE strings or clip sets)")
+    p.add_argument("--seconds", type=float, default=10.0, help="each clip looped or cut to this long")
+    p.add_argument("--episodes", type=int, default=5, help="5-s segments per clip for ELR / SR90")
+    p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
+    args = p.parse_args()
+    clips = expand_clips(args.clips)
+    results = {}
+    for item in args.policies:
+        name, _, directory = item.partition("=")
+        print(f"{name} ({directory})", flush=True)
+        results[name] = score(directory, clips, args.seconds, args.episodes)
+    print(f"\n{'policy':<12}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
+          f"{'reanch':>7}{'ELR':>6}{'SR90':>6}")
+    for name, r in results.items():
+        m = r["mean"]
+        print(f"{name:<12}{m['joint_rmse_deg']:>9.2f}{m['contact_f1']:>7.3f}{m['forward_displacement_error']:>9.1%}"
+              f"{m['push_off_peak_deg']:>9.1f}{m['push_off_target_peak_deg']:>8.1f}{m['push_off_timing_ms']:>10.0f}"
+              f"{m['reanchors']:>7.1f}{m['ELR']:>6.2f}{m['SR90']:>6.2f}")
+    print(f"\n{'gait parameter':<16}" + "".join(f"{n:>12}" for n in results) + f"{'targets ĉ':>12}")
+    first = next(iter(results.values()))["mean"]
+    for k in PARAMETERS:
+        print(f"{k:<16}" + "".join(f"{r['mean'][f'{k}_simulated']:>12.3f}" for r in results.values())
+              + f"{first[f'{k}_targets']:>12.3f}")
+    emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes, "results": results}, args.json)
+
+
+if __name__ == "__main__":
+    main()
