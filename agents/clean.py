@@ -298,15 +298,18 @@ def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndar
     return marked
 
 
-def build_parser(prog: str | None = None) -> CliParser:
+def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
+    """The command line of ``agents/clean.py``; ``method=False`` leaves out ``--method`` (for a
+    command that re-performs with a PPO policy only, such as ``agents/reconstruct_gait.py``)."""
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, or a .npz / .bvh / .amc / .txt file")
     add_mocap_options(p)
-    p.add_argument("--method", choices=METHODS, default="ppo",
-                   help="ppo: a mimic policy re-performs the clip (--policy: its directory); diffpd: the "
-                        "differentiable PD cycle tracks it (--policy: a diff-PD model directory, e.g. "
-                        "models/diffpd; agents/diffpd_clean.py)")
+    if method:
+        p.add_argument("--method", choices=METHODS, default="ppo",
+                       help="ppo: a mimic policy re-performs the clip (--policy: its directory); diffpd: the "
+                            "differentiable PD cycle tracks it (--policy: a diff-PD model directory, e.g. "
+                            "models/diffpd; agents/diffpd_clean.py)")
     p.add_argument("--policy", required=True,
                    help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json); with --method diffpd "
                         "a diff-PD model directory (diffpd.pt)")

@@ -21,7 +21,11 @@ COMMANDS = {
                                        "(agents/make_dataset.py)"),
     "train": ("agents.train_ppo", "train a mimic policy with PPO (agents/train_ppo.py)"),
     "evaluate": ("agents.evaluate", "evaluate a policy with ADAPT's protocol (agents/evaluate.py)"),
-    "clean": ("agents.clean", "re-perform a clip with a policy under physics (agents/clean.py)"),
+    "clean": ("agents.clean", "re-perform a clip with a policy under physics, or track it with the diff-PD "
+                              "cycle (agents/clean.py)"),
+    "gait": ("agents.reconstruct_gait", "reconstruct a walk with the two-segment foot: contacts, toe targets, "
+                                        "MimicGait-v0 policy, gait report (agents/reconstruct_gait.py)"),
+    "train-diffpd": ("agents.train_diffpd", "train the differentiable PD cycle's networks (agents/train_diffpd.py)"),
     "ship": ("agents.ship", "ship a training run's best policy to models/ (agents/ship.py)"),
 }
 """Command → (module whose ``main(argv, prog)`` runs it, what it does)."""

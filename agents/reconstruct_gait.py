@@ -52,7 +52,7 @@ TIMELINE_HEIGHT_PX = 150
 
 def build_parser(prog: str | None = None) -> CliParser:
     """``agents/clean.py``'s options; ``--policy`` must be a ``MimicGait-v0`` policy."""
-    p = clean_parser(prog)
+    p = clean_parser(prog, method=False)
     p.description = __doc__.split("\n\n")[0]
     return p
 
@@ -122,9 +122,6 @@ def contact_timeline(targets: np.ndarray, contacts: np.ndarray, width: int, heig
 def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the report."""
     args = build_parser(prog).parse_args(argv)
-    if args.method != "ppo":
-        raise ValueError(f"--method {args.method}: gait reconstruction re-performs the clip with a {GAIT_ENV_ID} "
-                         "PPO policy (--method ppo)")
     policy = load_policy(args.policy)
     if policy.env_id != GAIT_ENV_ID:
         raise PolicyError(f"{args.policy}: a {policy.env_id} policy; gait reconstruction needs a {GAIT_ENV_ID} "
