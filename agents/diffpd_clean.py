@@ -9,8 +9,10 @@ A trained model is a directory (``models/diffpd``) holding
 * ``checkpoint.pt`` — the training state for ``--resume`` (optional; not read here).
 
 Cleaning (:func:`clean_motions`) runs the dynamic cycle through a batch of reference clips at once,
-each from its own first frame (``qpos[0]``, ``qvel[0]``) with the reference frames as targets, under
-``torch.no_grad``: one continuous simulation per clip. Where a clip's simulated root strays more than
+each from its own first frame (``qpos[0]``, ``qvel[0]``) with the reference frames as targets, by the
+cycle's NumPy forward pass (:class:`agents.diffpd_fast.FastCycle`; no autograd): one continuous
+simulation per clip. The root residual's bound and how often it saturates go into each cleaned
+motion's ``source["diffpd_root_residual"]``. Where a clip's simulated root strays more than
 :attr:`DiffPDCleanConfig.reanchor_m` from the reference (or the state is not finite) it restarts
 from the reference state of that frame; such re-anchors are recorded as in the PPO path
 (:class:`agents.clean.Reanchor`, ``reason`` ``"lagging"`` or ``"unstable"``, ``retries`` 0).
@@ -29,6 +31,7 @@ import torch
 from tqdm import tqdm
 
 from agents.diffpd import DiffPDConfig, DynamicCycle, DyNet, GRFNet
+from agents.diffpd_fast import FastCycle
 from reference_motion.motion import Motion
 
 WEIGHTS_FILE = "diffpd.pt"
@@ -156,12 +159,15 @@ class Performance:
             frame's iterations (row 0: zeros, the start state).
         reports: per clip, :meth:`~agents.diffpd.ClipResult.report`-style root-force magnitudes.
         gains: per clip, the mean gain scale ``s_g`` over the hinges and frames.
+        floor_vgrf: per clip ``(T, P)`` the vertical force (N) of the floor projection's impulses
+            (``p/Δt``, mass metric): the support the contact constraint adds to λ.
     """
 
     motions: list[Motion]
     vgrf: list[np.ndarray]
     reports: list[dict[str, float]]
     gains: list[float]
+    floor_vgrf: list[np.ndarray] | None = None
 
 
 def clean_motions(cycle: DynamicCycle, references: Sequence[Motion], config: DiffPDCleanConfig = DiffPDCleanConfig(),
@@ -182,53 +188,70 @@ def clean_motions(cycle: DynamicCycle, references: Sequence[Motion], config: Dif
     B, T = len(references), max(r.n_frames for r in references)
     targets = np.stack([np.concatenate([r.qpos, np.repeat(r.qpos[-1:], T - r.n_frames, 0)]) for r in references])
     velocities = np.stack([np.concatenate([r.qvel, np.zeros((T - r.n_frames, r.qvel.shape[1]))]) for r in references])
-    tgt = torch.as_tensor(targets, dtype=cfg.dtype)
-    q, qd = tgt[:, 0].clone(), torch.as_tensor(velocities[:, 0], dtype=cfg.dtype)
+    fast = FastCycle(cycle)  # the same iteration in NumPy: no autograd wanted here, 3x less overhead
+    q, qd = targets[:, 0].copy(), velocities[:, 0].copy()
     out_q = np.empty_like(targets)
     out_q[:, 0] = targets[:, 0]
     vgrf = np.zeros((B, T, cycle.n_points))
-    sums = {k: np.zeros(B) for k in ("res_lin", "res_ang", "virt_lin", "virt_ang", "grf", "s_g")}
+    floor = np.zeros((B, T, cycle.n_points))
+    keys = ("res_lin", "res_ang", "virt_lin", "virt_ang", "grf", "s_g", "sat_lin", "sat_ang")
+    sums = {k: np.zeros(B) for k in keys}
+    rho = fast.rho
     lengths = np.array([r.n_frames for r in references])
     reanchors: list[list] = [[] for _ in references]
     bar = tqdm(total=T - 1, desc="cleaning (diff-PD)", unit="frame", disable=not config.progress)
-    with torch.no_grad():
-        for t in range(1, T):
-            out = cycle.frame(q, qd, tgt[:, t])
-            q, qd = out.q, out.qd
-            vgrf[:, t] = out.force[..., 2].mean(1).numpy()
-            r, v = out.root_residual, out.root_virtual
-            alive = t < lengths  # padded frames past a clip's end do not count
-            for key, value in (("res_lin", r[..., :3].norm(dim=-1)), ("res_ang", r[..., 3:].norm(dim=-1)),
-                               ("virt_lin", v[..., :3].norm(dim=-1)), ("virt_ang", v[..., 3:].norm(dim=-1)),
-                               ("grf", out.force[..., 2].sum(-1)), ("s_g", out.s_g[..., 6:].mean(-1))):
-                sums[key] += alive * value.mean(1).numpy()
-            finite = torch.isfinite(q).all(1) & torch.isfinite(qd).all(1)
-            stray = (q[:, :3] - tgt[:, t, :3]).norm(dim=1)
-            bad = ~finite | (stray > config.reanchor_m)
-            for b in torch.nonzero(bad).flatten().tolist():
-                if t < references[b].n_frames:
-                    jump = float(stray[b]) if finite[b] else None
-                    reanchors[b].append(Reanchor(frame=t, reason="lagging" if finite[b] else "unstable", retries=0,
-                                                 failed_at=t, best_reached=t, jump_m=jump))
-                q[b], qd[b] = tgt[b, t], torch.as_tensor(velocities[b, t], dtype=cfg.dtype)
-            out_q[:, t] = q.numpy()
-            bar.update(1)
+    for t in range(1, T):
+        out = fast.frame(q, qd, targets[:, t])
+        q, qd = out.q, out.qd
+        vgrf[:, t] = out.force[..., 2].mean(1)
+        if cfg.projection_metric == "mass":  # the floor's impulses are N·s: as forces over the step
+            floor[:, t] = out.impulse.mean(1) / cfg.dt
+        r, v = out.root_residual, out.root_virtual
+        alive = t < lengths  # padded frames past a clip's end do not count
+        # saturated: the residual at ≥ tanh(1) = 76% of its bound in some component
+        for key, value in (("res_lin", np.linalg.norm(r[..., :3], axis=-1)),
+                           ("res_ang", np.linalg.norm(r[..., 3:], axis=-1)),
+                           ("virt_lin", np.linalg.norm(v[..., :3], axis=-1)),
+                           ("virt_ang", np.linalg.norm(v[..., 3:], axis=-1)),
+                           ("grf", out.force[..., 2].sum(-1)), ("s_g", out.s_g[..., 6:].mean(-1)),
+                           ("sat_lin", (np.abs(v[..., :3]) >= rho[:3]).any(-1)),
+                           ("sat_ang", (np.abs(v[..., 3:]) >= rho[3:]).any(-1))):
+            sums[key] += alive * value.mean(1)
+        finite = np.isfinite(q).all(1) & np.isfinite(qd).all(1)
+        stray = np.linalg.norm(q[:, :3] - targets[:, t, :3], axis=1)
+        bad = ~finite | ~(stray <= config.reanchor_m)
+        for b in np.nonzero(bad)[0].tolist():
+            if t < references[b].n_frames:
+                jump = float(stray[b]) if finite[b] else None
+                reanchors[b].append(Reanchor(frame=t, reason="lagging" if finite[b] else "unstable", retries=0,
+                                             failed_at=t, best_reached=t, jump_m=jump))
+            q[b], qd[b] = targets[b, t], velocities[b, t]
+        out_q[:, t] = q
+        bar.update(1)
     bar.close()
     motions, reports, gains = [], [], []
+    bound = {"residual_bound_linear_bw": float(rho[0]) / cycle.weight if np.isfinite(rho[0]) else None,
+             "residual_bound_angular_nm": float(rho[3]) if np.isfinite(rho[3]) else None,  # None: unbounded
+             "no_slip_height_m": cfg.no_slip_height}
     for b, ref in enumerate(references):
         n = ref.n_frames - 1
+        w = cycle.weight
+        report = {"residual_linear_bw_mean": sums["res_lin"][b] / n / w,
+                  "residual_angular_nm_mean": sums["res_ang"][b] / n,
+                  "residual_linear_saturated_share": sums["sat_lin"][b] / n,
+                  "residual_angular_saturated_share": sums["sat_ang"][b] / n,
+                  "root_virtual_linear_bw_mean": sums["virt_lin"][b] / n / w,
+                  "root_virtual_angular_nm_mean": sums["virt_ang"][b] / n,
+                  "grf_vertical_bw_mean": sums["grf"][b] / n / w}
         source = {**ref.source, "cleaned_by": cleaned_by, "method": "diffpd",
                   "reanchors": [dataclasses.asdict(a) for a in reanchors[b]], "recoveries": [],
-                  "simulated_fraction": 1.0 - len(reanchors[b]) / n}
+                  "simulated_fraction": 1.0 - len(reanchors[b]) / n,
+                  "diffpd_root_residual": {**bound, **{k: float(v) for k, v in report.items()}}}
         motions.append(ref.with_qpos(out_q[b, :ref.n_frames], name=f"{ref.name} (cleaned)", loop=False, source=source))
-        w = cycle.weight
-        reports.append({"residual_linear_bw_mean": sums["res_lin"][b] / n / w,
-                        "residual_angular_nm_mean": sums["res_ang"][b] / n,
-                        "root_virtual_linear_bw_mean": sums["virt_lin"][b] / n / w,
-                        "root_virtual_angular_nm_mean": sums["virt_ang"][b] / n,
-                        "grf_vertical_bw_mean": sums["grf"][b] / n / w})
+        reports.append({k: float(v) for k, v in report.items()})
         gains.append(float(sums["s_g"][b] / n))
-    return Performance(motions, [vgrf[b, :lengths[b]] for b in range(B)], reports, gains)
+    return Performance(motions, [vgrf[b, :lengths[b]] for b in range(B)], reports, gains,
+                       [floor[b, :lengths[b]] for b in range(B)])
 
 
 # ------------------------------------------------------------------ agents/clean.py --method diffpd
@@ -255,7 +278,8 @@ def clean_from_args(args, parser) -> tuple[Motion, Motion, dict]:
     with torch.no_grad():
         performance = clean_motions(cycle, [reference], cleaned_by=str(args.policy))
     wall = time.perf_counter() - start
-    extra = {"diffpd": {**performance.reports[0], "gain_scale_mean": performance.gains[0],
+    bound = {k: v for k, v in performance.motions[0].source["diffpd_root_residual"].items() if "bound" in k or "slip" in k}
+    extra = {"diffpd": {**bound, **performance.reports[0], "gain_scale_mean": performance.gains[0],
                         "fixed_gains": cycle.dynet is None, "wall_s": wall,
                         "frames_per_s": (reference.n_frames - 1) / wall}}
     return reference, performance.motions[0], extra

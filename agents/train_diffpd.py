@@ -43,8 +43,10 @@ Choices for a CPU and a budget of minutes (the paper trains for days on a GPU):
 * Adam, learning rate 1e-3, gradient norm clipped to 1 (the paper's 3e-6 is for its long training);
 * contact points at the 8 sole corners (:data:`~agents.diffpd.SOLE_CORNER_SITES`), not the 4
   centre-line points: a rolled foot then stays out of the floor too;
-* the root applies ``τ*_root`` unbounded (``residual_bound = inf``, the paper's root; bounded
-  residuals let an untrained or imperfect GRFNet topple the character over a clip) and
+* the root applies a *bounded* residual ``ρ tanh(τ*_root/ρ)`` with ``ρ`` = 0.5 body weight and
+  200 N·m (``--residual-bound``; the paper's root is unbounded, a virtual force puppeteering the
+  pelvis); the rest of the root's support comes from GRFNet's λ and the floor projection, whose
+  contact points in contact stick (``--no-slip-height`` 1 cm: no foot skate); and
   ``damping = "constant"`` (``k_d`` stays the MJCF's: the lag a gain change can remove is then
   not capped at 29%; see :attr:`~agents.diffpd.DiffPDConfig.damping`).
 
@@ -109,7 +111,9 @@ class TrainConfig:
         tau_weight: φ of ``L_Dyn`` (1e-6, the paper's).
         reset_m: a stream restarts when its pelvis is farther than this (m) from the ground truth.
         dynet_hidden, grfnet_hidden: network widths.
-        residual_bound, damping, contact_sites: the cycle's (:class:`~agents.diffpd.DiffPDConfig`);
+        residual_bound, no_slip_height, damping, contact_sites: the cycle's
+            (:class:`~agents.diffpd.DiffPDConfig`); the root residual is bounded by 0.5 body weight
+            (343.35 N for the 70 kg humanoid) and 200 N·m, planted sole points stick;
             the contact points are the sole corners (:data:`~agents.diffpd.SOLE_CORNER_SITES`).
         fixed_gains: train the baseline (no DyNet).
         seed: seeds the networks' initialisation, the artefacts and the data sampling.
@@ -129,7 +133,8 @@ class TrainConfig:
     reset_m: float = 0.5
     dynet_hidden: tuple[int, int] = (64, 64)
     grfnet_hidden: tuple[int, int, int] = (64, 64, 64)
-    residual_bound: tuple[float, float] = (math.inf, math.inf)
+    residual_bound: tuple[float, float] = (343.35, 200.0)
+    no_slip_height: float = 0.01
     damping: str = "constant"
     contact_sites: tuple[str, ...] = SOLE_CORNER_SITES
     fixed_gains: bool = False
@@ -138,7 +143,7 @@ class TrainConfig:
 
     def cycle_config(self) -> DiffPDConfig:
         return DiffPDConfig(model=self.model, residual_bound=self.residual_bound, damping=self.damping,
-                            contact_sites=self.contact_sites,
+                            no_slip_height=self.no_slip_height, contact_sites=self.contact_sites,
                             dynet_hidden=self.dynet_hidden, grfnet_hidden=self.grfnet_hidden)
 
     def as_dict(self) -> dict:
@@ -405,6 +410,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--grfnet-hidden", type=positive_int, nargs=3, default=list(d.grfnet_hidden))
     p.add_argument("--contacts", choices=sorted(CONTACTS), default="corners",
                    help="contact points: the 8 sole corners or the 4 centre-line foot points")
+    p.add_argument("--residual-bound", type=float, nargs=2, default=list(d.residual_bound), metavar=("N", "NM"),
+                   help="bound of the root residual force: linear (N) and angular (N·m); inf: unbounded")
+    p.add_argument("--no-slip-height", type=non_negative_float, default=d.no_slip_height,
+                   help="contact points at most this high (m) stick (0: the paper's frictionless projection)")
     p.add_argument("--fixed-gains", action="store_true", help="train the baseline: no DyNet (s_g = 1/2, s_f = 0)")
     p.add_argument("--checkpoint-every", type=positive_int, default=d.checkpoint_every)
     p.add_argument("--threads", type=positive_int, default=1, help="torch threads")
@@ -421,6 +430,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     config = TrainConfig(clips=tuple(args.clips), model=args.model, window=args.window, batch=args.batch,
                          corrupted_fraction=args.corrupted_fraction, strength=args.strength, variants=args.variants,
                          lr=args.lr, dynet_hidden=tuple(args.dynet_hidden), grfnet_hidden=tuple(args.grfnet_hidden),
+                         residual_bound=tuple(args.residual_bound), no_slip_height=args.no_slip_height,
                          contact_sites=CONTACTS[args.contacts], fixed_gains=args.fixed_gains, seed=args.seed,
                          checkpoint_every=args.checkpoint_every)
     command = "python agents/train_diffpd.py " + shlex.join(argv)

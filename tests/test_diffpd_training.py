@@ -90,6 +90,12 @@ def test_clean_with_diffpd_writes_the_outputs(tmp_path, trained):
         assert key in record
     assert record["method"] == "diffpd" and record["input"].keys() == record["cleaned"].keys()
     assert record["diffpd"]["frames_per_s"] > 0 and result["simulated_fraction"] <= 1.0
+    # the root residual is bounded by default, and its bound and saturation are reported
+    sidecar = json.loads((trained / "sidecar.json").read_text())
+    assert sidecar["cycle_config"]["residual_bound"] == [343.35, 200.0]
+    assert record["diffpd"]["residual_bound_linear_bw"] == pytest.approx(0.5, abs=1e-3)
+    assert record["diffpd"]["residual_bound_angular_nm"] == 200.0
+    assert 0.0 <= record["diffpd"]["residual_linear_saturated_share"] <= 1.0
 
 
 def _error(main, argv) -> str:
