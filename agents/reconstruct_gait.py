@@ -23,6 +23,7 @@ simulated contacts.
 from __future__ import annotations
 
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/reconstruct_gait.py`: make the repository importable
@@ -33,18 +34,18 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.clean import (adapt_to_clip, build_parser as clean_parser, clean_config, clean_motion, load_reference,
                           print_performance, reanchor_marks)
-from agents.gait_metrics import (contact_f1, forward_displacement_error, joint_angle_rmse_deg, simulated_contacts,
-                                 summarize_push_offs, toe_push_off)
+from agents.gait_metrics import (PushOff, contact_f1, forward_displacement_error, joint_angle_rmse_deg,
+                                 simulated_contacts, summarize_push_offs, toe_push_off)
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from agents.sidecar import GAIT_ENV_ID
 from envs.config import TOE_BODIES
 from perception.gait import gait_parameters, gait_phases
-from reference_motion.atomic import write_json
+from reference_motion.atomic import atomic_write, write_json
 from reference_motion.bvh_export import write_bvh
-from reference_motion.cli import CliParser, one_line_errors
+from reference_motion.cli import CliParser, one_line_errors, output_file
 from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
-from reference_motion.render import render
+from reference_motion.render import render, render_frames
 
 TIMELINE_HEIGHT_PX = 150
 """Height of the contact timeline under the video."""
@@ -54,7 +55,30 @@ def build_parser(prog: str | None = None) -> CliParser:
     """``agents/clean.py``'s options; ``--policy`` must be a ``MimicGait-v0`` policy."""
     p = clean_parser(prog, method=False)
     p.description = __doc__.split("\n\n")[0]
+    p.add_argument("--push-off-strip", type=output_file(".png"),
+                   help="a close-up frame strip of the feet through the simulation's strongest push-off")
     return p
+
+
+STRIP_FRAMES = 7
+"""Frames in a push-off strip, spread from the toe target's rise to 4 frames after it ends."""
+
+
+def push_off_strip(simulated: Motion, push_offs: list[PushOff], path: Path) -> Path:
+    """Write a side-view close-up of the feet (``STRIP_FRAMES`` frames side by side) through the push-off of
+    ``push_offs`` with the largest simulated toe angle, after the first 30 frames."""
+    later = [p for p in push_offs if p.start >= 30] or push_offs
+    if not later:
+        raise ValueError(f"{simulated.name}: no push-off (the toe targets never rise): nothing to show in a strip")
+    best = max(later, key=lambda p: p.peak_deg)
+    frames = np.linspace(best.start, min(best.stop + 4, simulated.n_frames - 1), STRIP_FRAMES).round().astype(int)
+    still = simulated.with_qpos(simulated.qpos[frames], loop=False)
+    images = render_frames(still, width=320, height=240, fps=still.fps, distance=1.5, elevation=-5.0,
+                           lookat_height=0.35)
+    with atomic_write(path) as tmp:
+        import imageio.v2 as imageio
+        imageio.imwrite(tmp, np.concatenate(list(images), axis=1), format="png")
+    return path
 
 
 def gait_targets(policy: MimicPolicy, reference: Motion) -> tuple[np.ndarray, np.ndarray, Motion]:
@@ -86,6 +110,7 @@ def reconstruction_metrics(simulated: Motion, gait_reference: Motion, targets: n
         "contact_f1_per_channel": {c: contact_f1(contacts[:, i:i + 1], targets[:, i:i + 1])
                                    for i, c in enumerate(CONTACT_CHANNELS)},
         "push_off": summarize_push_offs(push_offs, simulated.fps).as_dict(),
+        "push_offs": [asdict(p) for p in push_offs],
         "forward_displacement_error": forward_displacement_error(simulated.qpos[:, :3], gait_reference.qpos[:, :3]),
         "gait_parameters": {"simulated": simulated_parameters, "targets": target_parameters},
         "contacts": {"simulated": contacts.astype(int).tolist(), "targets": np.asarray(targets).astype(int).tolist()},
@@ -144,6 +169,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         print(f"{k:<16}{params['simulated'][k]:>10.3f}{params['targets'][k]:>10.3f}")
     if args.bvh:
         print(f"wrote {write_bvh(simulated, args.bvh)}")
+    if args.push_off_strip:
+        print(f"wrote {push_off_strip(simulated, [PushOff(**p) for p in metrics['push_offs']], args.push_off_strip)}")
     if args.video:
         width = 480
         footer = contact_timeline(targets, np.array(metrics["contacts"]["simulated"], bool), 2 * width)

@@ -42,12 +42,14 @@ def _garment(geom_name: str) -> str:
 
 def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: float | None = None,
                   azimuth: float = 90.0, elevation: float = -12.0, distance: float = 3.2,
-                  clothed: bool = False, marked: np.ndarray | None = None, progress: bool = False) -> np.ndarray:
+                  clothed: bool = False, marked: np.ndarray | None = None, progress: bool = False,
+                  lookat_height: float = 0.9) -> np.ndarray:
     """RGB frames ``(N, height, width, 3)`` uint8 of ``motion`` replayed kinematically.
 
     ``fps`` (default: the motion's) picks frames by nearest time; the camera tracks the pelvis
     at MuJoCo's free-camera ``azimuth`` / ``elevation`` (degrees; azimuth 90° looks along +y, from
-    the character's right when it walks along +x) and ``distance`` (m). ``clothed`` dresses the
+    the character's right when it walks along +x) and ``distance`` (m), aimed at the point
+    ``lookat_height`` (m) above the floor under the pelvis. ``clothed`` dresses the
     character in :data:`CLOTHES`. ``marked`` ``(motion.n_frames,)`` bool: frames showing a marked
     motion frame get a red border (:data:`MARK_RGB`). ``progress`` shows a progress bar.
     """
@@ -60,7 +62,7 @@ def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: floa
                 if model.geom(g).name != "floor":
                     model.geom_rgba[g], model.geom_matid[g] = CLOTHES[_garment(model.geom(g).name)], -1
             return render_frames(motion, width, height, fps, azimuth, elevation, distance, clothed=False,
-                                 marked=marked, progress=progress)
+                                 marked=marked, progress=progress, lookat_height=lookat_height)
         finally:
             model.geom_rgba[:], model.geom_matid[:] = saved
     data = mujoco.MjData(model)
@@ -75,7 +77,7 @@ def render_frames(motion: Motion, width: int = 480, height: int = 360, fps: floa
         for k, t in enumerate(tqdm(index, desc=f"rendering {motion.name}", unit="frame", disable=not progress)):
             data.qpos[:] = motion.qpos[t]
             mujoco.mj_forward(model, data)
-            cam.lookat[:] = [data.qpos[0], data.qpos[1], 0.9]
+            cam.lookat[:] = [data.qpos[0], data.qpos[1], lookat_height]
             renderer.update_scene(data, camera=cam)
             frames[k] = renderer.render()
     if marked is not None:

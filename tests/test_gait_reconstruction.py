@@ -64,11 +64,14 @@ def test_reconstruct_gait_end_to_end(tmp_path):
            "--no-progress", "--n-envs", "1", "--n-steps", "128", "--batch-size", "64", "--eval-every", "128",
            "--eval-episodes", "1", "--net", "16,16"])
     out = tmp_path / "walk.npz"
+    strip = tmp_path / "push_off.png"
     report = reconstruct(["deepmimic:walk", "--policy", str(run / "best"), "--no-adapt", "--out", str(out),
-                          "--json", str(tmp_path / "walk.json")])
+                          "--json", str(tmp_path / "walk.json"), "--push-off-strip", str(strip)])
     assert out.exists() and json.loads((tmp_path / "walk.json").read_text())["frames"] == report["frames"] == 76
     assert 0.0 <= report["contact_f1"] <= 1.0 and report["joint_rmse_deg"] > 0.0
     assert report["push_off"]["count"] >= 1 and report["push_off"]["target_peak_deg"] > 20
+    import imageio.v2 as imageio
+    assert imageio.imread(strip).shape == (240, 7 * 320, 3)  # seven close-ups of the feet
     assert set(report["gait_parameters"]["targets"]) >= {"stance", "swing", "single_support", "double_support"}
     with pytest.raises(SystemExit, match="gait reconstruction needs a MimicGait-v0 policy"):
         reconstruct(["deepmimic:walk", "--policy", "models/mimic_walk", "--no-adapt", "--out", str(out)])
