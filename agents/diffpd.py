@@ -96,10 +96,10 @@ class DiffPDConfig:
         residual_bound: bound ρ of the root residual force ``r = ρ tanh(τ*_root/ρ)`` (linear N,
             angular N·m); 0 gives a root moved by contact forces only, ``math.inf`` the paper's
             root, which applies ``τ*_root`` unbounded. Default: half the body weight of the 70 kg humanoid
-            (343.35 N) and 200 N·m, measured on the held-out IMU takes (bench/diffpd.py, cleaning-time
-            sweep with a model trained at 0.5 BW / 100 N·m): at 0.2 BW or 100–150 N·m the character
-            falls on some takes (re-anchors, penetration), at 1 BW the linear residual drags the
-            planted feet (foot skate 0.24 m/s vs 0.04).
+            (343.35 N) and 200 N·m, measured on the held-out IMU takes (bench/diffpd.py's cleaning-time
+            sweep, ``residual_bound.sweep_imu``, model trained at 0.5 BW / 200 N·m): at 100 N·m the
+            character falls on some takes (re-anchors, penetration), at 0.2 BW non-penetration drops
+            to 93.7%, at 1 BW the linear residual drags the planted feet (foot skate 0.295 m/s vs 0.213).
         contact_compensation: hinges apply ``τ* = τ − Jᵀλ`` (the paper) rather than ``τ``.
         projection_metric: norm of the velocity projection ``min ‖q̇* − q̇‖``: ``"mass"``
             (``W = M + Δt K_d``, the step's effective inertia with its implicit hinge damping:
@@ -472,14 +472,19 @@ def project_velocity(qd: torch.Tensor, rows: torch.Tensor, lower: torch.Tensor,
 
 def _kkt_violation(delassus: torch.Tensor, rhs: torch.Tensor, p: torch.Tensor, active: torch.Tensor) -> torch.Tensor:
     """Largest violation of the LCP's KKT conditions (``p ≥ 0`` on the active set, ``Dp − r ≥ 0``
-    off it), scaled by ``D``'s diagonal to impulse units; shapes broadcast, reduced over ``P``."""
+    off it), scaled by ``D``'s diagonal to velocity units (m/s); shapes broadcast, reduced over ``P``."""
     slack = (delassus @ p.unsqueeze(-1)).squeeze(-1) - rhs
     scale = delassus.diagonal(dim1=-2, dim2=-1)
     return torch.where(active, (-p).clamp(min=0) * scale, (-slack).clamp(min=0)).amax(-1)
 
 
+KKT_TOLERANCE = 1e-9
+"""Relative KKT violation (m/s per unit of ``1 + max|r|``) at which the projection's active-set
+iteration accepts a solution (both the torch cycle and :mod:`agents.diffpd_fast`)."""
+
+
 def _active_set_newton(delassus: torch.Tensor, rhs: torch.Tensor, iterations: int = 8,
-                       tol: float = 1e-9) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
+                       tol: float = KKT_TOLERANCE) -> tuple[torch.Tensor, torch.Tensor, torch.Tensor]:
     """Primal-dual active-set (semismooth Newton) iterations for ``min ½pᵀDp − pᵀr, p ≥ 0``: start
     from the violated constraints, solve on the set, move each constraint in or out by the sign of
     ``p_i − s_i`` (``s = Dp − r``), until the set repeats. Returns the set ``(B, P)``, ``p`` and

@@ -116,6 +116,9 @@ def load_cycle(path: str | Path) -> DynamicCycle:
         raise DiffPDModelError(f"{file}: cannot read diff-PD weights: {err}") from err
     if not isinstance(state, dict) or state.get("format") != WEIGHTS_FORMAT:
         raise DiffPDModelError(f"{file}: not diff-PD weights (format {WEIGHTS_FORMAT} expected)")
+    missing = [k for k in ("config", "dynet", "grfnet") if k not in state]
+    if missing:
+        raise DiffPDModelError(f"{file}: incomplete diff-PD weights: no {', '.join(missing)}")
     try:
         config = config_from_dict(state["config"])
     except (TypeError, ValueError, AttributeError) as err:

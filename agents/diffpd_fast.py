@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-from agents.diffpd import ROOT_DOF, DynamicCycle, _subsets
+from agents.diffpd import KKT_TOLERANCE, ROOT_DOF, DynamicCycle, _subsets
 
 _TINY = 1e-24
 
@@ -81,7 +81,7 @@ def _violation(delassus: np.ndarray, rhs: np.ndarray, p: np.ndarray, active: np.
 
 
 def project_velocity(qd: np.ndarray, rows: np.ndarray, lower: np.ndarray, response: np.ndarray,
-                     iterations: int = 8, tol: float = 1e-8) -> tuple[np.ndarray, np.ndarray]:
+                     iterations: int = 8, tol: float = KKT_TOLERANCE) -> tuple[np.ndarray, np.ndarray]:
     """:func:`agents.diffpd.project_velocity` on arrays (the same active-set iteration and fallback)."""
     P = rows.shape[1]
     delassus = rows @ response

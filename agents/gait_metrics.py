@@ -8,7 +8,8 @@
 * :func:`forward_displacement_error` — the simulated root's horizontal displacement against the
   reference's, as a fraction;
 * :func:`simulated_contacts` — the contact states a simulated motion has frame by frame (MuJoCo's
-  contacts at each stored state: exactly the ones the simulation had at that frame).
+  collision detection at each stored state; the environment reports those of the last physics
+  substep's start, which can differ by one 1/120-s substep).
 
 Contacts are ``(T, 4)`` bool in (left_toe, right_toe, left_heel, right_heel) order; angles are
 rad in, degrees out, as the names say; frames are 60 Hz unless ``fps`` says otherwise.
@@ -130,7 +131,7 @@ def forward_displacement_error(root: np.ndarray, ref_root: np.ndarray) -> float:
 def simulated_contacts(motion: Motion) -> np.ndarray:
     """Contacts ``(T, 4)`` bool (LT, RT, LH, RH) of a motion's stored states: a sole sphere of the
     region touching the floor in MuJoCo's collision detection at that ``qpos`` (as
-    :class:`envs.mimic.MimicEnv` reports them while simulating)."""
+    :class:`envs.mimic.MimicEnv` reports them while simulating, up to one substep)."""
     humanoid = load_model(motion.model)
     model = humanoid.model
     data = mujoco.MjData(model)

@@ -35,7 +35,7 @@ Choices for a CPU and a budget of minutes (the paper trains for days on a GPU):
 
 * windows of 8 frames (48 iterations; 0.13 s) × 8 streams: one step (forward and both backward
   passes) took 0.51 s on one thread of this 2-core machine with the 8 sole corners as contact
-  points (the shipped ``models/diffpd``: 1173 steps in 10 minutes; 0.47 s with the 4 foot points);
+  points (the shipped ``models/diffpd``: 1914 steps in 14 minutes; 0.47 s with the 4 foot points);
   8 frames cover the 4-frame lag of the fixed gains twice over;
 * DyNet hidden (64, 64), GRFNet hidden (64, 64, 64): 102k + 21k parameters with 8 contact points
   (1 MB in float64; DyNet's input is 1423 wide, mostly the mass matrix);
@@ -222,6 +222,8 @@ class Trainer:
         self.opt_grf = torch.optim.Adam(self.cycle.grfnet.parameters(), lr=config.lr)
         self.rng = np.random.default_rng(config.seed)
         self.step, self.wall_s, self.history = 0, 0.0, []
+        self.skipped = 0
+        """Windows whose loss was not finite: no update, their streams restarted."""
         self.commands: list[str] = []
         B = config.batch
         self.stream_pair = np.zeros(B, dtype=int)
@@ -261,6 +263,11 @@ class Trainer:
         dyn = dyn_loss(result, truth, target, cfg.tau_weight)
         grf = grf_losses(result, cycle.weight, cycle.config.mu)
         l_dyn, l_grf = dyn["pose"] + dyn["tau"], grf["force"] + grf["smooth"] + grf["cone"]
+        if not bool(torch.isfinite(l_dyn) and torch.isfinite(l_grf)):  # a state blew up: no update from it
+            for b in range(cfg.batch):
+                self._restart(b)
+            self.skipped += 1
+            return {"step": self.step, "skipped": self.skipped}
         nets = [(cycle.grfnet, self.opt_grf, l_grf)]
         if cycle.dynet is not None:
             nets.insert(0, (cycle.dynet, self.opt_dyn, l_dyn))
@@ -345,11 +352,16 @@ def train(config: TrainConfig, out: Path, minutes: float | None = None, steps: i
         raise ValueError("give a budget: --minutes and/or --steps")
     out = Path(out)
     state = None
+    if not resume and ((out / CHECKPOINT_FILE).exists() or (out / WEIGHTS_FILE).exists()):
+        raise ValueError(f"{out}: already holds a diff-PD model; pass --resume to continue it or pick a new --out")
     if resume:
         file = out / CHECKPOINT_FILE
         if not file.exists():
             raise FileNotFoundError(f"{file}: no checkpoint to resume")
-        state = torch.load(file, map_location="cpu", weights_only=False)
+        try:
+            state = torch.load(file, map_location="cpu", weights_only=False)
+        except Exception as err:  # torch raises many kinds on a damaged file
+            raise ValueError(f"{file}: cannot read the checkpoint ({type(err).__name__}: {err})") from None
         if not isinstance(state, dict) or state.get("format") != CHECKPOINT_FORMAT:
             raise ValueError(f"{file}: not a diff-PD training checkpoint")
         stored = TrainConfig.from_dict(state["config"])
@@ -360,7 +372,11 @@ def train(config: TrainConfig, out: Path, minutes: float | None = None, steps: i
         config = stored
     trainer = Trainer(config, load_pairs(config))
     if state is not None:
-        trainer.load_state(state)
+        try:
+            trainer.load_state(state)
+        except (KeyError, RuntimeError, ValueError) as err:  # missing entries, weights of other shapes
+            raise ValueError(f"{out / CHECKPOINT_FILE}: the checkpoint does not fit this trainer "
+                             f"({type(err).__name__}: {str(err).splitlines()[0]})") from None
     if command:
         trainer.commands.append(command)
     start, start_step = time.perf_counter(), trainer.step
@@ -394,7 +410,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("--clips", nargs="+", default=list(d.clips), help="training SOURCE strings or clip sets")
-    p.add_argument("--out", type=output_dir, default=Path("models/diffpd"), help="model directory")
+    p.add_argument("--out", type=output_dir, default=Path("runs/diffpd"),
+                   help="model directory (the shipped one is models/diffpd; an existing one needs --resume)")
     p.add_argument("--model", choices=("humanoid_1seg", "humanoid_2seg"), default=d.model)
     p.add_argument("--minutes", type=positive_float, default=None, help="wall-time budget of this call")
     p.add_argument("--steps", type=positive_int, default=None, help="stop at this many steps in total")

@@ -72,7 +72,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
                    help="IMU artefact strength range of corrupted references")
     g.add_argument("--variants-per-clip", type=positive_int, default=4,
-                   help="distinct corrupted references made per training clip (each ~5 MB per env)")
+                   help="distinct corrupted references made per training clip (with --vec dummy shared by all "
+                        "envs: that many in all; with subproc envs that many per env)")
     g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
                    help="reference tracks each env keeps in memory (~2 MB each; more clips × variants than "
                         "this are rebuilt on use, which slows training)")
@@ -127,12 +128,20 @@ def build_parser(prog: str | None = None) -> CliParser:
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
     mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
-                       variants_per_clip=args.variants_per_clip, seed=args.seed)
+                       variants_per_clip=args.variants_per_clip, seed=variant_seed(args))
            if corrupted_fraction > 0 else None)
     kwargs = {"clips": clips, "artefacts": mix, "foot": foot(args), "config": env_config(args)}
     if args.env_id == GAIT_ENV_ID:
         kwargs.update(contacts=args.contacts, gait=gait_config(args))
     return kwargs
+
+
+def variant_seed(args: argparse.Namespace) -> int | None:
+    """``ArtefactMix.seed`` of the run: with in-process envs (``--vec dummy``) one seed, so that the
+    envs make the same corrupted variants and share them (one build, one copy; the run then has
+    ``--variants-per-clip`` variants of each clip in all, not that many per env); with subprocess
+    envs, where nothing is shared, each env its own (``None``)."""
+    return args.seed if args.vec == "dummy" else None
 
 
 def foot(args: argparse.Namespace) -> str:

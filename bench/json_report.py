@@ -3,17 +3,31 @@
 from __future__ import annotations
 
 import json
+import math
 from pathlib import Path
 
 
 def emit_json(result: dict, target: str | None) -> bool:
     """Print ``result`` as JSON when ``target == "-"``, write it to file ``target`` otherwise (and
-    print it too); do nothing for ``None``. Returns whether JSON was requested."""
+    print it too); do nothing for ``None``. Returns whether JSON was requested. NaN and ±inf (a
+    figure that does not exist, e.g. the push-off of a foot without toes) are written as ``null``,
+    so the file is strict JSON."""
     if target is None:
         return False
-    text = json.dumps(result, indent=1)
+    text = json.dumps(_finite(result), indent=1, allow_nan=False)
     if target != "-":
         Path(target).parent.mkdir(parents=True, exist_ok=True)
         Path(target).write_text(text)
     print(text)
     return True
+
+
+def _finite(value):
+    """``value`` with every non-finite float (in dicts and lists, recursively) replaced by ``None``."""
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    return value

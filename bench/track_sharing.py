@@ -6,7 +6,8 @@ A PPO run steps ``--envs`` environments in one process (``agents/train_ppo.py``'
 Each environment needs the reference track (:class:`envs.reference.ReferenceTrack`) of every clip
 and of every corrupted variant it meets: a corruption plus a precomputation per track. With each
 environment drawing its own variants (``ArtefactMix(seed=None)``, the reset seed decides) every
-environment builds and holds its own; with a fixed variant seed (``ArtefactMix(seed=0)``, what
+environment builds and holds its own corrupted tracks (the clean ones are shared either way, so
+the code before sharing, which also built each clean track per environment, was slower still); with a fixed variant seed (``ArtefactMix(seed=0)``, what
 ``train_ppo`` now sets) the environments make the same variants and share one copy
 (``envs.mimic._SHARED_TRACKS``). Measured side by side in one run: wall time to give every
 environment every track, and the bytes of distinct tracks held.

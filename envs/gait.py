@@ -1,4 +1,5 @@
-"""``MimicGait-v0``: ContactVision's gait reconstruction (contactvision §6.4, App. C) on ``humanoid_2seg``.
+"""``MimicGait-v0``: ContactVision's gait reconstruction (contactvision §6.4, App. C) on ``humanoid_2seg``
+(or, as ContactVision's ablation, ``humanoid_1seg``).
 
 The task is the ADAPT mimic task of :class:`envs.mimic.MimicEnv` (clips, reference tracks,
 episode sampling, reset options, PD control at 60 Hz frames / 30 Hz policy steps, contacts,
@@ -169,11 +170,12 @@ def with_toe_targets(motion: Motion, toe_qpos: Sequence[int], toe_targets: np.nd
 
 # --------------------------------------------------------------------------- environment
 class MimicGaitEnv(MimicEnv):
-    """Mimic clips on ``humanoid_2seg`` while following contact and toe targets (``MimicGait-v0``).
+    """Mimic clips on ``humanoid_2seg`` (or ``humanoid_1seg``) while following contact and toe
+    targets (``MimicGait-v0``).
 
     Args:
         clips: the motion set, as for :class:`envs.mimic.MimicEnv` (named set, SOURCE strings or
-            paths, :class:`Motion` objects for ``humanoid_2seg``).
+            paths, :class:`Motion` objects for the ``foot`` model).
         contacts: the contact targets ĉ: ``"vgrf"`` (default; VGRFNet + Γ on each clip's joints),
             ``"keypoints"`` (the ContactTransformer on the clip's 2D keypoints, filmed from
             ``gait.keypoint_azimuth_deg``), a keypoint ``.npz`` path (keypoints of the clip's video,

@@ -228,6 +228,9 @@ class MimicEnv(gym.Env):
             motion = self.clips[clip] if corruption is None else corrupt(self.clips[clip], *corruption)
             track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                          self.config.cube_size_m)
+            for value in vars(track).values():  # shared between environments: nobody may write to it
+                if isinstance(value, np.ndarray):
+                    value.flags.writeable = False
             _SHARED_TRACKS[content] = track
         self._tracks[key] = track
         return track
@@ -253,7 +256,7 @@ class MimicEnv(gym.Env):
         start = options.pop("start_frame", None)
         start = self._sampler.start_frame(clip, last_start, self.np_random) if start is None else int(start)
         if not 0 <= start <= last_start:
-            raise ValueError(f"start_frame {start} out of range for clip {track.motion.name!r}: 0..{last_start}")
+            raise ValueError(f"start_frame {start} out of range for clip {self.clips[clip].name!r}: 0..{last_start}")
         state = options.pop("state", None)
         if options:
             raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted, state")
@@ -276,7 +279,7 @@ class MimicEnv(gym.Env):
         self._action = np.zeros(len(self.driven))
         self._sim_contacts = self._contacts(self._floor_contact_geoms())
         self._obs = self._observe(read_body_state(m, d))
-        info = {"frame": self._frame, "episode_frame": 0, "clip": track.motion.name, "corrupted": variant >= 0,
+        info = {"frame": self._frame, "episode_frame": 0, "clip": self.clips[clip].name, "corrupted": variant >= 0,
                 "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._sim_contacts.copy(),
                 "unstable": False, "ended_by": ""}
         return self._obs, info
@@ -314,7 +317,7 @@ class MimicEnv(gym.Env):
             if self.frame_hook is not None:
                 self.frame_hook(d)
         f = self._frame
-        info = {"frame": f, "episode_frame": f - self._start, "clip": track.motion.name,
+        info = {"frame": f, "episode_frame": f - self._start, "clip": self.clips[self._clip].name,
                 "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc or unstable(d.qvel, cfg.max_joint_speed):
             info.update(dict.fromkeys(self.reward_info_keys, 0.0), reward=0.0,
@@ -412,8 +415,9 @@ class MimicEnv(gym.Env):
 _SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 """The reference tracks alive in this process, by content (model, clip content, corruption, cube
 size): environments of one process on the same clips with the same variant seeds (the envs of a
-``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy. A
-track lives while some environment's LRU cache holds it."""
+``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy, read
+only. A track lives while some environment's LRU cache holds it. Clip names are not part of the
+key (the environment reports its own clip's name)."""
 
 
 def _content_key(motion: Motion) -> str:

@@ -1,6 +1,6 @@
 """The mimic observation of adapt Table 1, as a pure function of simulated and reference arrays.
 
-Layout (``B`` observed bodies, ``A`` action size; all world frame, SI):
+Layout (``B`` observed bodies, ``A`` action size; SI; world axes, or the heading frame below):
 
 ============  ====  =====================================================================
 name          size  content
@@ -127,8 +127,8 @@ def gait_observation_slices(n_bodies: int, n_action: int, preview_frames: int,
 
 def gait_observation(mimic_obs: np.ndarray, ref_contacts: np.ndarray, ref_toe: np.ndarray,
                      contacts: np.ndarray) -> np.ndarray:
-    """The ``MimicGait-v0`` observation ``(13 + 12·B + A + 6P + 4,)`` float32
-    (:func:`gait_observation_slices`).
+    """The ``MimicGait-v0`` observation ``(13 + 12·B + A + 6P + 4,)`` float32, 3 more in the heading
+    frame (:func:`gait_observation_slices`).
 
     Args:
         mimic_obs: the mimic observation (:func:`mimic_observation`).

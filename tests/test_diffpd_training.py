@@ -127,3 +127,8 @@ def test_bad_inputs_give_one_line_errors(tmp_path, trained):
     assert "no checkpoint to resume" in _error(train_diffpd.main, ["--out", str(tmp_path / "none"), "--resume",
                                                                    "--steps", "1", "--no-progress"])
     assert "give a budget" in _error(train_diffpd.main, ["--out", str(tmp_path / "none"), "--clips", "deepmimic:walk"])
+    assert "already holds a diff-PD model; pass --resume" in _error(
+        train_diffpd.main, ["--out", str(bad), "--steps", "1", "--clips", "deepmimic:walk", "--no-progress"])
+    (bad / "checkpoint.pt").write_text("not torch")
+    assert "cannot read the checkpoint" in _error(
+        train_diffpd.main, ["--out", str(bad), "--resume", "--steps", "1", "--no-progress"])
