@@ -43,7 +43,7 @@ from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, Tra
 from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
-from reference_motion.atomic import write_json
+from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   one_line_errors, output_dir, positive_float, positive_int)
@@ -216,9 +216,17 @@ class CheckpointAndEvaluate(BaseCallback):
         self._next_eval = (n // self.args.eval_every + 1) * self.args.eval_every
 
     def _save(self, directory: Path, stem: str) -> None:
-        directory.mkdir(parents=True, exist_ok=True)
-        self.model.save(directory / f"{stem}.zip")
-        self.model.get_vec_normalize_env().save(str(directory / f"{stem}_vecnormalize.pkl"))
+        """Save model and observation statistics, each file whole or not at all, the statistics
+        first (a ``step_N.zip`` is only there with its statistics); Ctrl-C or ``kill`` during the
+        save takes effect after it."""
+        blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
+        try:
+            with atomic_write(directory / f"{stem}_vecnormalize.pkl") as tmp:
+                self.model.get_vec_normalize_env().save(str(tmp))
+            with atomic_write(directory / f"{stem}.zip") as tmp:
+                self.model.save(tmp)
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
 
     def _on_step(self) -> bool:
         if self.num_timesteps >= self._next_ckpt:
