@@ -4,7 +4,8 @@ Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
-the split's motions), looped or cut to ``--seconds`` and IMU-corrupted at ``--strength`` with
+the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
+whole: the library's takes are not cyclic) and IMU-corrupted at ``--strength`` with
 seed ``--seed + i`` (seeds no training run uses: training variants come from the run's seed), the
 policy is adapted to the corrupted take (:mod:`agents.adaptation`, per-take budget
 ``--adapt-budget-s``, a fresh cache so nothing is reused) and cleans it (:func:`agents.clean.clean_motion`).
