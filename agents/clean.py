@@ -348,14 +348,9 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                    help=f"where adapted policies are cached (None: {default_cache_dir()})")
 
 
-def load_reference(policy: MimicPolicy, args: argparse.Namespace) -> Motion:
-    """The clip of ``args.source`` for ``policy``'s humanoid, looped to ``--min-frames`` and
-    corrupted as ``--corrupt`` asks (the options of :func:`build_parser`)."""
-    return load_clip(FOOT_MODELS[policy.foot], args)
-
-
 def load_clip(model: str, args: argparse.Namespace) -> Motion:
-    """The clip of ``args.source`` for humanoid ``model``, as :func:`load_reference`."""
+    """The clip of ``args.source`` for humanoid ``model`` (e.g. ``FOOT_MODELS[policy.foot]``), looped
+    to ``--min-frames`` and corrupted as ``--corrupt`` asks (the options of :func:`build_parser`)."""
     reference = require_frames(load_motion(args.source, model, min_frames=args.min_frames,
                                            mocap=mocap_options(args)),
                                MIN_FRAMES, args.source, "cleaning")
@@ -414,7 +409,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         reference, cleaned, extra = clean_from_args(args, parser)
     else:
         policy = load_policy(args.policy)
-        reference = load_reference(policy, args)
+        reference = load_clip(FOOT_MODELS[policy.foot], args)
         config = clean_config(policy, reference, args)
         adaptation = adapt_to_clip(policy, reference, args)
         performer = adaptation.policy if adaptation else policy

@@ -32,13 +32,13 @@ if __package__ in (None, ""):  # `python agents/reconstruct_gait.py`: make the r
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.clean import (adapt_to_clip, build_parser as clean_parser, clean_config, clean_motion, load_reference,
+from agents.clean import (adapt_to_clip, build_parser as clean_parser, clean_config, clean_motion, load_clip,
                           print_performance, reanchor_marks)
 from agents.gait_metrics import (PushOff, contact_f1, forward_displacement_error, joint_angle_rmse_deg,
                                  simulated_contacts, summarize_push_offs, toe_push_off)
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from agents.sidecar import GAIT_ENV_ID
-from envs.config import TOE_BODIES
+from envs.config import FOOT_MODELS, TOE_BODIES
 from perception.gait import gait_parameters, gait_phases
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.bvh_export import write_bvh
@@ -151,7 +151,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     if policy.env_id != GAIT_ENV_ID:
         raise PolicyError(f"{args.policy}: a {policy.env_id} policy; gait reconstruction needs a {GAIT_ENV_ID} "
                           f"policy (agents/train_ppo.py --env-id {GAIT_ENV_ID})")
-    reference = load_reference(policy, args)
+    reference = load_clip(FOOT_MODELS[policy.foot], args)
     config = clean_config(policy, reference, args)
     targets, toe_targets, gait_reference = gait_targets(policy, reference)
     adaptation = adapt_to_clip(policy, reference, args)

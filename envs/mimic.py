@@ -146,7 +146,8 @@ class MimicEnv(gym.Env):
         """Where episodes start (:mod:`envs.sampling`)."""
         self._tracks: OrderedDict[tuple[int, int], ReferenceTrack] = OrderedDict()
         self._variant_seeds: dict[tuple[int, int], int] = {}
-        self._variant_base: int | None = None
+        self._variant_base: int | None = None if artefacts is None else artefacts.seed
+        """Base seed of the corrupted variants: ``artefacts.seed`` if fixed, else the last reset seed."""
         self._renderer: GhostRenderer | None = None
         self.frame_hook: Callable[[mujoco.MjData], None] | None = None
         """Called with the simulation data after every 60 Hz frame (to record the rollout:
@@ -214,9 +215,7 @@ class MimicEnv(gym.Env):
         corruption = None
         if variant >= 0:
             mix = self.artefacts
-            if mix.seed is not None:
-                self._variant_base = mix.seed
-            elif self._variant_base is None:
+            if self._variant_base is None:
                 self._variant_base = int(self.np_random.integers(2**31))
             rng = np.random.default_rng([self._variant_base, clip, variant])
             seed = int(rng.integers(2**31))
@@ -277,7 +276,7 @@ class MimicEnv(gym.Env):
         update_kinematics(m, d)
         self._bad_qacc = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
         self._action = np.zeros(len(self.driven))
-        self._sim_contacts = self._contacts(self._floor_contact_geoms())
+        self._sim_contacts = region_contacts(floor_contact_geoms(d, self._floor), self.humanoid.geom_contact_channel)
         self._obs = self._observe(read_body_state(m, d))
         info = {"frame": self._frame, "episode_frame": 0, "clip": self.clips[clip].name, "corrupted": variant >= 0,
                 "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._sim_contacts.copy(),
@@ -327,8 +326,8 @@ class MimicEnv(gym.Env):
 
         update_kinematics(m, d)
         state = read_body_state(m, d)
-        touching = self._floor_contact_geoms()
-        self._sim_contacts = self._contacts(touching)
+        touching = floor_contact_geoms(d, self._floor)
+        self._sim_contacts = region_contacts(touching, self.humanoid.geom_contact_channel)
         reward, terms = self._reward(state)
         ended_by = ("lagging" if lagging(terms["e_discount"], cfg.discount_threshold)
                     else "fallen" if fallen(self._spinal_contacts(touching), cfg.fall_contacts) else "")
@@ -382,19 +381,10 @@ class MimicEnv(gym.Env):
                                  track.pos_rel_com[f, obs], track.linvel[f, obs], track.com_vel[f], self._action,
                                  heading, ref_com)
 
-    def _floor_contact_geoms(self) -> np.ndarray:
-        """Geoms touching the floor, one entry per contact."""
-        return floor_contact_geoms(self.data, self._floor)
-
     def _spinal_contacts(self, touching: np.ndarray) -> int:
         """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""
         bodies = self._geom_spinal_body[touching]
         return len(set(bodies[bodies >= 0].tolist()))
-
-    def _contacts(self, touching: np.ndarray) -> np.ndarray:
-        """Four contact states (LT, RT, LH, RH): any sole sphere of that region among the
-        floor-touching geoms ``touching``."""
-        return region_contacts(touching, self.humanoid.geom_contact_channel)
 
     # ---------------------------------------------------------------- render
     def render(self):

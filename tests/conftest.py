@@ -1,4 +1,5 @@
 import pytest
+import torch
 
 from agents.physics_dataset import DatasetConfig, generate
 from reference_motion.library import load_motion
@@ -28,3 +29,13 @@ def dataset(tmp_path_factory):
 def tiny_config():
     """The configuration :func:`dataset` was generated with."""
     return TINY
+
+
+@pytest.fixture(scope="module")
+def one_thread():
+    """Torch on one thread for a test module (``pytestmark = pytest.mark.usefixtures("one_thread")``):
+    small batched linear algebra is fastest so and does not fight other jobs for cores."""
+    threads = torch.get_num_threads()
+    torch.set_num_threads(1)
+    yield
+    torch.set_num_threads(threads)

@@ -18,12 +18,7 @@ TINY = TrainConfig(clips=("deepmimic:walk",), window=4, batch=2, variants=1, dyn
 """Two streams of 4-frame windows through DeepMimic walk (clean and one IMU-corrupted copy)."""
 
 
-@pytest.fixture(scope="module", autouse=True)
-def one_thread():
-    threads = torch.get_num_threads()
-    torch.set_num_threads(1)
-    yield
-    torch.set_num_threads(threads)
+pytestmark = pytest.mark.usefixtures("one_thread")
 
 
 @pytest.fixture(scope="module")
