@@ -625,11 +625,15 @@ class DynamicCycle(nn.Module):
         self.grfnet = grfnet
 
     @classmethod
-    def neural(cls, config: DiffPDConfig = DiffPDConfig()) -> "DynamicCycle":
-        """A cycle with fresh (untrained) DyNet and GRFNet sized for ``config.model``."""
+    def neural(cls, config: DiffPDConfig = DiffPDConfig(), dynet: bool = True, grfnet: bool = True) -> "DynamicCycle":
+        """A cycle with fresh (untrained) networks sized for ``config.model`` and
+        ``config.dynet_hidden`` / ``grfnet_hidden``: DyNet only if ``dynet`` (else fixed gains),
+        GRFNet only if ``grfnet`` (else no GRF)."""
         cycle = cls(config)
-        cycle.dynet = DyNet(cycle.nq, cycle.nv, cycle.total_mass, config.dynet_hidden).to(config.dtype)
-        cycle.grfnet = GRFNet(cycle.n_points, cycle.weight, config.mu, config.grfnet_hidden).to(config.dtype)
+        if dynet:
+            cycle.dynet = DyNet(cycle.nq, cycle.nv, cycle.total_mass, config.dynet_hidden).to(config.dtype)
+        if grfnet:
+            cycle.grfnet = GRFNet(cycle.n_points, cycle.weight, config.mu, config.grfnet_hidden).to(config.dtype)
         return cycle
 
     # ------------------------------------------------------------- one step

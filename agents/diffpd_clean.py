@@ -30,7 +30,7 @@ import numpy as np
 import torch
 from tqdm import tqdm
 
-from agents.diffpd import DiffPDConfig, DynamicCycle, DyNet, GRFNet
+from agents.diffpd import DiffPDConfig, DynamicCycle
 from agents.diffpd_fast import FastCycle
 from reference_motion.motion import Motion
 
@@ -90,17 +90,6 @@ def save_cycle(cycle: DynamicCycle, path: str | Path) -> Path:
     return Path(path)
 
 
-def build_cycle(config: DiffPDConfig, dynet: bool = True, grfnet: bool = True) -> DynamicCycle:
-    """A cycle for ``config`` with fresh networks (DyNet only if ``dynet``: else fixed gains;
-    GRFNet only if ``grfnet``: else no GRF), sized by ``config.dynet_hidden`` / ``grfnet_hidden``."""
-    cycle = DynamicCycle(config)
-    if dynet:
-        cycle.dynet = DyNet(cycle.nq, cycle.nv, cycle.total_mass, config.dynet_hidden).to(config.dtype)
-    if grfnet:
-        cycle.grfnet = GRFNet(cycle.n_points, cycle.weight, config.mu, config.grfnet_hidden).to(config.dtype)
-    return cycle
-
-
 def load_cycle(path: str | Path) -> DynamicCycle:
     """The trained cycle in model directory ``path`` (or its ``diffpd.pt``), in eval mode;
     :class:`DiffPDModelError` says what is wrong in one line."""
@@ -123,7 +112,7 @@ def load_cycle(path: str | Path) -> DynamicCycle:
         config = config_from_dict(state["config"])
     except (TypeError, ValueError, AttributeError) as err:
         raise DiffPDModelError(f"{file}: bad configuration: {err}") from err
-    cycle = build_cycle(config, dynet=state["dynet"] is not None, grfnet=state["grfnet"] is not None)
+    cycle = DynamicCycle.neural(config, dynet=state["dynet"] is not None, grfnet=state["grfnet"] is not None)
     for name in ("dynet", "grfnet"):
         net = getattr(cycle, name)
         if net is None:

@@ -75,7 +75,7 @@ import numpy as np
 import torch
 
 from agents.diffpd import FOOT_POINT_SITES, ROOT_DOF, SOLE_CORNER_SITES, DiffPDConfig, DynamicCycle, pose_difference
-from agents.diffpd_clean import (CHECKPOINT_FILE, SIDECAR_FILE, WEIGHTS_FILE, build_cycle, config_to_dict,
+from agents.diffpd_clean import (CHECKPOINT_FILE, SIDECAR_FILE, WEIGHTS_FILE, config_to_dict,
                                  save_cycle)
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.atomic import atomic_write, write_json
@@ -216,7 +216,7 @@ class Trainer:
     def __init__(self, config: TrainConfig, pairs: list[Pair]):
         self.config, self.pairs = config, pairs
         torch.manual_seed(config.seed)
-        self.cycle: DynamicCycle = build_cycle(config.cycle_config(), dynet=not config.fixed_gains)
+        self.cycle: DynamicCycle = DynamicCycle.neural(config.cycle_config(), dynet=not config.fixed_gains)
         self.dtype = self.cycle.config.dtype
         self.opt_dyn = torch.optim.Adam(self.cycle.dynet.parameters(), lr=config.lr) if self.cycle.dynet else None
         self.opt_grf = torch.optim.Adam(self.cycle.grfnet.parameters(), lr=config.lr)
