@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 import re
 import signal
 import sys
@@ -40,6 +41,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
+from agents.vec_env import ShardedVecEnv
 from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
@@ -72,8 +74,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
                    help="IMU artefact strength range of corrupted references")
     g.add_argument("--variants-per-clip", type=positive_int, default=4,
-                   help="distinct corrupted references made per training clip (with --vec dummy shared by all "
-                        "envs: that many in all; with subproc envs that many per env)")
+                   help="distinct corrupted references made per training clip (the same in every "
+                        "process and shared by its envs: that many in all; with --vec subproc that many per env)")
     g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
                    help="reference tracks each env keeps in memory (~2 MB each; more clips × variants than "
                         "this are rebuilt on use, which slows training)")
@@ -92,13 +94,16 @@ def build_parser(prog: str | None = None) -> CliParser:
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=8, help="environments stepped together (one policy batch)")
-    g.add_argument("--vec", choices=["dummy", "subproc"], default="dummy",
-                   help="dummy: all envs in this process (batched inference; fastest on 2 cores, see README); "
-                        "subproc: one process per env (for many-core machines)")
+    g.add_argument("--vec", choices=VEC_KINDS, default="sharded",
+                   help="sharded: the envs split over --workers shards, this process and worker processes, "
+                        "stepped in parallel (agents/vec_env.py; fastest on 2 cores, see README); dummy: all "
+                        "envs in this process; subproc: one process per env")
+    g.add_argument("--workers", type=positive_int, default=None,
+                   help="--vec sharded: shards, this process included (default: the cores, at most --n-envs)")
     g.add_argument("--net", default="256,256", help="hidden layer sizes of actor and critic (tanh)")
     g.add_argument("--device", default="cpu", choices=["cpu", "cuda", "auto"],
                    help="where the networks learn: cpu (fastest for small networks on a few cores), "
-                        "cuda or auto (a GPU if there is one; with --vec subproc on a many-core machine)")
+                        "cuda or auto (a GPU if there is one; on a many-core machine --vec sharded uses every core)")
     g.add_argument("--lr", type=positive_float, default=5e-5, help="Adam learning rate (ADAPT: 5e-5)")
     g.add_argument("--n-steps", type=positive_int, default=1024, help="rollout length per environment")
     g.add_argument("--batch-size", type=positive_int, default=512, help="minibatch size")
@@ -108,7 +113,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--clip-range", type=positive_float, default=0.2)
     g.add_argument("--action-variance", type=positive_float, default=0.03, help="fixed σ² of the Gaussian policy")
     g.add_argument("--seed", type=int, default=0)
-    g.add_argument("--torch-threads", type=positive_int, default=2, help="torch threads in the learner process")
+    g.add_argument("--torch-threads", type=positive_int, default=None,
+                   help="torch threads in the learner process (default: 2 with --vec dummy, else 1: the "
+                        "workers need the other cores)")
     g = p.add_argument_group("run")
     g.add_argument("--run-dir", type=output_dir, required=True)
     g.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --run-dir")
@@ -137,17 +144,29 @@ def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float)
 
 
 def variant_seed(args: argparse.Namespace) -> int | None:
-    """``ArtefactMix.seed`` of the run: with in-process envs (``--vec dummy``) one seed, so that the
-    envs make the same corrupted variants and share them (one build, one copy; the run then has
-    ``--variants-per-clip`` variants of each clip in all, not that many per env); with subprocess
-    envs, where nothing is shared, each env its own (``None``)."""
-    return args.seed if args.vec == "dummy" else None
+    """``ArtefactMix.seed`` of the run: with in-process or sharded envs one seed, so that the envs make
+    the same corrupted variants and the envs of a process share them (one build, one copy per
+    process; the run then has ``--variants-per-clip`` variants of each clip in all, not that many per
+    env); with one subprocess per env each env its own (``None``)."""
+    return None if args.vec == "subproc" else args.seed
+
+
+def vec_env_settings(args: argparse.Namespace) -> tuple[type, dict, int]:
+    """The run's vectorized-env class, its keyword arguments and the learner's torch threads."""
+    threads = args.torch_threads or (2 if args.vec == "dummy" else 1)
+    if args.vec == "sharded":
+        workers = min(args.workers or len(os.sched_getaffinity(0)), args.n_envs)
+        return ShardedVecEnv, {"n_workers": workers}, threads
+    return (SubprocVecEnv if args.vec == "subproc" else DummyVecEnv), {}, threads
 
 
 def foot(args: argparse.Namespace) -> str:
     """The run's foot model: ``--foot``, else two segments for ``MimicGait-v0`` and one otherwise."""
     return args.foot or ("two" if args.env_id == GAIT_ENV_ID else "one")
 
+
+VEC_KINDS = ("sharded", "dummy", "subproc")
+"""``--vec`` choices: how the training envs are stepped (``agents/vec_env.py``, stable-baselines3)."""
 
 GAIT_ABLATIONS = ("no_fc", "no_toeref")
 """``--gait-ablation`` choices (contactvision Fig. 12): no contact reward, toe targets 0."""
@@ -324,10 +343,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         history = []
     if args.gait_ablation is not None and args.env_id != GAIT_ENV_ID:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
-    torch.set_num_threads(args.torch_threads)
+    vec_cls, vec_kwargs, threads = vec_env_settings(args)
+    torch.set_num_threads(threads)
     clips = training_motions(args)
-    vec_cls = SubprocVecEnv if args.vec == "subproc" else DummyVecEnv
-    venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls,
+    venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
                         env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
     if args.eval_strength is not None:
@@ -370,6 +389,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     remaining = args.total_steps - model.num_timesteps
     if remaining <= 0:
         print(f"run already has {model.num_timesteps} >= --total-steps {args.total_steps} steps")
+        venv.close()
         return
     callback = CheckpointAndEvaluate(run_dir, eval_env, args)
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
@@ -379,8 +399,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume
         callback.save_checkpoint()
         print(f"interrupted at {model.num_timesteps} steps; checkpoint saved, continue with --resume", flush=True)
-        return
-    venv.close()
+    finally:
+        venv.close()
 
 
 if __name__ == "__main__":

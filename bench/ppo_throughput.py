@@ -1,67 +1,154 @@
-"""PPO training throughput (environment frames/s, collection and updates included) per network size.
+"""PPO training throughput (environment frames/s, collection and updates included) per network size and
+vectorisation, against the raw-physics floor measured in the same run.
 
-Usage: ``python bench/ppo_throughput.py [--steps N] [--nets 1024,1024,512 256,256 128,128] [--json [OUT]]``
+Usage: ``python bench/ppo_throughput.py [--steps N] [--rounds R] [--json [OUT]]``
 
-Each configuration is trained for ``N`` control steps on ``MimicIMU-v0`` (walk) with the PPO
-settings of ``agents/train_ppo.py`` (6 epochs, minibatch 512, 8192 steps per rollout), in the same
-run so the ratios are comparable: every network with the default vectorisation (8 envs in-process,
-2 torch threads), and the default network with 2 subprocess envs (1 torch thread) for contrast. A control step is two 60 Hz frames; ``frames_per_s`` counts
-simulation frames (ADAPT's unit), ``steps_per_s`` policy steps.
+Each configuration is trained for ``N`` control steps on ``MimicIMU-v0`` (walk, half the episodes
+IMU-corrupted) with the PPO settings of ``agents/train_ppo.py`` (6 epochs, minibatch 512, 8192
+steps per rollout), after a warm-up rollout. Configurations (``R`` rounds, interleaved, the median
+reported; the machine is noisy):
+
+* networks [1024, 1024, 512] (ADAPT), [256, 256] (ours), [128, 128] with 8 envs in the learner's
+  process (``--vec dummy``, 2 torch threads);
+* [256, 256] with 8 envs, one subprocess each (``--vec subproc``, 1 torch thread);
+* [256, 256] with 8 or 16 envs in 2 shards, this process and one worker (``--vec sharded``, the
+  default, 1 torch thread: ``agents/vec_env.py``).
+
+A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
+The physics floor is the rate at which the cores would produce those frames doing nothing but
+``mj_step``: the ``mj_step`` calls of one in-process run (the same states and contacts PPO sees)
+are timed, and the floor is frames / that time × the cores (2: the physics of separate
+environments is independent). No training run on these cores can be faster.
 """
 
 from __future__ import annotations
 
 import argparse
 import math
+import os
+import statistics
 import time
+from dataclasses import dataclass
 
+import mujoco
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
 import envs  # noqa: F401  (registers the ids)
+from agents.vec_env import ShardedVecEnv
+from envs import ArtefactMix
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
+CORES = len(os.sched_getaffinity(0))
+CLIPS = ["deepmimic:walk"]
 
-def rate(net: list[int], steps: int, n_envs: int, subproc: bool) -> float:
-    """Control steps/s of PPO training with hidden layers ``net``."""
-    torch.set_num_threads(1 if subproc else 2)
-    venv = VecNormalize(make_vec_env("MimicIMU-v0", n_envs=n_envs, seed=0,
-                                     vec_env_cls=SubprocVecEnv if subproc else DummyVecEnv,
-                                     env_kwargs={"clips": ["deepmimic:walk"]}), norm_reward=False)
-    model = PPO("MlpPolicy", venv, n_steps=8192 // n_envs, batch_size=512, n_epochs=6, learning_rate=5e-5,
+
+@dataclass(frozen=True)
+class Setting:
+    """One row: the hidden layers, the envs and how they are stepped, the learner's torch threads."""
+
+    net: str
+    n_envs: int
+    vec: str
+    torch_threads: int
+
+    @property
+    def label(self) -> str:
+        return f"{self.net} / {self.n_envs} {self.vec} / {self.torch_threads} thread(s)"
+
+
+SETTINGS = [Setting("1024,1024,512", 8, "dummy", 2), Setting("256,256", 8, "dummy", 2),
+            Setting("128,128", 8, "dummy", 2), Setting("256,256", 8, "subproc", 1),
+            Setting("256,256", 8, "sharded", 1), Setting("256,256", 16, "sharded", 1)]
+VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv}
+
+
+def build(setting: Setting) -> PPO:
+    """A fresh PPO learner of ``setting`` (train_ppo.py's settings, seed 0)."""
+    torch.set_num_threads(setting.torch_threads)
+    venv = VecNormalize(make_vec_env("MimicIMU-v0", n_envs=setting.n_envs, seed=0,
+                                     vec_env_cls=VEC_CLASSES[setting.vec],
+                                     env_kwargs={"clips": CLIPS, "artefacts": ArtefactMix(seed=0)}), norm_reward=False)
+    net = [int(n) for n in setting.net.split(",")]
+    model = PPO("MlpPolicy", venv, n_steps=8192 // setting.n_envs, batch_size=512, n_epochs=6, learning_rate=5e-5,
                 device="cpu", seed=0, policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
                                                      "log_std_init": 0.5 * math.log(0.03)})
     model.learn(8192)  # warm-up: one rollout and update
+    return model
+
+
+def rate(setting: Setting, steps: int) -> float:
+    """Control steps/s of PPO training in ``setting``."""
+    model = build(setting)
     start = time.perf_counter()
     model.learn(steps, reset_num_timesteps=False)
     elapsed = time.perf_counter() - start
-    venv.close()
+    model.get_env().close()
     return steps / elapsed
+
+
+def physics_floor(steps: int) -> float:
+    """Control steps/s of the ``mj_step`` calls alone on one core, timed inside an in-process run."""
+    raw_step, busy = mujoco.mj_step, 0.0
+
+    def timed_step(model, data, nstep=1):
+        nonlocal busy
+        start = time.perf_counter()
+        raw_step(model, data, nstep=nstep)
+        busy += time.perf_counter() - start
+
+    model = build(Setting("256,256", 8, "dummy", 2))
+    mujoco.mj_step = timed_step
+    try:
+        model.learn(steps, reset_num_timesteps=False)
+    finally:
+        mujoco.mj_step = raw_step
+    model.get_env().close()
+    return steps / busy
+
+
+def parameters(net: list[int], n_obs: int = 273, n_act: int = 20) -> int:
+    """Weights and biases of actor and critic MLPs with hidden layers ``net``."""
+    return sum(a * b + b for a, b in zip([n_obs] + net, net + [n_act])) + sum(
+        a * b + b for a, b in zip([n_obs] + net, net + [1]))
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    parser.add_argument("--steps", type=int, default=16384)
-    parser.add_argument("--nets", nargs="+", default=["1024,1024,512", "256,256", "128,128"])
+    parser.add_argument("--steps", type=int, default=16384, help="timed control steps per configuration")
+    parser.add_argument("--rounds", type=int, default=2, help="interleaved rounds (the median is reported)")
     parser.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = parser.parse_args()
+    measured: dict[str, list[float]] = {s.label: [] for s in SETTINGS}
+    floors = []
+    for _ in range(args.rounds):
+        floors.append(physics_floor(args.steps))
+        for setting in SETTINGS:
+            measured[setting.label].append(rate(setting, args.steps))
+    floor_frames = 2 * statistics.median(floors) * CORES
     rows = []
-    configs = [(spec, 8, False) for spec in args.nets] + [("256,256", 2, True)]
-    for spec, n_envs, subproc in configs:
-        net = [int(n) for n in spec.split(",")]
-        steps_per_s = rate(net, args.steps, n_envs, subproc)
-        params = sum(a * b + b for a, b in zip([273] + net, net + [20])) + sum(a * b + b for a, b in zip([273] + net, net + [1]))
-        rows.append({"net": spec, "envs": f"{n_envs} {'subproc' if subproc else 'in-process'}", "parameters": params,
-                     "steps_per_s": round(steps_per_s), "frames_per_s": round(2 * steps_per_s)})
-    base = rows[0]["steps_per_s"]
+    for setting in SETTINGS:
+        steps_per_s = statistics.median(measured[setting.label])
+        rows.append({"net": setting.net, "n_envs": setting.n_envs, "vec": setting.vec,
+                     "torch_threads": setting.torch_threads,
+                     "parameters": parameters([int(n) for n in setting.net.split(",")]),
+                     "frames_per_s": round(2 * steps_per_s), "rounds_frames_per_s": [round(2 * r) for r in
+                                                                                     measured[setting.label]],
+                     "share_of_floor": round(2 * steps_per_s / floor_frames, 3)})
+    base = rows[0]["frames_per_s"]
     for r in rows:
-        r["speedup_vs_first"] = round(r["steps_per_s"] / base, 2)
-    if not emit_json({"steps": args.steps, "rows": rows}, args.json):
+        r["speedup_vs_first"] = round(r["frames_per_s"] / base, 2)
+    result = {"steps": args.steps, "rounds": args.rounds, "cores": CORES, "clips": CLIPS,
+              "physics_floor_frames_per_s": round(floor_frames),
+              "physics_floor_frames_per_s_one_core": round(2 * statistics.median(floors)), "rows": rows}
+    if not emit_json(result, args.json):
+        print(f"physics floor: {result['physics_floor_frames_per_s']} frames/s on {CORES} cores")
         for r in rows:
-            print(f"{r['net']:>14}  {r['envs']:>12}  {r['parameters']:>9} params  {r['frames_per_s']:>6} frames/s  "
-                  f"×{r['speedup_vs_first']}")
+            print(f"{r['net']:>14}  {r['n_envs']:>2} {r['vec']:>8}  {r['torch_threads']} thr  {r['parameters']:>9} "
+                  f"params  {r['frames_per_s']:>6} frames/s  ×{r['speedup_vs_first']}  "
+                  f"{100 * r['share_of_floor']:.0f}% of floor")
 
 
 if __name__ == "__main__":

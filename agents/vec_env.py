@@ -1,0 +1,267 @@
+"""A vectorized environment that steps its environments in a few worker processes, several per worker.
+
+Stable-baselines3 offers two extremes: ``DummyVecEnv`` steps every environment in the learner's
+process (one core does all the physics) and ``SubprocVecEnv`` gives every environment its own
+process (one pipe round trip per environment and step, which on 2 cores costs more than it gains:
+``bench/ppo_throughput.py``). :class:`ShardedVecEnv` sits between: ``n_envs`` environments split
+into ``n_workers`` contiguous shards, one process per shard, one round trip per shard and step.
+With one worker per core the physics of a step runs on every core at once while the learner waits.
+
+Environments in one worker share what environments of one process share (``envs.mimic``'s reference
+tracks); each worker builds its own.
+"""
+
+from __future__ import annotations
+
+import multiprocessing as mp
+import time
+import traceback
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from stable_baselines3.common.env_util import is_wrapped
+from stable_baselines3.common.vec_env.base_vec_env import CloudpickleWrapper, VecEnv, VecEnvIndices
+
+
+class WorkerError(RuntimeError):
+    """An environment raised inside a worker process; the message carries the worker's traceback."""
+
+
+def _step(env: gym.Env, action: np.ndarray) -> tuple[Any, float, bool, dict, dict]:
+    """One step in stable-baselines3's VecEnv convention: a finished episode is reset at once, its
+    last observation kept in ``info["terminal_observation"]``."""
+    obs, reward, terminated, truncated, info = env.step(action)
+    done = terminated or truncated
+    info["TimeLimit.truncated"] = truncated and not terminated
+    reset_info: dict = {}
+    if done:
+        info["terminal_observation"] = obs
+        obs, reset_info = env.reset()
+    return obs, reward, done, info, reset_info
+
+
+def _call(env: gym.Env, kind: str, name: str, payload: Any) -> Any:
+    if kind == "get_attr":
+        return env.get_wrapper_attr(name)
+    if kind == "set_attr":
+        return setattr(env, name, payload)
+    if kind == "env_method":
+        args, kwargs = payload
+        return env.get_wrapper_attr(name)(*args, **kwargs)
+    if kind == "is_wrapped":
+        return is_wrapped(env, payload)
+    if kind == "render":
+        return env.render()
+    raise ValueError(f"unknown worker call {kind!r}")
+
+
+def _wait(connection, spin_s: float) -> None:
+    """Wait for ``connection`` to have data: poll without sleeping for ``spin_s`` seconds, then block.
+    Waking a blocked process costs ~1 ms on these virtual machines, longer than a step of a shard;
+    between the steps of a rollout the wait is shorter than the spin and costs no wake-up."""
+    deadline = time.perf_counter() + spin_s
+    while not connection.poll(0):
+        if time.perf_counter() > deadline:
+            connection.poll(None)
+            return
+
+
+def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) -> None:
+    """Worker loop: build the shard's environments, then answer the parent's commands until ``close``.
+    Every answer is ``(ok, value)``; an exception is sent back as ``(False, (is it an AttributeError,
+    traceback text))``."""
+    parent_remote.close()
+    envs: list[gym.Env] = []
+    while True:
+        try:
+            _wait(remote, spin_s)
+            cmd, data = remote.recv()
+        except (EOFError, OSError, KeyboardInterrupt):  # the parent has gone
+            break
+        try:
+            if cmd == "build":
+                envs = [fn() for fn in env_fns.var]
+                value = (envs[0].observation_space, envs[0].action_space)
+            elif cmd == "step":
+                value = [_step(env, a) for env, a in zip(envs, data)]
+            elif cmd == "reset":
+                seeds, options = data
+                value = [env.reset(seed=s, **({"options": o} if o else {})) for env, s, o in zip(envs, seeds, options)]
+            elif cmd == "call":
+                kind, name, payload, local = data
+                value = [_call(envs[j], kind, name, payload) for j in local]
+            elif cmd == "close":
+                for env in envs:
+                    env.close()
+                remote.send((True, None))
+                break
+            else:
+                raise ValueError(f"unknown command {cmd!r}")
+            remote.send((True, value))
+        except Exception as error:  # noqa: BLE001 (sent to the parent, which raises it there)
+            remote.send((False, (isinstance(error, AttributeError), traceback.format_exc())))
+
+
+class ShardedVecEnv(VecEnv):
+    """``len(env_fns)`` environments in ``n_workers`` contiguous shards (sizes differing by at most
+    one) stepped in parallel: shard 0 in this process, every other shard in a worker process.
+
+    This process steps its own shard while the workers step theirs, then polls for their answers
+    without sleeping; the workers likewise poll for the next command for ``spin_ms`` before they
+    block. On the project's 2-core virtual machines a blocked process takes about a millisecond to
+    wake, as long as a 4-environment shard takes to step, so neither side blocks inside a rollout.
+
+    Args:
+        env_fns: functions that each build one environment (as for ``SubprocVecEnv``; pass this class
+            as ``make_vec_env(..., vec_env_cls=ShardedVecEnv, vec_env_kwargs={"n_workers": k})``).
+        n_workers: shards, this process included (default 2: one per core of the project's
+            machines; 1 is a ``DummyVecEnv``); at most ``len(env_fns)``.
+        spin_ms: how long a worker polls for the next command before it blocks (ms).
+        start_method: ``multiprocessing`` start method (default ``forkserver``, which is safe with
+            torch's threads in this process, else ``spawn``).
+
+    Raises:
+        WorkerError: an environment raised in a worker (the message has its traceback).
+    """
+
+    def __init__(self, env_fns: list[Callable[[], gym.Env]], n_workers: int = 2, spin_ms: float = 5.0,
+                 start_method: str | None = None):
+        if not env_fns:
+            raise ValueError("ShardedVecEnv needs at least one environment")
+        if not 1 <= n_workers <= len(env_fns):
+            raise ValueError(f"n_workers must be 1..{len(env_fns)} (one environment at least per shard), "
+                             f"got {n_workers}")
+        if start_method is None:
+            start_method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
+        ctx = mp.get_context(start_method)
+        self.shards = [list(s) for s in np.array_split(np.arange(len(env_fns)), n_workers)]
+        self._where = [(w, j) for w, shard in enumerate(self.shards) for j in range(len(shard))]
+        self.remotes, self.processes = [], []
+        self.waiting = self.closed = False
+        for shard in self.shards[1:]:
+            remote, work_remote = ctx.Pipe()
+            process = ctx.Process(target=_serve, daemon=True, args=(
+                work_remote, remote, CloudpickleWrapper([env_fns[i] for i in shard]), spin_ms / 1000))
+            process.start()
+            work_remote.close()
+            self.remotes.append(remote)
+            self.processes.append(process)
+        for remote in self.remotes:  # the workers build their shards while this process builds its own
+            remote.send(("build", None))
+        self.local_envs = [env_fns[i]() for i in self.shards[0]]
+        self._gather()
+        self._actions: np.ndarray | None = None
+        super().__init__(len(env_fns), self.local_envs[0].observation_space, self.local_envs[0].action_space)
+
+    def _gather(self) -> list[Any]:
+        """Every worker's answer, in shard order; raises the first worker's error."""
+        answers = []
+        for w, remote in enumerate(self.remotes, start=1):
+            try:
+                _wait(remote, spin_s=float("inf"))
+                ok, value = remote.recv()
+            except EOFError as error:
+                raise WorkerError(f"env worker {w} (pid {self.processes[w - 1].pid}) died") from error
+            if not ok:
+                missing_attribute, trace = value
+                if missing_attribute:  # VecEnv.has_attr relies on AttributeError
+                    raise AttributeError(f"env worker {w}:\n{trace}")
+                raise WorkerError(f"env worker {w} failed:\n{trace}")
+            answers.append(value)
+        return answers
+
+    def _local_then_gather(self, local_work: Callable[[], list[Any]]) -> list[Any]:
+        """``local_work()`` (this process's shard, run while the workers run theirs) followed by every
+        worker's answer, as one list in env order. If the local shard raises, the workers' answers are
+        still read, so that the pipes stay in step for the next command."""
+        try:
+            local = local_work()
+        except BaseException:
+            for remote in self.remotes:
+                try:
+                    remote.recv()
+                except EOFError:
+                    pass
+            raise
+        return [local, *self._gather()]
+
+    def _send_each(self, command: str, per_shard: list[Any]) -> None:
+        for remote, data in zip(self.remotes, per_shard[1:]):
+            remote.send((command, data))
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._send_each("step", [actions[s[0]:s[-1] + 1] for s in self.shards])
+        self._actions = actions[:len(self.shards[0])]
+        self.waiting = True
+
+    def step_wait(self):
+        shards = self._local_then_gather(lambda: [_step(env, a) for env, a in zip(self.local_envs, self._actions)])
+        results = [r for shard in shards for r in shard]
+        self.waiting = False
+        obs, rewards, dones, infos, reset_infos = zip(*results)
+        for i, info in enumerate(reset_infos):
+            if dones[i]:
+                self.reset_infos[i] = info
+        return np.stack(obs), np.array(rewards, dtype=np.float32), np.array(dones), list(infos)
+
+    def reset(self):
+        per_shard = [([self._seeds[i] for i in s], [self._options[i] for i in s]) for s in self.shards]
+        self._send_each("reset", per_shard)
+        seeds, options = per_shard[0]
+        shards = self._local_then_gather(lambda: [env.reset(seed=sd, **({"options": o} if o else {}))
+                                                  for env, sd, o in zip(self.local_envs, seeds, options)])
+        results = [r for shard in shards for r in shard]
+        obs, reset_infos = zip(*results)
+        self.reset_infos = list(reset_infos)
+        self._reset_seeds()
+        self._reset_options()
+        return np.stack(obs)
+
+    def _call(self, kind: str, name: str, payload: Any, indices: VecEnvIndices) -> list[Any]:
+        """Run ``kind`` (get_attr, set_attr, env_method, is_wrapped, render) on the envs ``indices``."""
+        wanted = self._get_indices(indices)
+        local = [[] for _ in self.shards]
+        for i in wanted:
+            w, j = self._where[i]
+            local[w].append(j)
+        self._send_each("call", [(kind, name, payload, js) for js in local])
+        answers = self._local_then_gather(lambda: [_call(self.local_envs[j], kind, name, payload) for j in local[0]])
+        position = [iter(values) for values in answers]
+        return [next(position[self._where[i][0]]) for i in wanted]
+
+    def get_attr(self, attr_name: str, indices: VecEnvIndices = None) -> list[Any]:
+        return self._call("get_attr", attr_name, None, indices)
+
+    def set_attr(self, attr_name: str, value: Any, indices: VecEnvIndices = None) -> None:
+        self._call("set_attr", attr_name, value, indices)
+
+    def env_method(self, method_name: str, *method_args, indices: VecEnvIndices = None, **method_kwargs) -> list[Any]:
+        return self._call("env_method", method_name, (method_args, method_kwargs), indices)
+
+    def env_is_wrapped(self, wrapper_class: type[gym.Wrapper], indices: VecEnvIndices = None) -> list[bool]:
+        return self._call("is_wrapped", "", wrapper_class, indices)
+
+    def get_images(self) -> Sequence[np.ndarray | None]:
+        return self._call("render", "", None, None)
+
+    def close(self) -> None:
+        if self.closed:
+            return
+        if self.waiting:
+            self._gather()
+        self._send_each("close", [None] * len(self.shards))
+        for remote in self.remotes:
+            try:
+                remote.recv()
+            except EOFError:
+                pass
+        for process in self.processes:
+            process.join()
+        for remote in self.remotes:
+            remote.close()
+        for env in self.local_envs:
+            env.close()
+        self.closed = True
+
