@@ -15,7 +15,15 @@ Method (per frame, all rotations in the z-up world):
    than the source's, so no single length ratio keeps planted feet planted; the scale is the
    least-squares one for which the foot points in contact move least, starting from (and kept
    within ±20% of) the ratio of leg lengths. The clip is turned to start facing +x at the origin.
-5. Feet on the floor (:func:`floor_lift`): the clip is moved vertically so its support level
+5. Soles level in stance (:func:`stance_sole_pitch`): a rig whose foot bone ends elsewhere than
+   ours leaves our feet pitched by a constant angle: Bandai Namco's takes walked on tiptoe, soles
+   21 degrees down and heels 7 cm up, CMU's on their heels, soles 7 degrees up. For a rig whose
+   rest foot bone is not ours, where the soles' median pitch over their stance frames is beyond
+   :data:`FOOT_LEVEL_TOLERANCE_DEG`, both feet are turned about their ankles by the opposite angle
+   (``source["foot_level_deg"]``) and the root is fitted again. This assumes feet flat in stance,
+   as in walking and running; a clip without such stance (crawling) from such a rig may be
+   mis-levelled.
+6. Feet on the floor (:func:`floor_lift`): the clip is moved vertically so its support level
    (:func:`support_level`) is z = 0, and where a frame would still reach below the floor (mocap
    landings often do: DeepMimic's run lands 5 cm deep) the root is raised just enough, with a
    short Gaussian blend into the neighbouring frames.
@@ -47,13 +55,19 @@ MODEL_POINTS: dict[str, tuple[str, tuple[float, float, float]]] = {
 _SPREAD = {"chest": ("spine_lower", "spine_mid", "chest"), "neck": ("neck", "head")}
 
 
-def model_joint_positions(model: HumanoidModel, kin: Kinematics) -> np.ndarray:
-    """Canonical joint positions ``(T, J, 3)`` (world, m) on the humanoid, from its kinematics."""
+def model_joint_positions(model: HumanoidModel, kin: Kinematics, foot_level_rad: float = 0.0) -> np.ndarray:
+    """Canonical joint positions ``(T, J, 3)`` (world, m) on the humanoid, from its kinematics.
+    ``foot_level_rad``: the toe ends as they would be without the retargeter's foot levelling of
+    that angle (``source["foot_level_deg"]``), i.e. where the source's foot bones point."""
     out = np.zeros((kin.body_pos.shape[0], len(CANONICAL_JOINTS), 3))
+    unlevel = rot.from_axis_angle(np.array([0.0, 1.0, 0.0]), foot_level_rad)
     for j, name in enumerate(CANONICAL_JOINTS):
         body, offset = MODEL_POINTS[name]
+        offset = np.asarray(offset, float)
+        if name.endswith("toe_end") and foot_level_rad:
+            offset = rot.rotate(unlevel, offset)
         b = model.body_names.index(body)
-        out[:, j] = kin.body_pos[:, b] + rot.rotate(kin.body_quat[:, b], np.asarray(offset, float))
+        out[:, j] = kin.body_pos[:, b] + rot.rotate(kin.body_quat[:, b], offset)
     return out
 
 
@@ -206,26 +220,92 @@ def retarget(clip: SourceClip, model_name: str = "humanoid_1seg") -> Motion:
     qpos[:, 3:7] = rot.normalize(rot.multiply(turn, qpos[:, 3:7]))
 
     leg_ratio = model_leg_length(model) / clip.leg_length()
+    scale, lift = _place_root(qpos, root, model, leg_ratio, clip.fps)
+    level = 0.0
+    foot_bones_differ = any(_angle(rest_model[f"{side}_ankle"], rest_src[f"{side}_ankle"]) > FOOT_REST_MATCH_RAD
+                            for side in ("left", "right"))
+    if foot_bones_differ:  # a rig with our rest pose (DeepMimic's) has our feet: its pitch is the motion's
+        pitch = stance_sole_pitch(model.forward_kinematics(qpos).foot_points, clip.fps)
+        level = -pitch if abs(np.nan_to_num(pitch)) > np.radians(FOOT_LEVEL_TOLERANCE_DEG) else 0.0
+    if level:  # turn each foot about its own lateral axis (y; a positive turn lowers the toe)
+        toe_up = rot.from_axis_angle(np.array([0.0, 1.0, 0.0]), -level)
+        for side, s in (("left", "l"), ("right", "r")):
+            local = rot.multiply(rot.conjugate(world[f"{side}_knee"]), rot.multiply(target[f"{side}_ankle"], toe_up))
+            _set_hinges(qpos, model, f"{s}_foot", local)
+        qpos[:, 7:] = np.unwrap(qpos[:, 7:], axis=0)
+        scale, lift = _place_root(qpos, root, model, leg_ratio, clip.fps)
+
+    source = dict(clip.source, retargeted_to=model_name, heading_offset_rad=-heading, root_scale=scale,
+                  leg_length_ratio=leg_ratio, foot_level_deg=round(float(np.degrees(level)), 2),
+                  floor_lift_m=[float(lift.min()), float(lift.max())], source_fps=clip.fps)
+    return Motion(name=clip.name, fps=clip.fps, qpos=qpos, model=model_name, loop=clip.loop, source=source)
+
+
+FOOT_LEVEL_TOLERANCE_DEG = 5.0
+"""A sole pitched by more than this (degrees) in stance (median over its stance frames) is taken for
+a mismatch between the source's foot bone and ours and levelled; less is the clip's own style
+(DeepMimic's clips, whose rig is ours, have -4 to +5 degrees)."""
+
+FOOT_REST_MATCH_RAD = np.radians(5.0)
+"""Rigs whose rest foot bones point within this of ours (DeepMimic's, our rest pose: 1.7 degrees; Bandai Namco's and
+CMU's: 18.9) are not levelled."""
+
+STANCE_SPEED_MPS = 0.5
+"""A foot is in stance when its lower sole point is planted (:data:`CONTACT_FIT_HEIGHT`) and its
+sole's midpoint moves slower than this horizontally (m/s)."""
+
+MIN_STANCE_S = 0.3
+"""A clip with less stance than this (s, both feet together) is not levelled (its pitch is not known)."""
+
+
+def stance_sole_pitch(foot_points: np.ndarray, fps: float) -> float:
+    """Median pitch (rad, toe above heel positive) of the soles over the frames their foot is in
+    stance, both feet pooled (a mismatch of rigs pitches both alike), from the sole points
+    ``(T, 4, 3)`` (world, m; LT, RT, LH, RH as :attr:`Kinematics.foot_points`); NaN for a clip with
+    less than :data:`MIN_STANCE_S` of stance."""
+    lowest = foot_points[..., 2].min(axis=1)
+    planted_level = support_level(lowest) + CONTACT_FIT_HEIGHT
+    pitches = []
+    for toe, heel in ((0, 2), (1, 3)):
+        sole = foot_points[:, toe] - foot_points[:, heel]
+        pitch = np.arctan2(sole[:, 2], np.linalg.norm(sole[:, :2], axis=1))
+        middle = 0.5 * (foot_points[:, toe, :2] + foot_points[:, heel, :2])
+        speed = np.linalg.norm(np.gradient(middle, axis=0), axis=1) * fps
+        stance = (np.minimum(foot_points[:, toe, 2], foot_points[:, heel, 2]) <= planted_level) & (
+            speed < STANCE_SPEED_MPS)
+        pitches.append(pitch[stance])
+    pooled = np.concatenate(pitches)
+    return float(np.median(pooled)) if len(pooled) >= MIN_STANCE_S * fps else float("nan")
+
+
+def _angle(a: np.ndarray, b: np.ndarray) -> float:
+    """Angle (rad) between vectors ``a`` and ``b`` (3,)."""
+    cos = np.dot(a, b) / (np.linalg.norm(a) * np.linalg.norm(b))
+    return float(np.arccos(np.clip(cos, -1.0, 1.0)))
+
+
+def _place_root(qpos: np.ndarray, root: np.ndarray, model: HumanoidModel, leg_ratio: float,
+                fps: float) -> tuple[float, np.ndarray]:
+    """Write the root translation into ``qpos`` (:func:`fit_root_scale`, then :func:`floor_lift`)
+    for the root path ``root (T, 3)`` (source units × 1); returns the scale and the lift ``(T,)``."""
     qpos[:, :3] = root * leg_ratio
     kin = model.forward_kinematics(qpos)
     planted = kin.foot_points[..., 2] <= support_level(kin.lowest) + CONTACT_FIT_HEIGHT
     scale = fit_root_scale(root[:, :2], kin.foot_points[..., :2], planted, leg_ratio)
     qpos[:, :3] = root * scale
-    lift = floor_lift(model.forward_kinematics(qpos).lowest, clip.fps)
+    lift = floor_lift(model.forward_kinematics(qpos).lowest, fps)
     qpos[:, 2] += lift
-
-    source = dict(clip.source, retargeted_to=model_name, heading_offset_rad=-heading, root_scale=scale,
-                  leg_length_ratio=leg_ratio,
-                  floor_lift_m=[float(lift.min()), float(lift.max())], source_fps=clip.fps)
-    return Motion(name=clip.name, fps=clip.fps, qpos=qpos, model=model_name, loop=clip.loop, source=source)
+    return scale, lift
 
 
 def bone_direction_error(clip: SourceClip, motion: Motion) -> np.ndarray:
     """Angle (degrees) between each bone of the retargeted ``motion`` and the same bone of the
     source ``clip``, per frame: ``(T, len(BONES))``. Both must have the same frames (the
-    retargeter's output before resampling)."""
+    retargeter's output before resampling). Levelled feet are compared as they were before
+    levelling (:func:`model_joint_positions`), so the error measures the retargeting alone."""
     model = load_model(motion.model)
-    ours = bone_directions(model_joint_positions(model, model.forward_kinematics(motion.qpos)))
+    level = np.radians(motion.source.get("foot_level_deg", 0.0))
+    ours = bone_directions(model_joint_positions(model, model.forward_kinematics(motion.qpos), level))
     src_pos, _ = clip.global_pose()
     turn = rot.from_axis_angle(np.array([0.0, 0.0, 1.0]), motion.source["heading_offset_rad"])
     theirs = rot.rotate(turn, bone_directions(src_pos))

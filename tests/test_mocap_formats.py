@@ -18,7 +18,7 @@ from reference_motion.humanoid.model import load_model
 from reference_motion.importer import import_library
 from reference_motion.library import expand_clips, load_motion, load_source_clip
 from reference_motion.motion_library import labels, split_of
-from reference_motion.retarget import bone_direction_error, model_joint_positions, retarget
+from reference_motion.retarget import bone_direction_error, model_joint_positions, retarget, stance_sole_pitch
 from reference_motion.rigs import RIGS, MocapOptions, canonical_positions, match_rig, unit_scale, up_axis
 from reference_motion.source import CANONICAL_JOINTS, clip_from_joint_positions
 
@@ -354,3 +354,41 @@ def test_our_own_bvh_export_reads_back_through_the_commands(exported, tmp_path, 
     out = tmp_path / "clean.npz"
     clean_main([str(exported), "--policy", "models/mimic_walk", "--out", str(out), "--no-adapt"])
     assert load_motion(out).n_frames == 76
+
+
+def _feet(pitch_deg: float, lift_m: float, speed_mps: float, frames: int, fps: float = 60.0) -> np.ndarray:
+    """Sole points (frames, 4, 3) (LT, RT, LH, RH) of two 26-cm feet side by side, pitched by
+    ``pitch_deg`` (toe up positive), the lower point ``lift_m`` up, moving forwards at ``speed_mps``."""
+    t = np.arange(frames) / fps
+    a = np.radians(pitch_deg)
+    heel_z = lift_m + max(0.0, -0.26 * np.sin(a))
+    points = np.zeros((frames, 4, 3))
+    for foot, y in ((0, 0.1), (1, -0.1)):
+        heel = np.stack([speed_mps * t, np.full(frames, y), np.full(frames, heel_z)], axis=1)
+        points[:, 2 + foot] = heel
+        points[:, foot] = heel + [0.26 * np.cos(a), 0.0, 0.26 * np.sin(a)]
+    return points
+
+
+def test_stance_sole_pitch_is_the_median_over_planted_slow_frames():
+    stance = _feet(10.0, 0.0, 0.0, 30)
+    swing = _feet(-30.0, 0.10, 2.0, 30)  # lifted and fast: not stance, whatever its pitch
+    assert np.degrees(stance_sole_pitch(np.concatenate([stance, swing]), 60.0)) == pytest.approx(10.0, abs=1e-6)
+    short = np.concatenate([_feet(10.0, 0.0, 0.0, 5), _feet(-30.0, 0.10, 2.0, 55)])
+    assert np.isnan(stance_sole_pitch(short, 60.0))  # 2 × 5 frames < 0.3 s of stance: unknown
+
+
+def test_feet_levelled_for_a_rig_whose_foot_bone_ends_elsewhere(exported, tmp_path):
+    """Our export with its foot bones ending level with the ankles (as Bandai Namco's and CMU's rigs
+    differ from ours): retargeted as is, the soles would point 18.9 degrees up in stance."""
+    text, n = re.subn(r"(JOINT [lr]_foot\s*\{[^}]*?End Site\s*\{\s*OFFSET )20\.500000 -7\.000000",
+                      r"\g<1>21.662179 0.000000", exported.read_text())
+    assert n == 2
+    path = tmp_path / "level_foot_bones.bvh"
+    path.write_text(text)
+    motion = load_motion(path)
+    assert motion.source["foot_level_deg"] == pytest.approx(-18.9, abs=1.5)
+    kin = load_model(motion.model).forward_kinematics(motion.qpos)
+    assert abs(np.degrees(stance_sole_pitch(kin.foot_points, motion.fps))) < 1.5
+    assert np.percentile(kin.foot_points[:, 2:, 2], 10) < 0.01  # the heels touch down
+    assert load_motion("deepmimic:walk").source["foot_level_deg"] == 0.0  # our own rig: left alone
