@@ -254,15 +254,20 @@ STANCE_SPEED_MPS = 0.5
 """A foot is in stance when its lower sole point is planted (:data:`CONTACT_FIT_HEIGHT`) and its
 sole's midpoint moves slower than this horizontally (m/s)."""
 
+PITCH_BIN_DEG = 2.0
+"""Width (degrees) of the bins in which :func:`stance_sole_pitch` finds the most common stance pitch."""
+
 MIN_STANCE_S = 0.3
 """A clip with less stance than this (s, both feet together) is not levelled (its pitch is not known)."""
 
 
 def stance_sole_pitch(foot_points: np.ndarray, fps: float) -> float:
-    """Median pitch (rad, toe above heel positive) of the soles over the frames their foot is in
-    stance, both feet pooled (a mismatch of rigs pitches both alike), from the sole points
+    """Most common pitch (rad, toe above heel positive) of the soles over the frames their foot is
+    in stance, both feet pooled (a mismatch of rigs pitches both alike), from the sole points
     ``(T, 4, 3)`` (world, m; LT, RT, LH, RH as :attr:`Kinematics.foot_points`); NaN for a clip with
-    less than :data:`MIN_STANCE_S` of stance."""
+    less than :data:`MIN_STANCE_S` of stance. The mode (:data:`PITCH_BIN_DEG` bins, smoothed over
+    three) is the flat-foot phase; a median drifts in bouncy styles that spend long on the forefoot
+    (Bandai Namco's `happy` walks: median 30 degrees down, mode 21 like every other take)."""
     lowest = foot_points[..., 2].min(axis=1)
     planted_level = support_level(lowest) + CONTACT_FIT_HEIGHT
     pitches = []
@@ -274,8 +279,12 @@ def stance_sole_pitch(foot_points: np.ndarray, fps: float) -> float:
         stance = (np.minimum(foot_points[:, toe, 2], foot_points[:, heel, 2]) <= planted_level) & (
             speed < STANCE_SPEED_MPS)
         pitches.append(pitch[stance])
-    pooled = np.concatenate(pitches)
-    return float(np.median(pooled)) if len(pooled) >= MIN_STANCE_S * fps else float("nan")
+    pooled = np.degrees(np.concatenate(pitches))
+    if len(pooled) < MIN_STANCE_S * fps:
+        return float("nan")
+    edges = np.arange(-90.0, 90.0 + PITCH_BIN_DEG, PITCH_BIN_DEG)
+    counts = np.convolve(np.histogram(pooled, bins=edges)[0], [1, 2, 1], mode="same")
+    return float(np.radians(edges[np.argmax(counts)] + PITCH_BIN_DEG / 2))
 
 
 def _angle(a: np.ndarray, b: np.ndarray) -> float:

@@ -370,10 +370,12 @@ def _feet(pitch_deg: float, lift_m: float, speed_mps: float, frames: int, fps: f
     return points
 
 
-def test_stance_sole_pitch_is_the_median_over_planted_slow_frames():
-    stance = _feet(10.0, 0.0, 0.0, 30)
+def test_stance_sole_pitch_is_the_most_common_over_planted_slow_frames():
+    flat = _feet(10.0, 0.0, 0.0, 30)
+    forefoot = np.concatenate([_feet(-45.0 + k, 0.0, 0.0, 1) for k in range(35)])  # spread: no mode there
     swing = _feet(-30.0, 0.10, 2.0, 30)  # lifted and fast: not stance, whatever its pitch
-    assert np.degrees(stance_sole_pitch(np.concatenate([stance, swing]), 60.0)) == pytest.approx(10.0, abs=1e-6)
+    pitch = np.degrees(stance_sole_pitch(np.concatenate([flat, forefoot, swing]), 60.0))
+    assert pitch == pytest.approx(10.0, abs=1.0)  # the median of these 65 stance frames is -13
     short = np.concatenate([_feet(10.0, 0.0, 0.0, 5), _feet(-30.0, 0.10, 2.0, 55)])
     assert np.isnan(stance_sole_pitch(short, 60.0))  # 2 × 5 frames < 0.3 s of stance: unknown
 
