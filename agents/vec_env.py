@@ -14,6 +14,7 @@ tracks); each worker builds its own.
 from __future__ import annotations
 
 import multiprocessing as mp
+import os
 import time
 import traceback
 from collections.abc import Callable, Sequence
@@ -60,12 +61,15 @@ def _call(env: gym.Env, kind: str, name: str, payload: Any) -> Any:
 def _wait(connection, spin_s: float) -> None:
     """Wait for ``connection`` to have data: poll without sleeping for ``spin_s`` seconds, then block.
     Waking a blocked process costs ~1 ms on these virtual machines, longer than a step of a shard;
-    between the steps of a rollout the wait is shorter than the spin and costs no wake-up."""
+    between the steps of a rollout the wait is shorter than the spin and costs no wake-up. Each poll
+    yields the core to any other runnable process, so spinning costs nothing when the cores are
+    shared (two trainings at once)."""
     deadline = time.perf_counter() + spin_s
     while not connection.poll(0):
         if time.perf_counter() > deadline:
             connection.poll(None)
             return
+        os.sched_yield()
 
 
 def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) -> None:
@@ -139,7 +143,8 @@ class ShardedVecEnv(VecEnv):
         self.shards = [list(s) for s in np.array_split(np.arange(len(env_fns)), n_workers)]
         self._where = [(w, j) for w, shard in enumerate(self.shards) for j in range(len(shard))]
         self.remotes, self.processes = [], []
-        self.waiting = self.closed = False
+        self._pending: list[int] = []  # answers each worker still owes
+        self.closed = False
         for shard in self.shards[1:]:
             remote, work_remote = ctx.Pipe()
             process = ctx.Process(target=_serve, daemon=True, args=(
@@ -148,8 +153,8 @@ class ShardedVecEnv(VecEnv):
             work_remote.close()
             self.remotes.append(remote)
             self.processes.append(process)
-        for remote in self.remotes:  # the workers build their shards while this process builds its own
-            remote.send(("build", None))
+            self._pending.append(0)
+        self._send_each("build", [None] * len(self.shards))  # the workers build theirs while this process does
         self.local_envs = [env_fns[i]() for i in self.shards[0]]
         self._gather()
         self._actions: np.ndarray | None = None
@@ -164,6 +169,7 @@ class ShardedVecEnv(VecEnv):
                 ok, value = remote.recv()
             except EOFError as error:
                 raise WorkerError(f"env worker {w} (pid {self.processes[w - 1].pid}) died") from error
+            self._pending[w - 1] -= 1
             if not ok:
                 missing_attribute, trace = value
                 if missing_attribute:  # VecEnv.has_attr relies on AttributeError
@@ -179,27 +185,35 @@ class ShardedVecEnv(VecEnv):
         try:
             local = local_work()
         except BaseException:
-            for remote in self.remotes:
-                try:
-                    remote.recv()
-                except EOFError:
-                    pass
+            self._drain()
             raise
         return [local, *self._gather()]
 
+    def _drain(self, timeout_s: float = 60.0) -> None:
+        """Read and drop every answer the workers still owe (after an error or an interrupt here),
+        waiting at most ``timeout_s`` for each."""
+        for w, remote in enumerate(self.remotes):
+            while self._pending[w] > 0:
+                self._pending[w] -= 1
+                try:
+                    if not remote.poll(timeout_s):
+                        break
+                    remote.recv()
+                except (EOFError, OSError):
+                    break
+
     def _send_each(self, command: str, per_shard: list[Any]) -> None:
-        for remote, data in zip(self.remotes, per_shard[1:]):
+        for w, (remote, data) in enumerate(zip(self.remotes, per_shard[1:])):
             remote.send((command, data))
+            self._pending[w] += 1
 
     def step_async(self, actions: np.ndarray) -> None:
         self._send_each("step", [actions[s[0]:s[-1] + 1] for s in self.shards])
         self._actions = actions[:len(self.shards[0])]
-        self.waiting = True
 
     def step_wait(self):
         shards = self._local_then_gather(lambda: [_step(env, a) for env, a in zip(self.local_envs, self._actions)])
         results = [r for shard in shards for r in shard]
-        self.waiting = False
         obs, rewards, dones, infos, reset_infos = zip(*results)
         for i, info in enumerate(reset_infos):
             if dones[i]:
@@ -249,16 +263,16 @@ class ShardedVecEnv(VecEnv):
     def close(self) -> None:
         if self.closed:
             return
-        if self.waiting:
-            self._gather()
-        self._send_each("close", [None] * len(self.shards))
+        self._drain()  # a step interrupted here (Ctrl-C, kill) may have left answers unread
         for remote in self.remotes:
             try:
-                remote.recv()
-            except EOFError:
+                remote.send(("close", None))
+            except OSError:  # the worker has gone already
                 pass
         for process in self.processes:
-            process.join()
+            process.join(timeout=10.0)
+            if process.is_alive():
+                process.terminate()
         for remote in self.remotes:
             remote.close()
         for env in self.local_envs:

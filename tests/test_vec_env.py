@@ -3,6 +3,8 @@ worker errors surfaced with their cause."""
 
 from __future__ import annotations
 
+import time
+
 import numpy as np
 import pytest
 from stable_baselines3.common.env_util import make_vec_env
@@ -65,3 +67,15 @@ def test_worker_error_names_the_cause(sharded):
 def test_bad_worker_count():
     with pytest.raises(ValueError, match="n_workers must be 1..3"):
         make(ShardedVecEnv, n_workers=4)
+
+
+def test_close_after_an_interrupted_step_returns():
+    """``kill`` / Ctrl-C between sending a step and reading it: close() reads what the worker owes
+    instead of waiting for an answer that never comes (an earlier version hung here)."""
+    venv = make(ShardedVecEnv, n_workers=2)
+    venv.reset()
+    venv.step_async(np.zeros((3, venv.action_space.shape[0]), np.float32))
+    start = time.perf_counter()
+    venv.close()
+    assert time.perf_counter() - start < 5.0
+    assert not any(p.is_alive() for p in venv.processes)
