@@ -23,7 +23,7 @@ from tqdm import tqdm
 from reference_motion.atomic import atomic_write
 from reference_motion.footskate import pin_contacts
 from reference_motion.library import load_source_clip
-from reference_motion.motion_library import MANIFEST, TEST_STYLES, TEST_TAKES, VAL_STYLE, labels, split_of, take_path
+from reference_motion.motion_library import LIBRARY_FORMAT, MANIFEST, TEST_STYLES, TEST_TAKES, VAL_STYLE, labels, split_of, take_path
 from reference_motion.quality import motion_quality
 from reference_motion.retarget import bone_direction_error, retarget
 from reference_motion.rigs import MocapOptions
@@ -122,6 +122,8 @@ def import_library(paths: Sequence[str | Path], out: str | Path, config: ImportC
     out.mkdir(parents=True, exist_ok=True)
     manifest_path = out / MANIFEST
     manifest = json.loads(manifest_path.read_text()) if manifest_path.exists() else {}
+    if manifest.get("format") != LIBRARY_FORMAT:  # resume only an import of this format; redo an older one
+        manifest = {}
     done = {t["name"]: t for t in manifest.get("takes", [])
             if all(take_path(out, t["name"], m).exists() for m in MODELS)}
     refused = {r["file"]: r for r in manifest.get("refused", [])}
@@ -148,7 +150,7 @@ def import_library(paths: Sequence[str | Path], out: str | Path, config: ImportC
 
 
 def _manifest(done: dict, refused: dict, config: ImportConfig, wall: float) -> dict:
-    return {"format": "physmimic.library/1", "models": list(MODELS), "fps": ENV_FPS,
+    return {"format": LIBRARY_FORMAT, "models": list(MODELS), "fps": ENV_FPS,
             "split_rule": {"test_styles": list(TEST_STYLES), "test_takes": list(TEST_TAKES), "val_style": VAL_STYLE},
             "config": asdict(config), "wall_s": round(wall, 2),
             "takes": sorted(done.values(), key=lambda t: t["name"]),

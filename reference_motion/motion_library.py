@@ -67,6 +67,10 @@ def take_path(directory: str | Path, name: str, model: str) -> Path:
     return Path(directory) / model / f"{name}.npz"
 
 
+LIBRARY_FORMAT = "physmimic.library/2"
+"""Format of the libraries this code writes and reads (2: feet levelled in stance by the retargeter)."""
+
+
 def read_manifest(directory: str | Path) -> dict:
     """The library's manifest; a clear error when ``directory`` is no library."""
     path = Path(directory) / MANIFEST
@@ -74,9 +78,14 @@ def read_manifest(directory: str | Path) -> dict:
         raise FileNotFoundError(f"{directory}: not a motion library (no {MANIFEST}); "
                                 "build one with: python -m reference_motion import PATH... --out DIR")
     try:
-        return json.loads(path.read_text())
+        manifest = json.loads(path.read_text())
     except (json.JSONDecodeError, UnicodeDecodeError) as err:
         raise ValueError(f"{path}: damaged manifest ({err})") from None
+    if manifest.get("format") != LIBRARY_FORMAT:
+        raise ValueError(f"{path}: a library of format {manifest.get('format')!r}, made by an older import "
+                         f"(before feet were levelled in stance); expected {LIBRARY_FORMAT!r}: import again with "
+                         f"python -m reference_motion import PATH... --out {directory}")
+    return manifest
 
 
 def is_library_set(name: str) -> bool:

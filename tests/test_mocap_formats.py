@@ -17,7 +17,7 @@ from reference_motion.bvh_export import write_bvh
 from reference_motion.humanoid.model import load_model
 from reference_motion.importer import import_library
 from reference_motion.library import expand_clips, load_motion, load_source_clip
-from reference_motion.motion_library import labels, split_of
+from reference_motion.motion_library import labels, read_manifest, split_of
 from reference_motion.retarget import bone_direction_error, model_joint_positions, retarget, stance_sole_pitch
 from reference_motion.rigs import RIGS, MocapOptions, canonical_positions, match_rig, unit_scale, up_axis
 from reference_motion.source import CANONICAL_JOINTS, clip_from_joint_positions
@@ -394,3 +394,9 @@ def test_feet_levelled_for_a_rig_whose_foot_bone_ends_elsewhere(exported, tmp_pa
     assert abs(np.degrees(stance_sole_pitch(kin.foot_points, motion.fps))) < 1.5
     assert np.percentile(kin.foot_points[:, 2:, 2], 10) < 0.01  # the heels touch down
     assert load_motion("deepmimic:walk").source["foot_level_deg"] == 0.0  # our own rig: left alone
+
+
+def test_a_library_from_before_feet_were_levelled_asks_to_be_imported_again(tmp_path):
+    (tmp_path / "manifest.json").write_text(json.dumps({"format": "physmimic.library/1", "takes": []}))
+    with pytest.raises(ValueError, match="older import.*import again"):
+        read_manifest(tmp_path)
