@@ -114,8 +114,9 @@ class ShardedVecEnv(VecEnv):
 
     This process steps its own shard while the workers step theirs, then polls for their answers
     without sleeping; the workers likewise poll for the next command for ``spin_ms`` before they
-    block. On the project's 2-core virtual machines a blocked process takes about a millisecond to
-    wake, as long as a 4-environment shard takes to step, so neither side blocks inside a rollout.
+    block, yielding the core at each poll to any other runnable process. On the project's 2-core
+    virtual machines a blocked process takes about a millisecond to wake, as long as a
+    4-environment shard takes to step, so neither side blocks inside a rollout.
 
     Args:
         env_fns: functions that each build one environment (as for ``SubprocVecEnv``; pass this class
@@ -161,21 +162,25 @@ class ShardedVecEnv(VecEnv):
         super().__init__(len(env_fns), self.local_envs[0].observation_space, self.local_envs[0].action_space)
 
     def _gather(self) -> list[Any]:
-        """Every worker's answer, in shard order; raises the first worker's error."""
-        answers = []
+        """Every worker's answer, in shard order; raises the first worker's error once every answer
+        is read (so that the pipes stay in step for the next command)."""
+        answers, failures = [], []
         for w, remote in enumerate(self.remotes, start=1):
             try:
                 _wait(remote, spin_s=float("inf"))
                 ok, value = remote.recv()
             except EOFError as error:
+                self._drain()
                 raise WorkerError(f"env worker {w} (pid {self.processes[w - 1].pid}) died") from error
             self._pending[w - 1] -= 1
-            if not ok:
-                missing_attribute, trace = value
-                if missing_attribute:  # VecEnv.has_attr relies on AttributeError
-                    raise AttributeError(f"env worker {w}:\n{trace}")
-                raise WorkerError(f"env worker {w} failed:\n{trace}")
             answers.append(value)
+            if not ok:
+                failures.append((w, *value))
+        if failures:
+            w, missing_attribute, trace = failures[0]
+            if missing_attribute:  # VecEnv.has_attr relies on AttributeError
+                raise AttributeError(f"env worker {w}:\n{trace}")
+            raise WorkerError(f"env worker {w} failed:\n{trace}")
         return answers
 
     def _local_then_gather(self, local_work: Callable[[], list[Any]]) -> list[Any]:

@@ -79,3 +79,14 @@ def test_close_after_an_interrupted_step_returns():
     venv.close()
     assert time.perf_counter() - start < 5.0
     assert not any(p.is_alive() for p in venv.processes)
+
+
+def test_after_a_worker_error_the_other_workers_answers_are_not_left_behind():
+    venv = make(ShardedVecEnv, n_workers=3)  # one env per shard: two workers
+    try:
+        venv.reset()
+        with pytest.raises(WorkerError, match="unknown clip"):
+            venv.env_method("reset", options={"clip": "no-such-clip"}, indices=[1])
+        assert venv.get_attr("render_mode") == ["rgb_array"] * 3  # the next call reads its own answers
+    finally:
+        venv.close()
