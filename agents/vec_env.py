@@ -4,8 +4,9 @@ Stable-baselines3 offers two extremes: ``DummyVecEnv`` steps every environment i
 process (one core does all the physics) and ``SubprocVecEnv`` gives every environment its own
 process (one pipe round trip per environment and step, which on 2 cores costs more than it gains:
 ``bench/ppo_throughput.py``). :class:`ShardedVecEnv` sits between: ``n_envs`` environments split
-into ``n_workers`` contiguous shards, one process per shard, one round trip per shard and step.
-With one worker per core the physics of a step runs on every core at once while the learner waits.
+into ``n_workers`` contiguous shards, the first stepped in the learner's process and each other in
+a worker process, one round trip per worker and step. With one shard per core the physics of a
+step runs on every core at once.
 
 Environments in one worker share what environments of one process share (``envs.mimic``'s reference
 tracks); each worker builds its own.
@@ -41,6 +42,11 @@ def _step(env: gym.Env, action: np.ndarray) -> tuple[Any, float, bool, dict, dic
         info["terminal_observation"] = obs
         obs, reset_info = env.reset()
     return obs, reward, done, info, reset_info
+
+
+def _reset(env: gym.Env, seed: int | None, options: dict) -> tuple[Any, dict]:
+    """``env.reset`` with ``seed`` and, unless empty, ``options`` (as stable-baselines3's VecEnvs)."""
+    return env.reset(seed=seed, **({"options": options} if options else {}))
 
 
 def _call(env: gym.Env, kind: str, name: str, payload: Any) -> Any:
@@ -87,19 +93,18 @@ def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) ->
         try:
             if cmd == "build":
                 envs = [fn() for fn in env_fns.var]
-                value = (envs[0].observation_space, envs[0].action_space)
+                value = None
             elif cmd == "step":
                 value = [_step(env, a) for env, a in zip(envs, data)]
             elif cmd == "reset":
                 seeds, options = data
-                value = [env.reset(seed=s, **({"options": o} if o else {})) for env, s, o in zip(envs, seeds, options)]
+                value = [_reset(env, s, o) for env, s, o in zip(envs, seeds, options)]
             elif cmd == "call":
                 kind, name, payload, local = data
                 value = [_call(envs[j], kind, name, payload) for j in local]
             elif cmd == "close":
                 for env in envs:
                     env.close()
-                remote.send((True, None))
                 break
             else:
                 raise ValueError(f"unknown command {cmd!r}")
@@ -229,8 +234,8 @@ class ShardedVecEnv(VecEnv):
         per_shard = [([self._seeds[i] for i in s], [self._options[i] for i in s]) for s in self.shards]
         self._send_each("reset", per_shard)
         seeds, options = per_shard[0]
-        shards = self._local_then_gather(lambda: [env.reset(seed=sd, **({"options": o} if o else {}))
-                                                  for env, sd, o in zip(self.local_envs, seeds, options)])
+        shards = self._local_then_gather(lambda: [_reset(env, sd, o) for env, sd, o in
+                                                  zip(self.local_envs, seeds, options)])
         results = [r for shard in shards for r in shard]
         obs, reset_infos = zip(*results)
         self.reset_infos = list(reset_infos)

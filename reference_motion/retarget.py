@@ -18,7 +18,7 @@ Method (per frame, all rotations in the z-up world):
 5. Soles level in stance (:func:`stance_sole_pitch`): a rig whose foot bone ends elsewhere than
    ours leaves our feet pitched by a constant angle: Bandai Namco's takes walked on tiptoe, soles
    21 degrees down and heels 7 cm up, CMU's on their heels, soles 7 degrees up. For a rig whose
-   rest foot bone is not ours, where the soles' median pitch over their stance frames is beyond
+   rest foot bone is not ours, where the soles' most common pitch over their stance frames is beyond
    :data:`FOOT_LEVEL_TOLERANCE_DEG`, both feet are turned about their ankles by the opposite angle
    (``source["foot_level_deg"]``) and the root is fitted again. This assumes feet flat in stance,
    as in walking and running; a clip without such stance (crawling) from such a rig may be
@@ -60,7 +60,7 @@ def model_joint_positions(model: HumanoidModel, kin: Kinematics, foot_level_rad:
     ``foot_level_rad``: the toe ends as they would be without the retargeter's foot levelling of
     that angle (``source["foot_level_deg"]``), i.e. where the source's foot bones point."""
     out = np.zeros((kin.body_pos.shape[0], len(CANONICAL_JOINTS), 3))
-    unlevel = rot.from_axis_angle(np.array([0.0, 1.0, 0.0]), foot_level_rad)
+    unlevel = _toe_up(-foot_level_rad)
     for j, name in enumerate(CANONICAL_JOINTS):
         body, offset = MODEL_POINTS[name]
         offset = np.asarray(offset, float)
@@ -227,8 +227,8 @@ def retarget(clip: SourceClip, model_name: str = "humanoid_1seg") -> Motion:
     if foot_bones_differ:  # a rig with our rest pose (DeepMimic's) has our feet: its pitch is the motion's
         pitch = stance_sole_pitch(model.forward_kinematics(qpos).foot_points, clip.fps)
         level = -pitch if abs(np.nan_to_num(pitch)) > np.radians(FOOT_LEVEL_TOLERANCE_DEG) else 0.0
-    if level:  # turn each foot about its own lateral axis (y; a positive turn lowers the toe)
-        toe_up = rot.from_axis_angle(np.array([0.0, 1.0, 0.0]), -level)
+    if level:
+        toe_up = _toe_up(level)
         for side, s in (("left", "l"), ("right", "r")):
             local = rot.multiply(rot.conjugate(world[f"{side}_knee"]), rot.multiply(target[f"{side}_ankle"], toe_up))
             _set_hinges(qpos, model, f"{s}_foot", local)
@@ -242,7 +242,7 @@ def retarget(clip: SourceClip, model_name: str = "humanoid_1seg") -> Motion:
 
 
 FOOT_LEVEL_TOLERANCE_DEG = 5.0
-"""A sole pitched by more than this (degrees) in stance (median over its stance frames) is taken for
+"""Soles pitched by more than this (degrees) in stance (:func:`stance_sole_pitch`) are taken for
 a mismatch between the source's foot bone and ours and levelled; less is the clip's own style
 (DeepMimic's clips, whose rig is ours, have -4 to +5 degrees)."""
 
@@ -285,6 +285,11 @@ def stance_sole_pitch(foot_points: np.ndarray, fps: float) -> float:
     edges = np.arange(-90.0, 90.0 + PITCH_BIN_DEG, PITCH_BIN_DEG)
     counts = np.convolve(np.histogram(pooled, bins=edges)[0], [1, 2, 1], mode="same")
     return float(np.radians(edges[np.argmax(counts)] + PITCH_BIN_DEG / 2))
+
+
+def _toe_up(angle: float) -> np.ndarray:
+    """Rotation ``(4,)`` of a foot about its own lateral axis (y) that raises its toe by ``angle`` (rad)."""
+    return rot.from_axis_angle(np.array([0.0, 1.0, 0.0]), -angle)
 
 
 def _angle(a: np.ndarray, b: np.ndarray) -> float:
