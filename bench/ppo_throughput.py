@@ -47,12 +47,16 @@ CLIPS = ["deepmimic:walk"]
 
 @dataclass(frozen=True)
 class Setting:
-    """One row: the hidden layers, the envs and how they are stepped, the learner's torch threads."""
+    """One row: the hidden layers, the envs and how they are stepped, the learner's torch threads; with
+    ``--vec sharded`` the worker processes (``None``: one per core, at most one per env), and the
+    learner's torch device."""
 
     net: str
     n_envs: int
     vec: str
     torch_threads: int
+    workers: int | None = None
+    device: str = "cpu"
 
     @property
     def label(self) -> str:
@@ -68,12 +72,13 @@ VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": Sharde
 def build(setting: Setting) -> PPO:
     """A fresh PPO learner of ``setting`` (train_ppo.py's settings, seed 0)."""
     torch.set_num_threads(setting.torch_threads)
+    vec_kwargs = {"n_workers": min(setting.workers or CORES, setting.n_envs)} if setting.vec == "sharded" else {}
     venv = VecNormalize(make_vec_env("MimicIMU-v0", n_envs=setting.n_envs, seed=0,
-                                     vec_env_cls=VEC_CLASSES[setting.vec],
+                                     vec_env_cls=VEC_CLASSES[setting.vec], vec_env_kwargs=vec_kwargs,
                                      env_kwargs={"clips": CLIPS, "artefacts": ArtefactMix(seed=0)}), norm_reward=False)
     net = [int(n) for n in setting.net.split(",")]
     model = PPO("MlpPolicy", venv, n_steps=8192 // setting.n_envs, batch_size=512, n_epochs=6, learning_rate=5e-5,
-                device="cpu", seed=0, policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
+                device=setting.device, seed=0, policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
                                                      "log_std_init": 0.5 * math.log(0.03)})
     model.learn(8192)  # warm-up: one rollout and update
     return model
