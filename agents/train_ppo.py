@@ -82,6 +82,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
                    help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
                         "offset from the reference (envs.observations)")
+    g.add_argument("--velocity-feedforward", action="store_true",
+                   help="PD controllers damp towards the reference's joint velocity, not towards rest, so the body "
+                        "does not trail the reference (MimicConfig.velocity_feedforward)")
     g.add_argument("--contacts", choices=CONTACT_MODES, default="vgrf",
                    help="MimicGait-v0: contact targets from VGRFNet on the reference's joints or from the "
                         "ContactTransformer on its 2D keypoints")
@@ -183,8 +186,10 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
-    """The environments' constants for this run (defaults, with ``--track-cache`` and ``--obs-frame``)."""
-    return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame)
+    """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame`` and
+    ``--velocity-feedforward``)."""
+    return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
+                       velocity_feedforward=getattr(args, "velocity_feedforward", False))
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:

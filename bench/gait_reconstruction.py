@@ -2,13 +2,15 @@
 
 Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
 [no_fc=DIR no_toeref=DIR one_segment=DIR] [--clips SOURCE ...] [--seconds 10] [--episodes 5]
-[--json [OUT]]``
+[--adapt-budget-s S] [--json [OUT]]``
 
 For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
 ``agents/train_ppo.py --env-id MimicGait-v0 --gait-ablation no_fc|no_toeref`` or ``--foot one``)
 and each held-out walk (default: the library test split's forward walks, styles never trained on),
-the clip is re-performed end to end by ``agents/clean.py``'s algorithm, zero-shot (rewind-and-retry,
-re-anchoring only as a last resort) and scored against its gait reference and contact targets
+the clip is re-performed end to end by ``agents/clean.py``'s algorithm (rewind-and-retry,
+re-anchoring only as a last resort), zero-shot or, with ``--adapt-budget-s S``, by the policy
+adapted to the clip first (:mod:`agents.adaptation`, at most ``S`` s per clip, a fresh cache, as
+``agents/reconstruct_gait.py`` does by default), and scored against its gait reference and contact targets
 (:mod:`agents.gait_metrics`): joint-angle RMSE (goal ≤ 3°; ContactVision 3.27°), contact F1
 against ĉ (goal ≥ 0.85), push-off peak toe angle and timing against the ToeRef target, forward
 displacement error (goal ≤ 5%), the gait parameters of the simulated contacts against those of
@@ -20,14 +22,17 @@ from __future__ import annotations
 
 import argparse
 import math
+import tempfile
 import time
+from pathlib import Path
 
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
+from agents.adaptation import AdaptConfig, adapt_policy
 from agents.clean import CleanConfig, clean_motion
 from agents.evaluation import evaluate
-from agents.policy import load_policy
+from agents.policy import MimicPolicy, load_policy
 from agents.reconstruct_gait import gait_targets, reconstruction_metrics
 from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -40,28 +45,41 @@ CLIPS = tuple(f"library:data/library#dataset-1_walk_{style}_{take:03d}" for styl
 PARAMETERS = ("stance", "swing", "single_support", "double_support")
 
 
-def score(policy_dir: str, clips: list[str], seconds: float, episodes: int) -> dict:
-    """Per-clip metrics of one policy and their means."""
-    policy = load_policy(policy_dir)
-    rows = []
-    for clip in clips:
-        reference = load_motion(clip, FOOT_MODELS[policy.foot], min_frames=int(seconds * 60) + 1)
-        reference = reference.with_qpos(reference.qpos[:int(seconds * 60) + 1], loop=False)
-        targets, toe_targets, gait_reference = gait_targets(policy, reference)
-        start = time.perf_counter()
-        simulated = clean_motion(policy, reference, CleanConfig(), progress=False)
-        wall = time.perf_counter() - start
-        metrics = reconstruction_metrics(simulated, gait_reference, targets, toe_targets)
-        metrics.pop("contacts")
-        env = policy.make_env([reference], artefacts=None)
-        adapt, _ = evaluate(env, policy, episodes=episodes, offset_step=30)
-        env.close()
-        rows.append({"clip": clip, **metrics, "reanchors": len(simulated.source["reanchors"]),
-                     "ELR": adapt["ELR_mean"], "SR90": adapt["SR90"], "wall_s": wall})
-        print(f"  {clip.split('#')[-1]:<32} RMSE {metrics['joint_rmse_deg']:5.2f} deg  F1 {metrics['contact_f1']:.3f}  "
-              f"disp err {metrics['forward_displacement_error']:6.1%}  re-anchors {rows[-1]['reanchors']}  "
-              f"ELR {adapt['ELR_mean']:.2f}", flush=True)
-    return {"policy": policy_dir, "clips": rows, "mean": means(rows)}
+def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adapt_budget_s: float = 0.0) -> dict:
+    """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0) and
+    their means."""
+    generalist = load_policy(policy_dir)
+    with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
+        rows = [score_clip(generalist, clip, seconds, episodes, adapt_budget_s, cache) for clip in clips]
+    return {"policy": policy_dir, "adapt_budget_s": adapt_budget_s, "clips": rows, "mean": means(rows)}
+
+
+def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int, adapt_budget_s: float,
+               cache: str) -> dict:
+    """The metrics of one clip re-performed by ``generalist``, adapted to it first when ``adapt_budget_s`` > 0."""
+    reference = load_motion(clip, FOOT_MODELS[generalist.foot], min_frames=int(seconds * 60) + 1)
+    reference = reference.with_qpos(reference.qpos[:int(seconds * 60) + 1], loop=False)
+    targets, toe_targets, gait_reference = gait_targets(generalist, reference)
+    policy, adaptation = generalist, {}
+    if adapt_budget_s > 0:
+        adapted = adapt_policy(generalist, reference, AdaptConfig(budget_s=adapt_budget_s, cache_dir=Path(cache)),
+                               progress=False)
+        policy = adapted.policy
+        adaptation = {"adapt_s": adapted.wall_s, "adapt_steps": adapted.steps, "ELR_before": adapted.elr_before}
+    start = time.perf_counter()
+    simulated = clean_motion(policy, reference, CleanConfig(), progress=False)
+    wall = time.perf_counter() - start
+    metrics = reconstruction_metrics(simulated, gait_reference, targets, toe_targets)
+    metrics.pop("contacts")
+    env = policy.make_env([reference], artefacts=None)
+    evaluation, _ = evaluate(env, policy, episodes=episodes, offset_step=30)
+    env.close()
+    row = {"clip": clip, **metrics, "reanchors": len(simulated.source["reanchors"]),
+           "ELR": evaluation["ELR_mean"], "SR90": evaluation["SR90"], "wall_s": wall, **adaptation}
+    print(f"  {clip.split('#')[-1]:<32} RMSE {metrics['joint_rmse_deg']:5.2f} deg  F1 {metrics['contact_f1']:.3f}  "
+          f"disp err {metrics['forward_displacement_error']:6.1%}  re-anchors {row['reanchors']}  "
+          f"ELR {evaluation['ELR_mean']:.2f}", flush=True)
+    return row
 
 
 def means(rows: list[dict]) -> dict:
@@ -72,6 +90,8 @@ def means(rows: list[dict]) -> dict:
 
     out = {k: mean([r[k] for r in rows]) for k in ("joint_rmse_deg", "contact_f1", "forward_displacement_error",
                                                     "reanchors", "ELR", "SR90", "wall_s")}
+    if "adapt_s" in rows[0]:
+        out.update({k: mean([r[k] for r in rows]) for k in ("adapt_s", "ELR_before")})
     for k in ("peak_deg", "target_peak_deg", "timing_ms"):
         out[f"push_off_{k}"] = mean([r["push_off"][k] for r in rows])
     for who in ("simulated", "targets"):
@@ -86,6 +106,8 @@ def main() -> None:
     p.add_argument("--clips", nargs="+", default=list(CLIPS), help="held-out walks (SOURCE strings or clip sets)")
     p.add_argument("--seconds", type=float, default=10.0, help="each clip looped or cut to this long")
     p.add_argument("--episodes", type=int, default=5, help="5-s segments per clip for ELR / SR90")
+    p.add_argument("--adapt-budget-s", type=float, default=0.0,
+                   help="adapt each policy to each clip for at most this long first (0: zero-shot)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
     clips = expand_clips(args.clips)
@@ -93,7 +115,7 @@ def main() -> None:
     for item in args.policies:
         name, _, directory = item.partition("=")
         print(f"{name} ({directory})", flush=True)
-        results[name] = score(directory, clips, args.seconds, args.episodes)
+        results[name] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s)
     print(f"\n{'policy':<12}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
           f"{'reanch':>7}{'ELR':>6}{'SR90':>6}")
     for name, r in results.items():
@@ -106,7 +128,8 @@ def main() -> None:
     for k in PARAMETERS:
         print(f"{k:<16}" + "".join(f"{r['mean'][f'{k}_simulated']:>12.3f}" for r in results.values())
               + f"{first[f'{k}_targets']:>12.3f}")
-    emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes, "results": results}, args.json)
+    emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes,
+               "adapt_budget_s": args.adapt_budget_s, "results": results}, args.json)
 
 
 if __name__ == "__main__":

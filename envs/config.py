@@ -69,6 +69,9 @@ class MimicConfig:
         obs_frame: axes of the observation's vectors (:data:`envs.observations.OBS_FRAMES`):
             ``"world"`` (ADAPT's, adapt §3.2.1) or ``"heading"`` (the character's heading frame,
             plus its CoM offset from the reference's; 3 values longer).
+        velocity_feedforward: the PD controllers damp towards the reference's joint velocity
+            instead of towards rest (False: ADAPT's PD, whose damping makes the body trail a
+            moving reference; see :func:`envs.reference.pd_targets`).
     """
 
     frame_rate_hz: float = 60.0
@@ -87,6 +90,7 @@ class MimicConfig:
     min_clip_frames: int = 30
     track_cache_size: int = 128
     obs_frame: str = "world"
+    velocity_feedforward: bool = False
 
     def __post_init__(self) -> None:
         if self.obs_frame not in OBS_FRAMES:

@@ -24,7 +24,7 @@ from envs.bodies import floor_contact_geoms, read_body_state, region_contacts, u
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig)
 from envs.observations import heading_rotation, mimic_observation, observation_slices
-from envs.reference import ReferenceTrack
+from envs.reference import ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
 from envs.rewards import (MAX_STEP_REWARD, RewardTerms, cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
@@ -111,6 +111,10 @@ class MimicEnv(gym.Env):
                              f"{m.opt.timestep:.5f} s physics steps")
         self.actuator_qpos = m.jnt_qposadr[m.actuator_trnid[:, 0]]
         """qpos index of each actuator's hinge."""
+        self.actuator_dof = m.jnt_dofadr[m.actuator_trnid[:, 0]]
+        """qvel index of each actuator's hinge."""
+        self.pd_lead_s = -m.actuator_biasprm[:, 2] / m.actuator_gainprm[:, 0] if config.velocity_feedforward else None
+        """``kv / kp`` (s) of each actuator when the PD targets lead the reference (``config.velocity_feedforward``)."""
         actuator_of_qpos = {int(q): a for a, q in enumerate(self.actuator_qpos)}
 
         names = self.humanoid.body_names
@@ -268,7 +272,7 @@ class MimicEnv(gym.Env):
         if np.shape(qpos) != (m.nq,) or np.shape(qvel) != (m.nv,) or not np.all(np.isfinite(qpos)):
             raise ValueError(f"reset option 'state' must be (qpos ({m.nq},), qvel ({m.nv},)) finite arrays")
         d.qpos[:], d.qvel[:] = qpos, qvel
-        d.ctrl[:] = track.ctrl[start]
+        d.ctrl[:] = self._pd_targets(track, start)
         mujoco.mj_forward(m, d)
         depth = -d.contact.dist[(d.contact.geom == self._floor).any(axis=1)].min(initial=0.0)
         if depth > 0 and state is None:  # the reference pose reaches into the floor: start just above it
@@ -296,6 +300,10 @@ class MimicEnv(gym.Env):
             raise ValueError(f"clip index {clip} out of range 0..{len(self.clips) - 1}")
         return int(clip)
 
+    def _pd_targets(self, track: ReferenceTrack, frame: int) -> np.ndarray:
+        """The open-loop PD targets ``(nu,)`` (rad) of reference frame ``frame``."""
+        return pd_targets(track.ctrl[frame], track.qvel[frame, self.actuator_dof], self.pd_lead_s)
+
     def step(self, action: np.ndarray):
         if self._track is None:
             raise RuntimeError("call reset() before step()")
@@ -305,7 +313,7 @@ class MimicEnv(gym.Env):
         self._action = cfg.action_smoothing * raw + (1.0 - cfg.action_smoothing) * self._action
         for _ in range(cfg.frames_per_control):
             self._frame += 1
-            d.ctrl[:] = track.ctrl[self._frame]
+            d.ctrl[:] = self._pd_targets(track, self._frame)
             d.ctrl[self.driven] += self._action
             if self.substep_hook is None:
                 mujoco.mj_step(m, d, nstep=self.substeps)

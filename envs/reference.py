@@ -82,3 +82,15 @@ class ReferenceTrack:
                    pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32))
+
+
+def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:
+    """The position targets ``(nu,)`` (rad) of MuJoCo PD actuators tracking reference hinge
+    ``angles (nu,)`` (rad) moving at ``rates (nu,)`` (rad/s).
+
+    A MuJoCo position actuator applies ``kp·(ctrl − q) − kv·q̇``: with ``ctrl`` the reference angle
+    its damping pulls the joint towards rest, so a joint following a moving reference trails it.
+    With ``lead_s`` = ``kv / kp`` per actuator (s) the target leads by ``lead_s · rates``, and the
+    force becomes ``kp·(q_ref − q) + kv·(q̇_ref − q̇)``: PD on the reference's angle and velocity.
+    ``lead_s=None`` returns ``angles`` (ADAPT's targets)."""
+    return angles if lead_s is None else angles + lead_s * rates

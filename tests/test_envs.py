@@ -9,6 +9,8 @@ from gymnasium.utils.env_checker import check_env
 
 import envs
 from envs import ArtefactMix
+from envs.config import MimicConfig
+from envs.reference import pd_targets
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
@@ -109,6 +111,35 @@ def test_open_loop_walk_falls_behind_and_ends_by_lagging():
             break
     assert term and info["ended_by"] == "lagging" and info["e_discount"] < 0.025
     assert 10 <= steps < 150  # the PD controllers alone keep it up a while, not a whole episode
+
+
+def test_pd_targets_lead_a_moving_reference_by_kv_over_kp():
+    angles, rates = np.array([0.5, -0.2, 0.0]), np.array([2.0, 0.0, -1.0])
+    assert pd_targets(angles, rates, None) is angles
+    lead = np.array([0.1, 0.1, 0.05])
+    np.testing.assert_allclose(pd_targets(angles, rates, lead), [0.7, -0.2, -0.05])
+    # the MuJoCo position actuator's force kp·(ctrl − q) − kv·q̇ is then PD on angle and velocity
+    kp, kv, q, qdot = 300.0, 30.0, 0.4, 1.5
+    ctrl = pd_targets(np.array([0.5]), np.array([2.0]), np.array([kv / kp]))[0]
+    assert kp * (ctrl - q) - kv * qdot == pytest.approx(kp * (0.5 - q) + kv * (2.0 - qdot))
+
+
+def test_velocity_feedforward_halves_the_open_loop_tracking_error():
+    errors = {}
+    for feedforward in (False, True):
+        env = gym.make("MimicIMU-v0", clips=WALK, config=MimicConfig(velocity_feedforward=feedforward))
+        u = env.unwrapped
+        assert (u.pd_lead_s is not None) == feedforward
+        per_start = []
+        for start in range(0, 60, 12):
+            env.reset(seed=0, options={"start_frame": start})
+            for _ in range(15):  # 0.5 s with zero actions: the PD controllers alone
+                env.step(np.zeros(20, np.float32))
+                per_start.append(np.sqrt(np.mean((u.data.qpos[u.actuator_qpos] - u.current_track.ctrl[u._frame]) ** 2)))
+        errors[feedforward] = np.degrees(np.mean(per_start))
+    # measured: 5.6 deg with ADAPT's PD (the body trails the reference), 3.1 deg with the lead
+    assert errors[True] < 0.65 * errors[False]
+    assert 4.0 < errors[False] < 8.0
 
 
 def test_three_spinal_contacts_end_the_episode():

@@ -71,18 +71,19 @@ def test_sidecar_reads_both_layouts_and_rebuilds_the_env():
 
 
 def test_gait_and_heading_frame_runs_record_their_task_in_the_sidecar(tmp_path):
-    """--env-id MimicGait-v0 trains on humanoid_2seg by default; an ablation and the heading-frame
-    observation are recorded, and the policy's env is rebuilt from the sidecar alone."""
+    """--env-id MimicGait-v0 trains on humanoid_2seg by default; an ablation, the heading-frame
+    observation and the PD lead are recorded, and the policy's env is rebuilt from the sidecar alone."""
     from agents.policy import load_policy
     run = tmp_path / "gait"
-    main(["--env-id", "MimicGait-v0", "--gait-ablation", "no_toeref", "--obs-frame", "heading", "--clips",
-          "deepmimic:walk", "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2",
+    main(["--env-id", "MimicGait-v0", "--gait-ablation", "no_toeref", "--obs-frame", "heading",
+          "--velocity-feedforward", "--clips", "deepmimic:walk", "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2",
           "--n-steps", "128", "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1", "--net", "32,32"])
     policy = load_policy(run / "best")
     assert policy.record.env.foot == "two" and policy.record.env.contacts == "vgrf"
     assert policy.record.env.gait["toe_reference"] is False and policy.record.env.config["obs_frame"] == "heading"
     env = policy.make_env(["deepmimic:walk"])
     assert env.unwrapped.gait_config.toe_reference is False and env.observation_space.shape == (330,)
+    assert policy.record.env.config["velocity_feedforward"] and env.unwrapped.pd_lead_s is not None
     assert not env.unwrapped.toe_targets[0].any()
     mrr = json.loads((run / "evaluations.jsonl").read_text().splitlines()[0])["MRR_mean"]
     assert 0.0 < mrr <= 1.0  # the gait reward's maximum is 1 per step, not ADAPT's 3
