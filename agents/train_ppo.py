@@ -189,7 +189,7 @@ def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame`` and
     ``--velocity-feedforward``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
-                       velocity_feedforward=getattr(args, "velocity_feedforward", False))
+                       velocity_feedforward=args.velocity_feedforward)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:

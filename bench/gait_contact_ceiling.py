@@ -6,9 +6,10 @@ Usage: ``python bench/gait_contact_ceiling.py [--policy models/mimic_gait] [--cl
 
 ``bench/gait_reconstruction.py`` scores the simulated contacts against ĉ, which perception
 (the policy's ``contacts`` source: VGRFNet + Γ on the reference's joints) infers from the
-reference. A simulation that reproduced the reference exactly would have the reference's own
-contacts, so their F1 against ĉ bounds what a policy can score, up to how contacts are read off a
-pose. Here they are read kinematically, as :mod:`reference_motion.quality` does: a sole point
+reference. A simulation that reproduced the gait reference exactly (the reference with its toes
+bent by the ToeRef targets, what the policy tracks and the RMSE is scored against) would have that
+reference's own contacts, so their F1 against ĉ bounds what a policy can score, up to how contacts
+are read off a pose. Here they are read kinematically, as :mod:`reference_motion.quality` does: a sole point
 (LT, RT, LH, RH) within ``h`` of the apparent ground, for each ``--heights`` ``h`` (2 cm is the
 project's default). Printed per clip and pooled: F1 against ĉ (all channels and per channel) and
 the stance share of each.
@@ -52,11 +53,11 @@ def main() -> None:
     rows = []
     for clip in expand_clips(args.clips):
         reference = load_motion(clip, FOOT_MODELS[policy.foot])
-        targets, _, _ = gait_targets(policy, reference)
+        targets, _, gait_reference = gait_targets(policy, reference)  # the reference with the ToeRef toe bend
         row = {"clip": clip, "frames": reference.n_frames,
                "stance_targets": gait_parameters(gait_phases(targets)).as_dict()["stance"]}
         for h in args.heights:
-            contacts = reference_contacts(reference, h)
+            contacts = reference_contacts(gait_reference, h)
             row[f"{h:g}"] = {"f1": contact_f1(contacts, targets),
                              "f1_per_channel": {c: contact_f1(contacts[:, i:i + 1], targets[:, i:i + 1])
                                                 for i, c in enumerate(CONTACT_CHANNELS)},

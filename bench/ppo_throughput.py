@@ -11,8 +11,8 @@ reported; the machine is noisy):
 * networks [1024, 1024, 512] (ADAPT), [256, 256] (ours), [128, 128] with 8 envs in the learner's
   process (``--vec dummy``, 2 torch threads);
 * [256, 256] with 8 envs, one subprocess each (``--vec subproc``, 1 torch thread);
-* [256, 256] with 8 or 16 envs in 2 shards, this process and one worker (``--vec sharded``, the
-  default, 1 torch thread: ``agents/vec_env.py``).
+* [256, 256] with 8 or 16 envs in one shard per core (2 on the project's machines: this process
+  and one worker; ``--vec sharded``, the default, 1 torch thread: ``agents/vec_env.py``).
 
 A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
 The physics floor is the rate at which the cores would produce those frames doing nothing but
@@ -60,7 +60,8 @@ class Setting:
 
     @property
     def label(self) -> str:
-        return f"{self.net} / {self.n_envs} {self.vec} / {self.torch_threads} thread(s)"
+        workers = f" on {self.workers} processes" if self.workers else ""
+        return f"{self.net} / {self.n_envs} {self.vec}{workers} / {self.torch_threads} thread(s) / {self.device}"
 
 
 SETTINGS = [Setting("1024,1024,512", 8, "dummy", 2), Setting("256,256", 8, "dummy", 2),

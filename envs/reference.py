@@ -25,8 +25,10 @@ class ReferenceTrack:
 
     Attributes:
         motion: the clip.
-        ctrl: ``(T, nu)`` the open-loop PD targets: each actuator's hinge angle (rad).
-        qvel: ``(T, nv)`` generalised velocities, for reference state initialisation.
+        ctrl: ``(T, nu)`` each actuator's hinge angle (rad): the open-loop PD targets, led by
+            the hinge's velocity when the env feeds it forward (:func:`pd_targets`).
+        qvel: ``(T, nv)`` generalised velocities, for reference state initialisation and the
+            velocity feed-forward.
         pos: ``(T, B, 3)`` body origins.
         pos_rel_com: ``(T, B, 3)`` body origins relative to the reference CoM.
         linvel: ``(T, B, 3)`` body origin velocities.
