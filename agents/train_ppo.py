@@ -219,6 +219,10 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     return augmented(motions, mirrored=args.mirror, speeds=args.speeds)
 
 
+WALL_FILE = "wall.json"
+"""The run's training wall time at its newest checkpoint, in the run directory."""
+
+
 class CheckpointAndEvaluate(BaseCallback):
     """Saves model + observation statistics every ``checkpoint_every`` steps; evaluates every
     ``eval_every`` steps with ADAPT's protocol, logs the metrics and keeps the best checkpoint."""
@@ -232,12 +236,24 @@ class CheckpointAndEvaluate(BaseCallback):
 
     def _on_training_start(self) -> None:
         self._t0 = time.time()
-        log = self.run_dir / "evaluations.jsonl"
-        lines = log.read_text().splitlines() if log.exists() else []
-        self._wall_before = json.loads(lines[-1])["wall_s"] if lines else 0.0  # resumed runs add up
+        self._wall_before = self._recorded_wall_s()  # resumed runs add up
         n = self.num_timesteps
         self._next_ckpt = (n // self.args.checkpoint_every + 1) * self.args.checkpoint_every
         self._next_eval = (n // self.args.eval_every + 1) * self.args.eval_every
+
+    def _recorded_wall_s(self) -> float:
+        """Training wall time (s) before this command: the wall time at the newest checkpoint
+        (``wall.json``, written with each), else at the last evaluation (runs from before it)."""
+        wall = self.run_dir / WALL_FILE
+        if wall.exists():
+            return float(json.loads(wall.read_text())["wall_s"])
+        log = self.run_dir / "evaluations.jsonl"
+        lines = log.read_text().splitlines() if log.exists() else []
+        return json.loads(lines[-1])["wall_s"] if lines else 0.0
+
+    def wall_s(self) -> float:
+        """Training wall time (s) of the run so far, earlier commands included."""
+        return self._wall_before + time.time() - self._t0
 
     def _save(self, directory: Path, stem: str) -> None:
         """Save model and observation statistics, each file whole or not at all, the statistics
@@ -274,7 +290,7 @@ class CheckpointAndEvaluate(BaseCallback):
         for key in ("ELR_mean", "SR90", "RDE_mean", "MRR_mean"):
             self.logger.record(f"eval/{key}", summary[key])
         score = summary["ELR_mean"] + 0.1 * summary["MRR_mean"]  # survive first, then track closely
-        record = {"steps": self.num_timesteps, "wall_s": self._wall_before + time.time() - self._t0,
+        record = {"steps": self.num_timesteps, "wall_s": self.wall_s(),
                   "eval_strength": getattr(self.args, "eval_strength", None),
                   "eval_s": time.perf_counter() - start, "score": score, **summary}
         with open(self.run_dir / "evaluations.jsonl", "a") as f:
@@ -306,8 +322,10 @@ class CheckpointAndEvaluate(BaseCallback):
                                                              "rollouts")})
 
     def save_checkpoint(self) -> None:
-        """Save model and observation statistics as ``checkpoints/step_N``."""
+        """Save model and observation statistics as ``checkpoints/step_N``, and the run's wall time
+        then (``wall.json``: what a resumed command adds to)."""
         self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
+        write_json(self.run_dir / WALL_FILE, {"steps": self.num_timesteps, "wall_s": self.wall_s()})
 
     def _on_training_end(self) -> None:
         self.save_checkpoint()

@@ -25,8 +25,13 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
     assert model.policy.log_std.detach().exp().pow(2).allclose(model.policy.log_std.new_full((20,), 0.03))
     assert tuple(model.observation_space.shape) == (273,)
 
+    wall = json.loads((run / "wall.json").read_text())  # the wall time at the newest checkpoint
+    assert wall["steps"] == 512 and wall["wall_s"] >= evals[-1]["wall_s"] > 0
+
     main(["--run-dir", str(run), "--resume", "--total-steps", "768", "--no-progress"])  # picks up at 512
     assert newest_checkpoint(run).name == "step_768.zip"
+    resumed = json.loads((run / "wall.json").read_text())
+    assert resumed["steps"] == 768 and resumed["wall_s"] > wall["wall_s"]  # the resumed command adds to it
     stored = json.loads((run / "args.json").read_text())
     assert stored["net"] == "32,32"  # stored settings kept
     assert len(stored["commands"]) == 2 and "--resume" in stored["commands"][1]  # the run's whole history
