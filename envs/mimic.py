@@ -301,7 +301,10 @@ class MimicEnv(gym.Env):
         return int(clip)
 
     def _pd_targets(self, track: ReferenceTrack, frame: int) -> np.ndarray:
-        """The open-loop PD targets ``(nu,)`` (rad) of reference frame ``frame``."""
+        """The open-loop PD targets ``(nu,)`` (rad) of reference frame ``frame`` (ADAPT's PD: the
+        reference angles, without gathering the velocities the lead would need)."""
+        if self.pd_lead_s is None:
+            return track.ctrl[frame]
         return pd_targets(track.ctrl[frame], track.qvel[frame, self.actuator_dof], self.pd_lead_s)
 
     def step(self, action: np.ndarray):
