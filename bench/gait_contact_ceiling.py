@@ -18,6 +18,7 @@ the stance share of each.
 from __future__ import annotations
 
 import argparse
+from dataclasses import replace
 
 import numpy as np
 
@@ -29,17 +30,9 @@ from envs.config import FOOT_MODELS
 from gait_reconstruction import CLIPS  # bench/gait_reconstruction.py: the six test walks
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.gait import gait_parameters, gait_phases
-from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
+from reference_motion.humanoid.model import CONTACT_CHANNELS
 from reference_motion.library import expand_clips, load_motion
-from reference_motion.quality import QualityConfig, apparent_ground, kinematic_contacts
-
-
-def reference_contacts(reference, height: float) -> np.ndarray:
-    """Kinematic contacts ``(T, 4)`` bool of a motion: sole points within ``height`` (m) of its apparent ground."""
-    config = QualityConfig()
-    kin = load_model(reference.model).forward_kinematics(reference.qpos)
-    ground = apparent_ground(kin.lowest, reference.fps, config.ground_window_s, config.ground_percentile)
-    return kinematic_contacts(kin.foot_points, ground, height)
+from reference_motion.quality import QualityConfig, motion_contacts
 
 
 def main() -> None:
@@ -57,7 +50,7 @@ def main() -> None:
         row = {"clip": clip, "frames": reference.n_frames,
                "stance_targets": gait_parameters(gait_phases(targets)).as_dict()["stance"]}
         for h in args.heights:
-            contacts = reference_contacts(gait_reference, h)
+            contacts = motion_contacts(gait_reference, replace(QualityConfig(), contact_height=h))
             row[f"{h:g}"] = {"f1": contact_f1(contacts, targets),
                              "f1_per_channel": {c: contact_f1(contacts[:, i:i + 1], targets[:, i:i + 1])
                                                 for i, c in enumerate(CONTACT_CHANNELS)},

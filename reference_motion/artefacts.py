@@ -42,7 +42,7 @@ from scipy.special import ndtri
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import load_model
 from reference_motion.motion import Motion
-from reference_motion.quality import QualityConfig, apparent_ground, kinematic_contacts
+from reference_motion.quality import motion_contacts
 
 ARTEFACT_KINDS = ("bias", "drift", "noise", "jitter", "adduction", "heading", "root_drift", "skate", "height")
 
@@ -211,10 +211,7 @@ def step_boundaries(motion: Motion, min_step_s: float = 0.2, max_step_s: float =
     T, fps = motion.n_frames, motion.fps
     if T < 2:
         return np.array([0, max(T - 1, 0)])
-    kin = load_model(motion.model).forward_kinematics(motion.qpos)
-    config = QualityConfig()
-    ground = apparent_ground(kin.lowest, fps, config.ground_window_s, config.ground_percentile)
-    contacts = kinematic_contacts(kin.foot_points, ground, config.contact_height)  # LT, RT, LH, RH
+    contacts = motion_contacts(motion)  # LT, RT, LH, RH
     feet = np.stack([contacts[:, 0] | contacts[:, 2], contacts[:, 1] | contacts[:, 3]], axis=1)
     landings = np.flatnonzero((feet[1:] & ~feet[:-1]).any(axis=1)) + 1
     bounds = [0]

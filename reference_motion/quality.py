@@ -131,11 +131,24 @@ def range_excursion(hinges: np.ndarray, ranges: np.ndarray) -> float:
     return float((below + above).sum(axis=1).mean()) if len(hinges) else 0.0
 
 
+def replay_on_ground(motion: Motion, config: QualityConfig = QualityConfig()):
+    """``motion`` replayed kinematically on its model (its ``Kinematics``: world-frame bodies, foot
+    points, lowest point per frame) and its apparent ground ``(T,)`` (m)."""
+    kin = load_model(motion.model).forward_kinematics(motion.qpos)
+    return kin, apparent_ground(kin.lowest, motion.fps, config.ground_window_s, config.ground_percentile)
+
+
+def motion_contacts(motion: Motion, config: QualityConfig = QualityConfig()) -> np.ndarray:
+    """Kinematic contact labels ``(T, 4)`` bool (LT, RT, LH, RH) of ``motion``: foot points within
+    ``config.contact_height`` of its apparent ground."""
+    kin, ground = replay_on_ground(motion, config)
+    return kinematic_contacts(kin.foot_points, ground, config.contact_height)
+
+
 def motion_quality(motion: Motion, config: QualityConfig = QualityConfig()) -> QualityReport:
     """All artefact metrics of ``motion`` (replayed kinematically on its model)."""
     hm = load_model(motion.model)
-    kin = hm.forward_kinematics(motion.qpos)
-    ground = apparent_ground(kin.lowest, motion.fps, config.ground_window_s, config.ground_percentile)
+    kin, ground = replay_on_ground(motion, config)
     contacts = kinematic_contacts(kin.foot_points, ground, config.contact_height)
     support = kin.lowest <= ground + config.support_height
     pen_max, pen_mean = penetration(kin.lowest)
