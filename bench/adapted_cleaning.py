@@ -44,6 +44,12 @@ def spread(items: list[str], n: int) -> list[str]:
     return [items[i] for i in np.linspace(0, len(items) - 1, n).round().astype(int)]
 
 
+def reduction(fraction: float) -> str:
+    """A reduction below the input as printed: ``-52%``, ``+109%`` for an increase, ``n/a`` where
+    the input had none of the artefact (NaN)."""
+    return "n/a" if np.isnan(fraction) else f"{-fraction:+.0%}"
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--policy", default="models/mimic_general")
@@ -78,9 +84,9 @@ def main() -> None:
                       for k in ARTEFACTS}}
             rows.append(row)
             print(f"{clip.split('#')[-1]:<34} re-anchors {row['reanchors']:2d}  ELR {row['ELR_before']:.2f} -> "
-                  f"{row['ELR']:.2f}  skate -{row['foot_skate_mps_reduction']:.0%}  float "
-                  f"-{row['floating_m_reduction']:.0%}  pen -{row['penetration_max_m_reduction']:.0%}  adapt "
-                  f"{row['adapt_s']:.0f} s", flush=True)
+                  f"{row['ELR']:.2f}  skate {reduction(row['foot_skate_mps_reduction'])}  float "
+                  f"{reduction(row['floating_m_reduction'])}  pen {reduction(row['penetration_max_m_reduction'])}  "
+                  f"adapt {row['adapt_s']:.0f} s", flush=True)
     adapt_s = [r["adapt_s"] for r in rows]
     summary = {"takes": len(rows), "no_reanchor": sum(r["reanchors"] == 0 for r in rows),
                "ELR_mean": float(np.mean([r["ELR"] for r in rows])),

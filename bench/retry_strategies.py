@@ -1,0 +1,93 @@
+"""How ``clean.py`` recovers from a fall: its rewind-and-retry settings, side by side, on validation takes.
+
+Usage: ``python bench/retry_strategies.py [--policy models/mimic_general]
+[--settings 0.5x4 1x16 2x32] [--seconds 10] [--strength 1] [--seed 7000] [--json [OUT]]``
+
+Each setting ``REWINDxRETRIES`` is a :class:`agents.clean.CleanConfig` (``rewind_s``,
+``retries``). Every take of the library's validation split (never the test split: this is for
+choosing the settings) is cut to ``--seconds``, IMU-corrupted at ``--strength`` with seed
+``--seed + i`` and re-performed zero-shot by the policy with each setting. Reported per setting:
+re-anchors (teleports back to the reference) and recoveries (failures a stochastic retry got
+past) in all, the takes simulated whole, the cleaning wall time, and what the output's frames
+look like against the input: the share of frames whose root is more than 0.2 m below the input's
+(``sunk``: the character down or going down) and more than 0.5 m from it horizontally
+(``astray``). Fewer re-anchors are worth having only if they do not come from keeping more of
+the frames where the character is falling.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+import numpy as np
+
+import envs  # noqa: F401  (registers the ids)
+from agents.clean import CleanConfig, clean_motion
+from agents.policy import load_policy
+from envs.config import FOOT_MODELS
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.library import expand_clips, load_motion
+
+SUNK_M = 0.2
+"""Root this far (m) below the input's root: the character is down or going down."""
+ASTRAY_M = 0.5
+"""Root this far (m) from the input's root, horizontally."""
+
+
+def setting(text: str) -> CleanConfig:
+    """``"REWINDxRETRIES"`` (e.g. ``2x32``) as a :class:`CleanConfig`."""
+    try:
+        rewind, retries = text.lower().split("x")
+        return CleanConfig(rewind_s=float(rewind), retries=int(retries))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r}: expected REWIND_SxRETRIES, e.g. 2x32") from None
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--policy", default="models/mimic_general")
+    p.add_argument("--clips", nargs="+", default=["library:data/library/val"], help="takes (validation only)")
+    p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1x16", "2x32")])
+    p.add_argument("--seconds", type=float, default=10.0)
+    p.add_argument("--strength", type=float, default=1.0)
+    p.add_argument("--seed", type=int, default=7000, help="artefact seed of the first take (take i: seed + i)")
+    p.add_argument("--json", nargs="?", const="-", default=None)
+    args = p.parse_args()
+    policy = load_policy(args.policy)
+    frames = int(round(args.seconds * 60)) + 1
+    takes = []
+    for i, clip in enumerate(expand_clips(args.clips)):
+        take = load_motion(clip, FOOT_MODELS[policy.foot], min_frames=frames)
+        take = take.with_qpos(take.qpos[:frames], loop=False) if take.n_frames > frames else take
+        takes.append(corrupt(take, ArtefactRecipe.imu().scaled(args.strength), args.seed + i))
+    rows = []
+    print(f"{'rewind x retries':<17} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
+          f"{'clean s':>8}")
+    for config in args.settings:
+        start = time.perf_counter()
+        per_take = []
+        for reference in takes:
+            out = clean_motion(policy, reference, config, progress=False)
+            below = out.qpos[:, 2] < reference.qpos[:, 2] - SUNK_M
+            away = np.linalg.norm(out.qpos[:, :2] - reference.qpos[:, :2], axis=1) > ASTRAY_M
+            per_take.append({"take": reference.name, "frames": reference.n_frames,
+                             "reanchors": len(out.source["reanchors"]), "recoveries": len(out.source["recoveries"]),
+                             "sunk_frac": float(below.mean()), "astray_frac": float(away.mean())})
+        row = {"rewind_s": config.rewind_s, "retries": config.retries,
+               "reanchors": sum(t["reanchors"] for t in per_take), "recoveries": sum(t["recoveries"] for t in per_take),
+               "takes_whole": sum(t["reanchors"] == 0 for t in per_take), "takes": len(per_take),
+               "sunk_frac": float(np.mean([t["sunk_frac"] for t in per_take])),
+               "astray_frac": float(np.mean([t["astray_frac"] for t in per_take])),
+               "clean_s": time.perf_counter() - start, "per_take": per_take}
+        rows.append(row)
+        print(f"{config.rewind_s:g} s x {config.retries:<10} {row['reanchors']:>10} {row['recoveries']:>10} "
+              f"{row['takes_whole']:>3}/{row['takes']:<2} {row['sunk_frac']:>6.1%} {row['astray_frac']:>7.1%} "
+              f"{row['clean_s']:>8.1f}", flush=True)
+    emit_json({"policy": args.policy, "clips": args.clips, "seconds": args.seconds, "strength": args.strength,
+               "seed": args.seed, "settings": rows}, args.json)
+
+
+if __name__ == "__main__":
+    main()
