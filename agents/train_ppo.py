@@ -114,7 +114,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--gamma", type=fraction, default=0.99)
     g.add_argument("--gae-lambda", type=fraction, default=0.95)
     g.add_argument("--clip-range", type=positive_float, default=0.2)
-    g.add_argument("--action-variance", type=positive_float, default=0.03, help="fixed σ² of the Gaussian policy")
+    g.add_argument("--action-variance", type=positive_float, default=0.03,
+                   help="fixed σ² of the Gaussian policy (with --init-from too: the source's is replaced)")
     g.add_argument("--seed", type=int, default=0)
     g.add_argument("--torch-threads", type=positive_int, default=None,
                    help="torch threads in the learner process (default: 2 with --vec dummy, else 1: the "
@@ -402,6 +403,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
             source = load_policy(args.init_from)
             source.check_env(venv)
             model.policy.load_state_dict(source.model.policy.state_dict())
+            with torch.no_grad():  # this run's exploration noise (--action-variance), not the source's
+                model.policy.log_std.fill_(0.5 * math.log(args.action_variance))
             venv = VecNormalize.load(str(source.path / STATS_FILE), venv)
             model.set_env(venv)
             print(f"initialised from {args.init_from}", flush=True)

@@ -1,11 +1,16 @@
 """agents/train_ppo.py end to end on a tiny budget: checkpoints, evaluation, best model, resume."""
 
 import json
+from pathlib import Path
 
 import pytest
+import torch
 from stable_baselines3 import PPO
 
+from agents.policy import load_policy
 from agents.train_ppo import build_parser, main, newest_checkpoint, training_motions
+
+WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
 
 def test_train_checkpoint_evaluate_and_resume(tmp_path):
@@ -94,3 +99,17 @@ def test_gait_and_heading_frame_runs_record_their_task_in_the_sidecar(tmp_path):
     assert 0.0 < mrr <= 1.0  # the gait reward's maximum is 1 per step, not ADAPT's 3
     with pytest.raises(SystemExit, match="--gait-ablation is an ablation of MimicGait-v0"):
         main(["--gait-ablation", "no_fc", "--run-dir", str(tmp_path / "x")])
+
+
+def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
+    """--init-from copies the source's layers and statistics; --action-variance sets σ² anew."""
+    source = load_policy(WALK_POLICY)
+    run = tmp_path / "run"
+    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--action-variance", "0.01",
+          "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64",
+          "--total-steps", "128", "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "1000"])
+    model = PPO.load(newest_checkpoint(run), device="cpu")
+    assert model.policy.log_std.detach().exp().pow(2).allclose(model.policy.log_std.new_full((20,), 0.01))
+    weights, started = model.policy.state_dict(), source.model.policy.state_dict()
+    layers = [k for k in started if k != "log_std"]
+    assert layers and all(torch.allclose(weights[k], started[k], atol=1e-6) for k in layers)  # lr ~0: unchanged
