@@ -19,7 +19,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import os
 import re
 import signal
 import sys
@@ -41,7 +40,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
-from agents.vec_env import ShardedVecEnv
+from agents.vec_env import ShardedVecEnv, shard_count
 from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
@@ -159,8 +158,7 @@ def vec_env_settings(args: argparse.Namespace) -> tuple[type, dict, int]:
     """The run's vectorized-env class, its keyword arguments and the learner's torch threads."""
     threads = args.torch_threads or (2 if args.vec == "dummy" else 1)
     if args.vec == "sharded":
-        workers = min(args.workers or len(os.sched_getaffinity(0)), args.n_envs)
-        return ShardedVecEnv, {"n_workers": workers}, threads
+        return ShardedVecEnv, {"n_workers": shard_count(args.workers, args.n_envs)}, threads
     return (SubprocVecEnv if args.vec == "subproc" else DummyVecEnv), {}, threads
 
 

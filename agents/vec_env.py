@@ -113,6 +113,12 @@ def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) ->
             remote.send((False, (isinstance(error, AttributeError), traceback.format_exc())))
 
 
+def shard_count(workers: int | None, n_envs: int) -> int:
+    """Shards (worker processes) for ``n_envs`` environments: ``workers``, by default one per core
+    this process may run on, and never more than the environments."""
+    return min(workers or len(os.sched_getaffinity(0)), n_envs)
+
+
 class ShardedVecEnv(VecEnv):
     """``len(env_fns)`` environments in ``n_workers`` contiguous shards (sizes differing by at most
     one) stepped in parallel: shard 0 in this process, every other shard in a worker process.

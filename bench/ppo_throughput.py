@@ -37,7 +37,7 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
 import envs  # noqa: F401  (registers the ids)
-from agents.vec_env import ShardedVecEnv
+from agents.vec_env import ShardedVecEnv, shard_count
 from envs import ArtefactMix
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
@@ -73,7 +73,7 @@ VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": Sharde
 def build(setting: Setting) -> PPO:
     """A fresh PPO learner of ``setting`` (train_ppo.py's settings, seed 0)."""
     torch.set_num_threads(setting.torch_threads)
-    vec_kwargs = {"n_workers": min(setting.workers or CORES, setting.n_envs)} if setting.vec == "sharded" else {}
+    vec_kwargs = {"n_workers": shard_count(setting.workers, setting.n_envs)} if setting.vec == "sharded" else {}
     venv = VecNormalize(make_vec_env("MimicIMU-v0", n_envs=setting.n_envs, seed=0,
                                      vec_env_cls=VEC_CLASSES[setting.vec], vec_env_kwargs=vec_kwargs,
                                      env_kwargs={"clips": CLIPS, "artefacts": ArtefactMix(seed=0)}), norm_reward=False)

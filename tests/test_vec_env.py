@@ -3,6 +3,7 @@ worker errors surfaced with their cause."""
 
 from __future__ import annotations
 
+import os
 import time
 
 import numpy as np
@@ -12,7 +13,7 @@ from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env import DummyVecEnv
 
 import envs  # noqa: F401  (registers the ids)
-from agents.vec_env import ShardedVecEnv, WorkerError
+from agents.vec_env import ShardedVecEnv, WorkerError, shard_count
 from envs import ArtefactMix
 
 KWARGS = {"clips": ["deepmimic:walk", "deepmimic:run"], "artefacts": ArtefactMix(seed=0, variants_per_clip=1)}
@@ -90,3 +91,9 @@ def test_after_a_worker_error_the_other_workers_answers_are_not_left_behind():
         assert venv.get_attr("render_mode") == ["rgb_array"] * 3  # the next call reads its own answers
     finally:
         venv.close()
+
+
+def test_shard_count_defaults_to_the_cores_and_never_exceeds_the_envs():
+    cores = len(os.sched_getaffinity(0))
+    assert shard_count(None, 64) == min(cores, 64)
+    assert shard_count(16, 8) == 8 and shard_count(3, 8) == 3
