@@ -1,7 +1,7 @@
 #!/bin/bash
 # Lent-machine gait training (README "Gait reconstruction"): resume models/mimic_gait_ff/run (or a carried
 # newer checkpoint in .devpkgs/gckpt/) for $1 s on 16 shards with the learner on the GPU; carried as in gpu_ab.sh
-# (.devpkgs/lib holding humanoid_2seg of the 26 Bandai walks).
+# (.devpkgs/lib holding humanoid_2seg of the 24 Bandai walks it trains and validates on).
 set -u
 SECS=${1:-500}
 python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl || exit 1
