@@ -25,22 +25,11 @@ if __package__ in (None, ""):  # `python agents/ship.py`: make the repository im
 
 from agents import evaluate
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE
-from agents.train_ppo import WALL_FILE
+from agents.train_ppo import recorded_progress
 from reference_motion.atomic import write_json
 from reference_motion.cli import CliParser, one_line_errors, output_dir
 
 MAX_MODEL_BYTES = 20 * 1024 * 1024
-
-
-def training_totals(run_dir: Path) -> tuple[int, float]:
-    """``(steps, wall time in s)`` the run has trained in all: at its newest checkpoint
-    (``wall.json``), else at its last evaluation (runs from before ``wall.json``)."""
-    wall = run_dir / WALL_FILE
-    if wall.is_file():
-        record = json.loads(wall.read_text())
-    else:
-        record = json.loads((run_dir / "evaluations.jsonl").read_text().splitlines()[-1])
-    return int(record["steps"]), float(record["wall_s"])
 
 
 @one_line_errors
@@ -69,7 +58,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         result = {**evaluate.main(["--policy", str(staging), *eval_args]), "policy": str(out)}
         write_json(staging / "evaluation.json", result)
         sidecar = json.loads((staging / SIDECAR_FILE).read_text())
-        steps_total, wall_s_total = training_totals(args.run_dir)
+        progress = recorded_progress(args.run_dir)
+        if progress is None:
+            raise FileNotFoundError(f"{args.run_dir}: neither wall.json nor evaluations.jsonl: no record of its training")
+        steps_total, wall_s_total = progress
         sidecar.update(name=args.name, training_wall_s_total=wall_s_total, training_steps_total=steps_total,
                        evaluate_command="python agents/evaluate.py --policy " + " ".join([str(out), *eval_args]),
                        evaluation={k: v for k, v in result.items() if k not in ("policy",)})

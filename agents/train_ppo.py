@@ -222,6 +222,22 @@ WALL_FILE = "wall.json"
 """The run's training wall time at its newest checkpoint, in the run directory."""
 
 
+def recorded_progress(run_dir: Path) -> tuple[int, float] | None:
+    """``(steps, wall time in s)`` the run in ``run_dir`` has trained so far: at its newest
+    checkpoint (``wall.json``, written with each), else at its last evaluation (runs from before
+    ``wall.json``); ``None`` when it has recorded neither."""
+    wall = run_dir / WALL_FILE
+    if wall.is_file():
+        record = json.loads(wall.read_text())
+    else:
+        log = run_dir / "evaluations.jsonl"
+        lines = log.read_text().splitlines() if log.is_file() else []
+        if not lines:
+            return None
+        record = json.loads(lines[-1])
+    return int(record["steps"]), float(record["wall_s"])
+
+
 class CheckpointAndEvaluate(BaseCallback):
     """Saves model + observation statistics every ``checkpoint_every`` steps; evaluates every
     ``eval_every`` steps with ADAPT's protocol, logs the metrics and keeps the best checkpoint."""
@@ -235,20 +251,11 @@ class CheckpointAndEvaluate(BaseCallback):
 
     def _on_training_start(self) -> None:
         self._t0 = time.time()
-        self._wall_before = self._recorded_wall_s()  # resumed runs add up
+        progress = recorded_progress(self.run_dir)
+        self._wall_before = progress[1] if progress else 0.0  # resumed runs add up
         n = self.num_timesteps
         self._next_ckpt = (n // self.args.checkpoint_every + 1) * self.args.checkpoint_every
         self._next_eval = (n // self.args.eval_every + 1) * self.args.eval_every
-
-    def _recorded_wall_s(self) -> float:
-        """Training wall time (s) before this command: the wall time at the newest checkpoint
-        (``wall.json``, written with each), else at the last evaluation (runs from before it)."""
-        wall = self.run_dir / WALL_FILE
-        if wall.exists():
-            return float(json.loads(wall.read_text())["wall_s"])
-        log = self.run_dir / "evaluations.jsonl"
-        lines = log.read_text().splitlines() if log.exists() else []
-        return json.loads(lines[-1])["wall_s"] if lines else 0.0
 
     def wall_s(self) -> float:
         """Training wall time (s) of the run so far, earlier commands included."""

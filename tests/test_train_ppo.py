@@ -8,8 +8,7 @@ import torch
 from stable_baselines3 import PPO
 
 from agents.policy import load_policy
-from agents.ship import training_totals
-from agents.train_ppo import build_parser, main, newest_checkpoint, training_motions
+from agents.train_ppo import build_parser, main, newest_checkpoint, recorded_progress, training_motions
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
@@ -116,10 +115,12 @@ def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
     assert layers and all(torch.allclose(weights[k], started[k], atol=1e-6) for k in layers)  # lr ~0: unchanged
 
 
-def test_shipped_totals_come_from_the_newest_checkpoint_else_the_last_evaluation(tmp_path):
-    """agents/ship.py records what the run trained in all: wall.json (written with each checkpoint)
-    runs past the last evaluation; runs from before wall.json fall back on the evaluation log."""
+def test_recorded_progress_is_the_newest_checkpoints_else_the_last_evaluations(tmp_path):
+    """What a resumed run adds its wall time to and agents/ship.py records as the run's totals:
+    wall.json (written with each checkpoint) runs past the last evaluation; runs from before
+    wall.json fall back on the evaluation log; a run with neither has none."""
+    assert recorded_progress(tmp_path) is None
     (tmp_path / "evaluations.jsonl").write_text(json.dumps({"steps": 6_000_000, "wall_s": 2917.7}) + "\n")
-    assert training_totals(tmp_path) == (6_000_000, 2917.7)
+    assert recorded_progress(tmp_path) == (6_000_000, 2917.7)
     (tmp_path / "wall.json").write_text(json.dumps({"steps": 6_245_376, "wall_s": 2968.6}))
-    assert training_totals(tmp_path) == (6_245_376, 2968.6)
+    assert recorded_progress(tmp_path) == (6_245_376, 2968.6)
