@@ -32,6 +32,7 @@ from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.library import expand_clips, load_motion
+from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 
 ARTEFACTS = ("foot_skate_mps", "floating_m", "penetration_max_m", "penetration_mean_m")
@@ -42,6 +43,15 @@ def spread(items: list[str], n: int) -> list[str]:
     if len(items) <= n:
         return list(items)
     return [items[i] for i in np.linspace(0, len(items) - 1, n).round().astype(int)]
+
+
+def corrupted_take(clip: str, foot: str, seconds: float, strength: float, seed: int) -> Motion:
+    """``clip`` on the ``foot`` model (cyclic clips looped), cut to ``seconds`` at 60 Hz (a shorter
+    take whole) and IMU-corrupted at ``strength`` with ``seed``."""
+    frames = int(round(seconds * 60)) + 1
+    take = load_motion(clip, FOOT_MODELS[foot], min_frames=frames)
+    take = take.with_qpos(take.qpos[:frames], loop=False) if take.n_frames > frames else take
+    return corrupt(take, ArtefactRecipe.imu().scaled(strength), seed)
 
 
 def reduction(fraction: float) -> str:
@@ -66,10 +76,8 @@ def main() -> None:
     rows = []
     with tempfile.TemporaryDirectory() as cache:
         for i, clip in enumerate(spread(expand_clips(args.clips), args.takes)):
-            take = load_motion(clip, FOOT_MODELS[policy.foot], min_frames=frames)
-            take = take.with_qpos(take.qpos[:frames], loop=False) if take.n_frames > frames else take
-            looped = take.n_frames >= frames
-            reference = corrupt(take, ArtefactRecipe.imu().scaled(args.strength), args.seed + i)
+            reference = corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i)
+            looped = reference.n_frames >= frames
             adapted = adapt_policy(policy, reference, AdaptConfig(budget_s=args.adapt_budget_s,
                                                                   cache_dir=Path(cache)), progress=False)
             start = time.perf_counter()

@@ -25,10 +25,9 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.clean import CleanConfig, clean_motion
 from agents.policy import load_policy
-from envs.config import FOOT_MODELS
+from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the issue's protocol's takes
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from reference_motion.artefacts import ArtefactRecipe, corrupt
-from reference_motion.library import expand_clips, load_motion
+from reference_motion.library import expand_clips
 
 SUNK_M = 0.2
 """Root this far (m) below the input's root: the character is down or going down."""
@@ -56,12 +55,8 @@ def main() -> None:
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     policy = load_policy(args.policy)
-    frames = int(round(args.seconds * 60)) + 1
-    takes = []
-    for i, clip in enumerate(expand_clips(args.clips)):
-        take = load_motion(clip, FOOT_MODELS[policy.foot], min_frames=frames)
-        take = take.with_qpos(take.qpos[:frames], loop=False) if take.n_frames > frames else take
-        takes.append(corrupt(take, ArtefactRecipe.imu().scaled(args.strength), args.seed + i))
+    takes = [corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i)
+             for i, clip in enumerate(expand_clips(args.clips))]
     rows = []
     print(f"{'rewind x retries':<17} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
           f"{'clean s':>8}")
@@ -82,7 +77,7 @@ def main() -> None:
                "astray_frac": float(np.mean([t["astray_frac"] for t in per_take])),
                "clean_s": time.perf_counter() - start, "per_take": per_take}
         rows.append(row)
-        print(f"{config.rewind_s:g} s x {config.retries:<10} {row['reanchors']:>10} {row['recoveries']:>10} "
+        print(f"{f'{config.rewind_s:g} s x {config.retries}':<17} {row['reanchors']:>10} {row['recoveries']:>10} "
               f"{row['takes_whole']:>3}/{row['takes']:<2} {row['sunk_frac']:>6.1%} {row['astray_frac']:>7.1%} "
               f"{row['clean_s']:>8.1f}", flush=True)
     emit_json({"policy": args.policy, "clips": args.clips, "seconds": args.seconds, "strength": args.strength,
