@@ -24,7 +24,7 @@ if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repositor
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluation import evaluate
+from agents.evaluation import evaluate, per_clip
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.atomic import write_json
@@ -48,6 +48,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
     p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
     p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
+    p.add_argument("--per-clip", action="store_true",
+                   help="also print each clip's mean ELR and SR90, worst first (the JSON always has them)")
     p.add_argument("--json", type=output_file(".json"), help="also write the results as JSON here")
     return p
 
@@ -91,7 +93,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     summary, runs = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
-              **summary, "artefacts": artefact_table(runs)}
+              **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {args.policy} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
@@ -100,6 +102,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     print(f"  {'artefact':<24}{'input':>12}{'output':>12}{'reduction':>11}")
     for k, v in result["artefacts"].items():
         print(f"  {k:<24}{v['input']:>12.4f}{v['output']:>12.4f}{100 * v['reduction']:>10.0f}%")
+    if args.per_clip:
+        print(f"  {'clip (worst first)':<56}{'ELR':>6}{'SR90':>6}")
+        for row in result["per_clip"]:
+            print(f"  {row['clip']:<56}{row['ELR']:>6.2f}{row['SR90']:>6.2f}")
     if args.json:
         write_json(args.json, result)
     return result

@@ -19,7 +19,7 @@ from agents.metrics import episode_length_ratio, max_reward_ratio, root_displace
 from agents.rollout import Policy, run_episode
 from reference_motion.motion import Motion
 
-__all__ = ["Policy", "Rollout", "evaluate", "rollout", "zero_policy"]
+__all__ = ["Policy", "Rollout", "evaluate", "per_clip", "rollout", "zero_policy"]
 
 
 @dataclass(frozen=True)
@@ -84,3 +84,14 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
         values = np.array([getattr(r, key) for r in runs])
         summary[f"{name}_mean"], summary[f"{name}_std"] = float(values.mean()), float(values.std())
     return summary, runs
+
+
+def per_clip(runs: list[Rollout]) -> list[dict]:
+    """Mean ELR and SR90 of each clip's rollouts, worst ELR first: ``[{"clip", "rollouts", "ELR",
+    "SR90"}, ...]`` (clips in the order of first appearance break ties)."""
+    by_clip: dict[str, list[Rollout]] = {}
+    for r in runs:
+        by_clip.setdefault(r.clip, []).append(r)
+    rows = [{"clip": clip, "rollouts": len(rs), "ELR": float(np.mean([r.elr for r in rs])),
+             "SR90": float(np.mean([r.sr90 for r in rs]))} for clip, rs in by_clip.items()]
+    return sorted(rows, key=lambda row: row["ELR"])

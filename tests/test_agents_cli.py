@@ -35,6 +35,8 @@ def test_evaluate_reports_adapt_metrics_and_artefacts(policy_dir, tmp_path):
     for metric in ("foot_skate_mps", "penetration_max_m", "floating_m", "jitter", "self_penetration_frac"):
         assert set(saved["artefacts"][metric]) == {"input", "output", "reduction"}
     assert saved["artefacts"]["jitter"]["input"] > 0 and saved["corrupt"] == "imu"
+    [row] = saved["per_clip"]  # one clip: its row is the whole evaluation
+    assert row["rollouts"] == 3 and row["ELR"] == pytest.approx(saved["ELR_mean"])
 
 
 def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):

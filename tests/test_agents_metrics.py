@@ -19,3 +19,16 @@ def test_rollout_metrics_reject_bad_input():
         episode_length_ratio(3, 0)
     with pytest.raises(ValueError, match=r"\(N, 3\)"):
         root_displacement_error(np.zeros((3, 3)), np.zeros((4, 3)))
+
+
+def test_per_clip_table_on_hand_made_rollouts():
+    from agents.evaluation import Rollout, per_clip
+
+    def run(clip: str, elr: float) -> Rollout:
+        return Rollout(clip=clip, start_frame=0, elr=elr, sr90=float(elr >= 0.9), rde=0.0, mrr=0.0,
+                       ended_by="", simulated=None, reference=None)
+
+    rows = per_clip([run("walk", 1.0), run("back", 0.2), run("walk", 0.8), run("back", 0.4), run("run", 0.95)])
+    assert [r["clip"] for r in rows] == ["back", "walk", "run"]
+    assert rows[0] == {"clip": "back", "rollouts": 2, "ELR": pytest.approx(0.3), "SR90": 0.0}
+    assert rows[1]["ELR"] == pytest.approx(0.9) and rows[1]["SR90"] == 0.5
