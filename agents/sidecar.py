@@ -82,10 +82,12 @@ class EnvSpec:
 
 @dataclass(frozen=True)
 class PPOSettings:
-    """PPO hyper-parameters (see ``agents/train_ppo.py --help``)."""
+    """PPO hyper-parameters (see ``agents/train_ppo.py --help``); ``lr`` is the starting rate when
+    ``target_kl`` is set (the rate then follows the KL, :mod:`agents.lr_schedule`)."""
 
     net: str = "256,256"
     lr: float = 5e-5
+    target_kl: float | None = None
     n_envs: int = 8
     n_steps: int = 1024
     batch_size: int = 512

@@ -32,12 +32,13 @@ if __package__ in (None, ""):  # `python agents/train_ppo.py` puts agents/ first
 import gymnasium as gym
 import torch
 from stable_baselines3 import PPO
-from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
+from agents.lr_schedule import KLAdaptiveLearningRate, KLSchedule
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.vec_env import ShardedVecEnv, shard_count
@@ -107,6 +108,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="where the networks learn: cpu (fastest for small networks on a few cores), "
                         "cuda or auto (a GPU if there is one; on a many-core machine --vec sharded uses every core)")
     g.add_argument("--lr", type=positive_float, default=5e-5, help="Adam learning rate (ADAPT: 5e-5)")
+    g.add_argument("--target-kl", type=positive_float, default=None,
+                   help="follow this approximate KL per PPO update by adapting the learning rate after each "
+                        "update (agents/lr_schedule.py; --lr is the starting rate; rsl_rl: 0.01); default: "
+                        "the fixed --lr of ADAPT")
     g.add_argument("--n-steps", type=positive_int, default=1024, help="rollout length per environment")
     g.add_argument("--batch-size", type=positive_int, default=512, help="minibatch size")
     g.add_argument("--epochs", type=positive_int, default=6, help="optimisation epochs per rollout (ADAPT: 6)")
@@ -423,9 +428,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         venv.close()
         return
     callback = CheckpointAndEvaluate(run_dir, eval_env, args)
+    callbacks = [callback] if args.target_kl is None else [callback, KLAdaptiveLearningRate(KLSchedule(args.target_kl))]
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
-        model.learn(remaining, callback=callback, reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
+        model.learn(remaining, callback=CallbackList(callbacks), reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume
         callback.save_checkpoint()

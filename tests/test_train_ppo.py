@@ -124,3 +124,16 @@ def test_recorded_progress_is_the_newest_checkpoints_else_the_last_evaluations(t
     assert recorded_progress(tmp_path) == (6_000_000, 2917.7)
     (tmp_path / "wall.json").write_text(json.dumps({"steps": 6_245_376, "wall_s": 2968.6}))
     assert recorded_progress(tmp_path) == (6_245_376, 2968.6)
+
+
+def test_a_kl_following_learning_rate_falls_after_too_large_updates(tmp_path):
+    """--target-kl: with a rate far too large for σ² = 0.03 the updates' KL exceeds twice the target,
+    so the rate is divided by 1.5 after each update; it is saved with the checkpoint."""
+    run = tmp_path / "run"
+    main(["--clips", "deepmimic:walk", "--target-kl", "1e-6", "--lr", "1e-3", "--run-dir", str(run), "--no-progress",
+          "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps", "384", "--net", "16,16",
+          "--checkpoint-every", "384", "--eval-every", "1000"])
+    model = PPO.load(newest_checkpoint(run), device="cpu")
+    # three updates (128 steps each); each after the first lowers the rate for the next
+    assert model.learning_rate == pytest.approx(1e-3 / 1.5 ** 2)
+    assert json.loads((run / "args.json").read_text())["target_kl"] == 1e-6
