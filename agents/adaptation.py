@@ -36,13 +36,14 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 from stable_baselines3 import PPO
-from stable_baselines3.common.callbacks import BaseCallback
+from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import VecNormalize
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
+from agents.lr_schedule import KLAdaptiveLearningRate, KLSchedule
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy
 from agents.rollout import torch_threads
 from agents.sidecar import PolicySidecar
@@ -74,6 +75,8 @@ class AdaptConfig:
         seed: seed of the environments and of PPO's sampling (0).
         update_normalizer: let the observation statistics follow this clip (False: frozen, see
             the module's documentation).
+        target_kl: follow this approximate KL per PPO update with the learning rate, starting from the
+            policy's own (:mod:`agents.lr_schedule`); ``None``: the policy's rate, fixed.
         torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
             and where other processes use the cores, more threads wait on each other: 2 threads
             took 69 s for what 1 does in 3 s beside a training run on 2 cores).
@@ -89,6 +92,7 @@ class AdaptConfig:
     eval_episodes: int = 5
     seed: int = 0
     update_normalizer: bool = False
+    target_kl: float | None = None
     torch_threads: int = 1
     cache_dir: Path = field(default_factory=default_cache_dir)
 
@@ -251,7 +255,10 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
             stopped_by = "budget"
             break
         chunk = config.chunk_steps if config.max_steps is None else min(config.chunk_steps, config.max_steps - trained)
-        model.learn(chunk, callback=_Budget(deadline, started, bar), reset_num_timesteps=False, progress_bar=False)
+        callbacks = [_Budget(deadline, started, bar)]
+        if config.target_kl is not None:
+            callbacks.append(KLAdaptiveLearningRate(KLSchedule(config.target_kl)))
+        model.learn(chunk, callback=CallbackList(callbacks), reset_num_timesteps=False, progress_bar=False)
         t0 = time.monotonic()
         summary = _evaluate(eval_env, adapted, config.eval_episodes)
         eval_s = time.monotonic() - t0

@@ -1,7 +1,8 @@
 """The main job on takes never seen: adapt the generalist to each take, clean it, and score it.
 
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
-[--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--json [OUT]]``
+[--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
+[--adapt-target-kl KL] [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
 the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
@@ -69,6 +70,9 @@ def main() -> None:
     p.add_argument("--strength", type=float, default=1.0)
     p.add_argument("--seed", type=int, default=5000, help="artefact seed of the first take (take i: seed + i)")
     p.add_argument("--adapt-budget-s", type=float, default=300.0)
+    p.add_argument("--adapt-steps", type=int, default=None, help="also stop each adaptation after this many steps")
+    p.add_argument("--adapt-target-kl", type=float, default=None,
+                   help="adapt with the KL-following learning rate (AdaptConfig.target_kl)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     policy = load_policy(args.policy)
@@ -78,8 +82,9 @@ def main() -> None:
         for i, clip in enumerate(spread(expand_clips(args.clips), args.takes)):
             reference = corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i)
             looped = reference.n_frames >= frames
-            adapted = adapt_policy(policy, reference, AdaptConfig(budget_s=args.adapt_budget_s,
-                                                                  cache_dir=Path(cache)), progress=False)
+            config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
+                                 target_kl=args.adapt_target_kl, cache_dir=Path(cache))
+            adapted = adapt_policy(policy, reference, config, progress=False)
             start = time.perf_counter()
             cleaned = clean_motion(adapted.policy, reference, CleanConfig(), progress=False)
             before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
@@ -106,7 +111,8 @@ def main() -> None:
     print("median reductions: " + ", ".join(f"{k} {summary[f'{k}_reduction_median']:.0%}" for k in ARTEFACTS)
           + " (goal >= 80% each)")
     emit_json({"policy": args.policy, "seconds": args.seconds, "strength": args.strength,
-               "adapt_budget_s": args.adapt_budget_s, "summary": summary, "takes": rows}, args.json)
+               "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
+               "adapt_target_kl": args.adapt_target_kl, "summary": summary, "takes": rows}, args.json)
 
 
 if __name__ == "__main__":

@@ -7,6 +7,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from stable_baselines3 import PPO
 
 from agents import clean
 from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key
@@ -125,6 +126,18 @@ def test_adaptation_writes_the_cache_and_reuses_it(walk_policy, tmp_path):
     # another clip (here: the same one corrupted) is another entry; a bigger budget adapts again
     assert adaptation_key(turn.with_qpos(turn.qpos + 1e-6), walk_policy) != first.key
     assert not AdaptConfig(budget_s=20, max_steps=1024).covers(AdaptConfig(budget_s=60, max_steps=1024))
+
+
+def test_adaptation_can_follow_a_target_kl(walk_policy, tmp_path):
+    """AdaptConfig.target_kl: the learning rate falls after an update whose KL is far above it."""
+    turn = load_motion("deepmimic:walker/turn_left1", min_frames=600)
+    config = AdaptConfig(budget_s=30, max_steps=2048, chunk_steps=2048, n_envs=2, n_steps=512, eval_episodes=1,
+                         target_kl=1e-9, cache_dir=tmp_path)
+    result = adapt_policy(walk_policy, turn, config, progress=False)
+    assert result.steps == 2048  # two updates: the second at the lowered rate
+    adapted = PPO.load(result.path / "model.zip", device="cpu")
+    assert adapted.learning_rate == pytest.approx(walk_policy.model.learning_rate / 1.5)
+    assert json.loads((result.path / "sidecar.json").read_text())["adaptation"]["config"]["target_kl"] == 1e-9
 
 
 def test_cli_adapts_by_default_and_not_with_no_adapt(tmp_path):
