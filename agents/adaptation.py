@@ -43,7 +43,7 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
-from agents.lr_schedule import KLAdaptiveLearningRate, KLSchedule
+from agents.lr_schedule import kl_following
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy
 from agents.rollout import torch_threads
 from agents.sidecar import PolicySidecar
@@ -255,10 +255,8 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
             stopped_by = "budget"
             break
         chunk = config.chunk_steps if config.max_steps is None else min(config.chunk_steps, config.max_steps - trained)
-        callbacks = [_Budget(deadline, started, bar)]
-        if config.target_kl is not None:
-            callbacks.append(KLAdaptiveLearningRate(KLSchedule(config.target_kl)))
-        model.learn(chunk, callback=CallbackList(callbacks), reset_num_timesteps=False, progress_bar=False)
+        callbacks = CallbackList([_Budget(deadline, started, bar), *kl_following(config.target_kl)])
+        model.learn(chunk, callback=callbacks, reset_num_timesteps=False, progress_bar=False)
         t0 = time.monotonic()
         summary = _evaluate(eval_env, adapted, config.eval_episodes)
         eval_s = time.monotonic() - t0

@@ -76,3 +76,9 @@ class KLAdaptiveLearningRate(BaseCallback):
 
     def _on_step(self) -> bool:
         return True
+
+
+def kl_following(target_kl: float | None) -> list[BaseCallback]:
+    """The callbacks that make a PPO run's learning rate follow ``target_kl`` (``None``: none, the
+    rate stays fixed); for ``model.learn`` beside the run's own callbacks."""
+    return [] if target_kl is None else [KLAdaptiveLearningRate(KLSchedule(target_kl))]

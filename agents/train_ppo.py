@@ -38,7 +38,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
-from agents.lr_schedule import KLAdaptiveLearningRate, KLSchedule
+from agents.lr_schedule import kl_following
 from agents.policy import STATS_FILE, MimicPolicy, load_policy
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.vec_env import ShardedVecEnv, shard_count
@@ -428,10 +428,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         venv.close()
         return
     callback = CheckpointAndEvaluate(run_dir, eval_env, args)
-    callbacks = [callback] if args.target_kl is None else [callback, KLAdaptiveLearningRate(KLSchedule(args.target_kl))]
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
-        model.learn(remaining, callback=CallbackList(callbacks), reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
+        model.learn(remaining, callback=CallbackList([callback, *kl_following(args.target_kl)]),
+                    reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume
         callback.save_checkpoint()
