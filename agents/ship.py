@@ -11,6 +11,11 @@ and the run's training steps and wall time in all (at its newest checkpoint) in
 ``models/NAME/sidecar.json``. Refuses a model over 20 MB. The policy
 is assembled beside ``models/NAME`` and replaces it only once evaluated, so a failed run leaves
 ``models/NAME`` as it was.
+
+``--resumable`` also copies the run's newest checkpoint and its records (``args.json``,
+``evaluations.jsonl``, ``wall.json``) to ``models/NAME/run/``, from which a later session resumes
+training (``cp -r models/NAME/run runs/X && python agents/train_ppo.py --run-dir runs/X --resume``).
+Without it, a ``models/NAME/run/`` already there is kept.
 """
 
 from __future__ import annotations
@@ -25,11 +30,35 @@ if __package__ in (None, ""):  # `python agents/ship.py`: make the repository im
 
 from agents import evaluate
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE
-from agents.train_ppo import recorded_progress
+from agents.train_ppo import newest_checkpoint, recorded_progress
 from reference_motion.atomic import write_json
 from reference_motion.cli import CliParser, one_line_errors, output_dir
 
 MAX_MODEL_BYTES = 20 * 1024 * 1024
+RUN_RECORDS = ("args.json", "evaluations.jsonl", "wall.json")
+
+
+def _checked_size(path: Path) -> int:
+    """``path``'s size in bytes; raises ValueError if it is over the limit for ``models/``."""
+    size = path.stat().st_size
+    if size > MAX_MODEL_BYTES:
+        raise ValueError(f"{path}: {size / 2**20:.1f} MB, over the 20 MB limit for models/")
+    return size
+
+
+def _copy_resumable_run(run_dir: Path, dest: Path) -> None:
+    """Copy ``run_dir``'s newest checkpoint (model and observation statistics) and its records to
+    ``dest`` so that ``train_ppo.py --resume`` continues from it."""
+    checkpoint = newest_checkpoint(run_dir)
+    if checkpoint is None:
+        raise FileNotFoundError(f"{run_dir / 'checkpoints'}: no step_*.zip checkpoint to make the run resumable")
+    _checked_size(checkpoint)
+    (dest / "checkpoints").mkdir(parents=True)
+    for path in run_dir.joinpath("checkpoints").glob(checkpoint.stem + "*"):
+        shutil.copy2(path, dest / "checkpoints" / path.name)
+    for name in RUN_RECORDS:
+        if (run_dir / name).exists():
+            shutil.copy2(run_dir / name, dest / name)
 
 
 @one_line_errors
@@ -41,13 +70,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     p.add_argument("--run-dir", type=Path, required=True)
     p.add_argument("--name", required=True, help="directory name under --models")
     p.add_argument("--models", type=output_dir, default=Path("models"))
+    p.add_argument("--resumable", action="store_true",
+                   help="also copy the run's newest checkpoint and records to models/NAME/run/")
     args, eval_args = p.parse_known_args(argv)
     best = args.run_dir / "best"
     if not (best / MODEL_FILE).exists():
         raise FileNotFoundError(f"{best / MODEL_FILE}: not found: the run has not been evaluated yet")
-    size = (best / MODEL_FILE).stat().st_size
-    if size > MAX_MODEL_BYTES:
-        raise ValueError(f"{best / MODEL_FILE}: {size / 2**20:.1f} MB, over the 20 MB limit for models/")
+    size = _checked_size(best / MODEL_FILE)
     out = args.models / args.name
     staging = args.models / f".{args.name}.partial"  # becomes `out` only once evaluated: never half-shipped
     shutil.rmtree(staging, ignore_errors=True)
@@ -66,6 +95,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                        evaluate_command="python agents/evaluate.py --policy " + " ".join([str(out), *eval_args]),
                        evaluation={k: v for k, v in result.items() if k not in ("policy",)})
         write_json(staging / SIDECAR_FILE, sidecar)
+        if args.resumable:
+            _copy_resumable_run(args.run_dir, staging / "run")
+        elif (out / "run").is_dir():  # the committed resumable run stays beside the new policy
+            shutil.copytree(out / "run", staging / "run")
         shutil.rmtree(out, ignore_errors=True)
         staging.rename(out)
     finally:

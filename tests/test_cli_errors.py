@@ -270,3 +270,25 @@ def test_an_interrupted_write_leaves_the_old_file(tmp_path):
         tmp.write_text("half")
         raise RuntimeError("killed mid-write")
     assert target.read_text() == "old" and list(tmp_path.iterdir()) == [target]
+
+
+def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run, tmp_path):
+    """``--resumable`` puts the newest checkpoint and the run's records beside the policy; a later
+    ship without it keeps that ``run/`` rather than deleting it with the old policy."""
+    checkpoints = trained_run / "checkpoints"
+    checkpoints.mkdir(exist_ok=True)
+    for step in (10, 20):
+        shutil.copy2(trained_run / "best" / "model.zip", checkpoints / f"step_{step}.zip")
+        (checkpoints / f"step_{step}_vecnormalize.pkl").write_bytes(b"stats")
+    (trained_run / "args.json").write_text('{"seed": 3}')
+    models = tmp_path / "models"
+    common = ["--run-dir", str(trained_run), "--name", "walk", "--models", str(models),
+              "--clips", "deepmimic:walk", "--episodes", "1"]
+    ship.main([*common, "--resumable"])
+    run = models / "walk" / "run"
+    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["step_20.zip", "step_20_vecnormalize.pkl"]
+    assert (run / "args.json").read_text() == '{"seed": 3}'
+    assert (run / "evaluations.jsonl").exists() and not (run / "wall.json").exists()
+    ship.main(common)
+    assert (models / "walk" / "run" / "checkpoints" / "step_20.zip").exists()
+    assert (models / "walk" / "sidecar.json").exists()
