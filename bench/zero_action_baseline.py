@@ -45,19 +45,19 @@ def main() -> None:
     foot = policy.foot if policy else "one"
     motions = reference_clips(args.clips, FOOT_MODELS[foot], MimicConfig(), None, 0.0, 0)
     env = policy.make_env(motions, artefacts=None) if policy else gym.make("MimicIMU-v0", clips=motions, artefacts=None)
-    result = {"clips": args.clips, "zero_action": scored(env, zero_policy(env.action_space.shape[0]), args.episodes,
-                                                         args.offset_step)}
+    scores = {"zero_action": scored(env, zero_policy(env.action_space.shape[0]), args.episodes, args.offset_step)}
     if policy:
-        result["policy"] = {"path": args.policy, **scored(env, policy, args.episodes, args.offset_step)}
+        scores["policy"] = {"path": args.policy, **scored(env, policy, args.episodes, args.offset_step)}
+    result = {"clips": args.clips, **scores}
     if emit_json(result, args.json):
         return
-    for name, r in ((k, result[k]) for k in ("zero_action", "policy") if k in result):
+    for name, r in scores.items():
         print(f"{name}, {args.episodes} rollouts per clip: ELR {r['ELR_mean']:.3f} ± {r['ELR_std']:.3f}, SR90 "
               f"{r['SR90']:.2f}, RDE {r['RDE_mean']:.4f} m², MRR {r['MRR_mean']:.3f}; ended by {r['ended_by']}")
     if policy:
-        zero = {row["clip"]: row["ELR"] for row in result["zero_action"]["per_clip"]}
+        zero = {row["clip"]: row["ELR"] for row in scores["zero_action"]["per_clip"]}
         print(f"  {'clip (worst policy first)':<56}{'policy':>8}{'zero':>8}")
-        for row in result["policy"]["per_clip"]:
+        for row in scores["policy"]["per_clip"]:
             print(f"  {row['clip']:<56}{row['ELR']:>8.2f}{zero[row['clip']]:>8.2f}")
 
 
