@@ -39,9 +39,10 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.policy import STATS_FILE, MimicPolicy, load_policy
+from agents.policy import MimicPolicy, load_policy
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.vec_env import ShardedVecEnv, shard_count
+from agents.warm_start import warm_start
 from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
@@ -82,6 +83,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
                    help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
                         "offset from the reference (envs.observations)")
+    g.add_argument("--com-offset", action="store_true",
+                   help="the world-frame observation also carries the character's CoM offset from the reference's "
+                        "(MimicConfig.com_offset; --init-from a policy without it widens its inputs)")
     g.add_argument("--velocity-feedforward", action="store_true",
                    help="PD controllers damp towards the reference's joint velocity, not towards rest, so the body "
                         "does not trail the reference (MimicConfig.velocity_feedforward)")
@@ -190,10 +194,10 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
-    """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame`` and
-    ``--velocity-feedforward``)."""
+    """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
+    ``--com-offset`` and ``--velocity-feedforward``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
-                       velocity_feedforward=args.velocity_feedforward)
+                       com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:
@@ -410,12 +414,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
                     policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
                                    "log_std_init": 0.5 * math.log(args.action_variance)})
         if args.init_from is not None:  # warm start: another run's weights and observation statistics
-            source = load_policy(args.init_from)
-            source.check_env(venv)
-            model.policy.load_state_dict(source.model.policy.state_dict())
+            venv = warm_start(model, venv, load_policy(args.init_from), env_config(args), args.gamma)
             with torch.no_grad():  # this run's exploration noise (--action-variance), not the source's
                 model.policy.log_std.fill_(0.5 * math.log(args.action_variance))
-            venv = VecNormalize.load(str(source.path / STATS_FILE), venv)
             model.set_env(venv)
             print(f"initialised from {args.init_from}", flush=True)
         else:

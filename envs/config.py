@@ -69,6 +69,10 @@ class MimicConfig:
         obs_frame: axes of the observation's vectors (:data:`envs.observations.OBS_FRAMES`):
             ``"world"`` (ADAPT's, adapt §3.2.1) or ``"heading"`` (the character's heading frame,
             plus its CoM offset from the reference's; 3 values longer).
+        com_offset: the observation also carries ``dp_com``, the character's CoM minus the
+            reference's (m), in world axes too (3 values longer). ADAPT's world-frame state has
+            no position error at all, so drift from the reference, which the lag termination ends
+            episodes on, is invisible to the policy. Always on in the heading frame.
         velocity_feedforward: the PD controllers damp towards the reference's joint velocity
             instead of towards rest (False: ADAPT's PD, whose damping makes the body trail a
             moving reference; see :func:`envs.reference.pd_targets`).
@@ -90,6 +94,7 @@ class MimicConfig:
     min_clip_frames: int = 30
     track_cache_size: int = 128
     obs_frame: str = "world"
+    com_offset: bool = False
     velocity_feedforward: bool = False
 
     def __post_init__(self) -> None:
@@ -104,6 +109,11 @@ class MimicConfig:
                              f"got {self.episode_frames}")
         if not 0.0 < self.action_smoothing <= 1.0:
             raise ValueError(f"action_smoothing must be in (0, 1], got {self.action_smoothing}")
+
+    @property
+    def observes_com_offset(self) -> bool:
+        """Whether the observation carries ``dp_com`` (``com_offset``, or the heading frame)."""
+        return self.com_offset or self.obs_frame == "heading"
 
     @property
     def frames_per_control(self) -> int:

@@ -289,7 +289,7 @@ class MimicGaitEnv(MimicEnv):
     # ----------------------------------------------------------------- hooks
     def _observation_slices(self, n_bodies: int, n_action: int) -> dict[str, slice]:
         return gait_observation_slices(n_bodies, n_action, self.gait_config.preview_frames,
-                                       com_offset=self.config.obs_frame == "heading")
+                                       com_offset=self.config.observes_com_offset)
 
     def _observe(self, state) -> np.ndarray:
         ahead = np.minimum(self._frame + self._preview, len(self.contact_targets[self._clip]) - 1)

@@ -61,7 +61,7 @@ class MimicEnv(gym.Env):
         render_mode: ``None`` or ``"rgb_array"`` (character with the reference translucent beside it).
         width, height: rendered image size (pixels).
 
-    Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"``) — layout in :mod:`envs.observations`,
+    Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``) — layout in :mod:`envs.observations`,
     named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
     added to the reference PD targets of the driven hinges.
 
@@ -380,13 +380,14 @@ class MimicEnv(gym.Env):
     def _observation_slices(self, n_bodies: int, n_action: int) -> dict[str, slice]:
         """Layout of the observation (:func:`envs.observations.observation_slices`); the observation
         space's size is the end of the last slice."""
-        return observation_slices(n_bodies, n_action, com_offset=self.config.obs_frame == "heading")
+        return observation_slices(n_bodies, n_action, com_offset=self.config.observes_com_offset)
 
     def _observe(self, state) -> np.ndarray:
         f, obs, track = self._frame, self.observed, self._track
         heading = ref_com = None
         if self.config.obs_frame == "heading":
             heading = heading_rotation(state.axes[0, 0])
+        if self.config.observes_com_offset:
             ref_com = track.pos[f, 0] - track.pos_rel_com[f, 0]
         return mimic_observation(state.pos[obs], state.linvel[obs], state.com, state.com_vel,
                                  track.pos_rel_com[f, obs], track.linvel[f, obs], track.com_vel[f], self._action,

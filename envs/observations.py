@@ -10,7 +10,7 @@ ref_v_com     3     CoM velocity of the reference
 dv_com        3     v_com − ref_v_com
 ref_v_hor     2     horizontal (x, y) CoM velocity of the reference
 dv_hor        2     horizontal CoM velocity of the character − ref_v_hor
-dp_com        3     (``heading`` frame only) the character's CoM − the reference's CoM
+dp_com        3     (heading frame, or ``com_offset``) the character's CoM − the reference's CoM
 p             3B    body origins relative to the character's CoM
 v             3B    body origin velocities
 dp            3B    p − the reference's body origins relative to its CoM
@@ -26,7 +26,9 @@ learn each heading apart; nor does it see how far the character has drifted from
 although the lag termination is on exactly that distance. ``"heading"`` rotates every vector
 into the character's heading frame (z up, x = the pelvis x axis on the ground, as DeepMimic and
 DReCon observe) and adds ``dp_com``, so the observation is the same whatever way the clip walks
-and shows the drift the policy must correct.
+and shows the drift the policy must correct. ``MimicConfig.com_offset`` adds ``dp_com`` to the
+world-frame observation alone (a policy trained on ADAPT's layout can be widened to it, see
+:func:`agents.warm_start.widen_inputs`).
 """
 
 from __future__ import annotations
@@ -71,8 +73,8 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
                       ref_pos_rel: np.ndarray, ref_linvel: np.ndarray, ref_com_vel: np.ndarray,
                       prev_action: np.ndarray, heading: np.ndarray | None = None,
                       ref_com: np.ndarray | None = None) -> np.ndarray:
-    """Observation vector ``(13 + 12·B + A,)`` float32 (world frame), or ``(16 + 12·B + A,)`` in
-    the heading frame when ``heading`` is given.
+    """Observation vector ``(13 + 12·B + A,)`` float32 (world frame), ``(16 + 12·B + A,)`` with
+    ``dp_com`` when ``ref_com`` is given (in the heading frame when ``heading`` is given).
 
     Args:
         pos, linvel: ``(B, 3)`` the character's observed body origins and their velocities (world, m, m/s).
@@ -83,18 +85,19 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
         prev_action: ``(A,)`` smoothed previous action.
         heading: ``(3, 3)`` world → heading-frame rotation (:func:`heading_rotation` of the
             character's root); ``None``: world axes, ADAPT's layout.
-        ref_com: ``(3,)`` the reference's CoM (world); needed with ``heading``, for ``dp_com``.
+        ref_com: ``(3,)`` the reference's CoM (world): given, ``dp_com`` is observed (needed
+            with ``heading``).
     """
     p = pos - com
     dv_com = com_vel - ref_com_vel
     parts = [com_vel, ref_com_vel, dv_com]
-    offset = []
+    offset = [] if ref_com is None else [com - ref_com]
     if heading is not None:
         if ref_com is None:
             raise ValueError("mimic_observation: the heading frame needs ref_com, for dp_com")
         parts = [v @ heading.T for v in parts]
         p, linvel, ref_pos_rel, ref_linvel = (v @ heading.T for v in (p, linvel, ref_pos_rel, ref_linvel))
-        offset = [(com - ref_com) @ heading.T]
+        offset = [offset[0] @ heading.T]
     com_vel, ref_com_vel, dv_com = parts
     return np.concatenate([
         com_vel, ref_com_vel, dv_com, ref_com_vel[:2], dv_com[:2], *offset,

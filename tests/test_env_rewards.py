@@ -147,6 +147,20 @@ def test_heading_frame_observation_is_the_same_whichever_way_the_character_faces
         mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action, heading_rotation(root_x))
 
 
+def test_world_frame_observation_with_the_com_offset_is_adapts_plus_dp_com():
+    """ref_com without heading: ADAPT's world-frame vector with dp_com = com − ref_com inserted at 13:16."""
+    slices = observation_slices(20, 20, com_offset=True)
+    rng = np.random.default_rng(3)
+    pos, vel, ref_rel, ref_vel = (rng.standard_normal((20, 3)) for _ in range(4))
+    com, com_vel, ref_com_vel = (rng.standard_normal(3) for _ in range(3))
+    action = np.arange(20.0)
+    ref_com = com - np.array([0.3, -0.4, 0.05])  # the character 0.3 m ahead in x, 0.4 m behind in y, 5 cm high
+    world = mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action)
+    offset = mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action, ref_com=ref_com)
+    assert offset.shape == (276,) and np.allclose(offset[slices["dp_com"]], [0.3, -0.4, 0.05], atol=1e-6)
+    assert np.array_equal(np.delete(offset, slices["dp_com"]), world)
+
+
 # ----------------------------------------------------------------------------- MimicGait-v0 terms
 def test_joint_pose_reward_by_hand():
     # errors 0.1 and -0.2 rad on two of three hinges: 0.01 + 0.04 = 0.05 rad²; alpha 2 -> exp(-0.1)

@@ -3,12 +3,14 @@
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 import torch
 from stable_baselines3 import PPO
 
-from agents.policy import load_policy
+from agents.policy import PolicyError, load_policy
 from agents.train_ppo import build_parser, main, newest_checkpoint, recorded_progress, training_motions
+from agents.warm_start import FIRST_LAYERS, widen_inputs, widen_statistics
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
@@ -113,6 +115,43 @@ def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
     weights, started = model.policy.state_dict(), source.model.policy.state_dict()
     layers = [k for k in started if k != "log_std"]
     assert layers and all(torch.allclose(weights[k], started[k], atol=1e-6) for k in layers)  # lr ~0: unchanged
+
+
+def test_widened_inputs_leave_the_network_unchanged_whatever_the_new_inputs():
+    """widen_inputs: 2 zero-weight inputs inserted at index 1 of a 3-input first layer; the outputs
+    for any values of the new inputs equal the source's on the old ones."""
+    torch.manual_seed(0)
+    layers = {name: torch.nn.Linear(3, 4) for name in FIRST_LAYERS}
+    source = {name: layer.weight.detach().clone() for name, layer in layers.items()}
+    wide = widen_inputs(source, insert_at=1, n_new=2)
+    x_old = torch.tensor([0.5, -1.0, 2.0])
+    for name in FIRST_LAYERS:
+        assert wide[name].shape == (4, 5) and not wide[name][:, 1:3].any()
+        for new_inputs in ([0.0, 0.0], [3.0, -7.0]):
+            x_new = torch.tensor([0.5, *new_inputs, -1.0, 2.0])
+            assert torch.allclose(wide[name] @ x_new, source[name] @ x_old)
+    with pytest.raises(PolicyError, match="mlp_extractor.value_net.0.weight"):
+        widen_inputs({FIRST_LAYERS[0]: source[FIRST_LAYERS[0]]}, 1, 2)
+    mean, var = widen_statistics(np.array([1.0, 2.0, 3.0]), np.array([4.0, 5.0, 6.0]), 1, np.array([0.04, 0.04]))
+    assert np.array_equal(mean, [1.0, 0, 0, 2.0, 3.0]) and np.allclose(var, [4.0, 0.04, 0.04, 5.0, 6.0])
+
+
+def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_path):
+    """--init-from a world-frame policy with --com-offset: the run observes 3 more values (dp_com),
+    and before any learning it takes the source's actions whatever the offset."""
+    source = load_policy(WALK_POLICY)
+    run = tmp_path / "run"
+    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--com-offset", "--run-dir", str(run),
+          "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps", "128",
+          "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128", "--eval-episodes", "1"])
+    widened = load_policy(run / "best")
+    env = widened.make_env(["deepmimic:walk"])
+    assert widened.record.env.mimic_config().com_offset and env.observation_space.shape == (276,)
+    obs, _ = env.reset(seed=0)
+    moved = obs.copy()
+    moved[13:16] += [0.4, -0.3, 0.1]  # the character 0.5 m off the reference
+    assert np.allclose(widened(obs), widened(moved), atol=1e-5)
+    assert np.allclose(widened(obs), source(np.delete(obs, np.s_[13:16])), atol=1e-4)
 
 
 def test_recorded_progress_is_the_newest_checkpoints_else_the_last_evaluations(tmp_path):
