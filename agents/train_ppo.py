@@ -23,6 +23,8 @@ import re
 import signal
 import sys
 import time
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import asdict, fields
 from pathlib import Path
 
@@ -273,15 +275,12 @@ class CheckpointAndEvaluate(BaseCallback):
     def _save(self, directory: Path, stem: str) -> None:
         """Save model and observation statistics, each file whole or not at all, the statistics
         first (a ``step_N.zip`` is only there with its statistics); Ctrl-C or ``kill`` during the
-        save takes effect after it."""
-        blocked = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT, signal.SIGTERM})
-        try:
+        save takes effect after it (:func:`deferred_signals`)."""
+        with deferred_signals():
             with atomic_write(directory / f"{stem}_vecnormalize.pkl") as tmp:
                 self.model.get_vec_normalize_env().save(str(tmp))
             with atomic_write(directory / f"{stem}.zip") as tmp:
                 self.model.save(tmp)
-        finally:
-            signal.pthread_sigmask(signal.SIG_SETMASK, blocked)
 
     def _on_step(self) -> bool:
         if self.num_timesteps >= self._next_ckpt:
@@ -350,6 +349,25 @@ class CheckpointAndEvaluate(BaseCallback):
 def _interrupt(signum: int, frame: object) -> None:
     """Signal handler: stop training as Ctrl-C does (a checkpoint is saved)."""
     raise KeyboardInterrupt
+
+
+@contextmanager
+def deferred_signals(signals: tuple[int, ...] = (signal.SIGINT, signal.SIGTERM)) -> Iterator[None]:
+    """Within the block, ``signals`` are only recorded; after it, the handlers from before run once
+    for each signal that came (a handler that is not callable, e.g. ``SIG_IGN``, is skipped). A
+    process-directed signal reaches whichever thread does not block it, and torch's threads do not,
+    so masking the main thread does not keep a ``kill`` out of a checkpoint being written: a second
+    ``kill`` during the save after the first once left a truncated file behind."""
+    pending: list[int] = []
+    previous = {s: signal.signal(s, lambda signum, frame: pending.append(signum)) for s in signals}
+    try:
+        yield
+    finally:
+        for s, handler in previous.items():
+            signal.signal(s, handler)
+    for s in dict.fromkeys(pending):
+        if callable(previous[s]):
+            previous[s](s, None)
 
 
 def newest_checkpoint(run_dir: Path) -> Path | None:
@@ -435,6 +453,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
                     reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume
+        for s in (signal.SIGINT, signal.SIGTERM):  # stopping already: a second signal must not cut the save short
+            signal.signal(s, signal.SIG_IGN)
         callback.save_checkpoint()
         print(f"interrupted at {model.num_timesteps} steps; checkpoint saved, continue with --resume", flush=True)
     finally:

@@ -9,7 +9,7 @@ import torch
 from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy
-from agents.train_ppo import build_parser, main, newest_checkpoint, recorded_progress, training_motions
+from agents.train_ppo import build_parser, deferred_signals, main, newest_checkpoint, recorded_progress, training_motions
 from agents.warm_start import FIRST_LAYERS, widen_inputs, widen_statistics
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
@@ -152,6 +152,28 @@ def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_pat
     moved[13:16] += [0.4, -0.3, 0.1]  # the character 0.5 m off the reference
     assert np.allclose(widened(obs), widened(moved), atol=1e-5)
     assert np.allclose(widened(obs), source(np.delete(obs, np.s_[13:16])), atol=1e-4)
+
+
+def test_a_kill_during_a_checkpoint_is_held_until_the_save_is_done():
+    """deferred_signals: SIGTERM sent inside the block runs the handler from before only after the
+    block (once, however often it came); a SIG_IGN handler from before stays ignored."""
+    import os
+    import signal
+
+    seen = []
+    previous = signal.signal(signal.SIGTERM, lambda signum, frame: seen.append(("handled", signum)))
+    try:
+        with deferred_signals():
+            os.kill(os.getpid(), signal.SIGTERM)
+            os.kill(os.getpid(), signal.SIGTERM)
+            seen.append("saved")
+        assert seen == ["saved", ("handled", signal.SIGTERM)]
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        with deferred_signals():
+            os.kill(os.getpid(), signal.SIGTERM)
+        assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN and len(seen) == 2
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def test_recorded_progress_is_the_newest_checkpoints_else_the_last_evaluations(tmp_path):
