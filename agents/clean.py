@@ -40,7 +40,8 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
-from agents.policy import MimicPolicy, load_policy
+from agents.policy import MimicPolicy
+from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
@@ -311,8 +312,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "differentiable PD cycle tracks it (--policy: a diff-PD model directory, e.g. "
                             "models/diffpd; agents/diffpd_clean.py)")
     p.add_argument("--policy", required=True,
-                   help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json); with --method diffpd "
-                        "a diff-PD model directory (diffpd.pt)")
+                   help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json), or a policy set "
+                        "(policy_set.json: a policy per motion class); with --method diffpd a diff-PD model directory (diffpd.pt)")
     p.add_argument("--out", type=output_file(".npz"), required=True, help="cleaned motion (.npz)")
     p.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned motion as BVH")
     p.add_argument("--video", type=output_file(*VIDEO_SUFFIXES),
@@ -408,8 +409,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
 
         reference, cleaned, extra = clean_from_args(args, parser)
     else:
-        policy = load_policy(args.policy)
-        reference = load_clip(FOOT_MODELS[policy.foot], args)
+        [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         config = clean_config(policy, reference, args)
         adaptation = adapt_to_clip(policy, reference, args)
         performer = adaptation.policy if adaptation else policy

@@ -24,8 +24,8 @@ if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repositor
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluation import evaluate, per_clip
-from agents.policy import load_policy
+from agents.evaluation import evaluate, per_clip, summarize
+from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
@@ -39,7 +39,8 @@ from reference_motion.rigs import MocapOptions
 def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json)")
+    p.add_argument("--policy", required=True, help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json), "
+                                                   "or a policy set (policy_set.json: a policy per motion class)")
     p.add_argument("--clips", nargs="+", required=True,
                    help="SOURCE strings or files of the clips to evaluate on, or clip sets (library:DIR/test)")
     add_mocap_options(p)
@@ -85,12 +86,13 @@ def artefact_table(runs: list) -> dict[str, dict[str, float]]:
 def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
-    policy = load_policy(args.policy)
-    clips = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig(), args.corrupt, args.strength,
-                            args.seed, mocap_options(args))
-    env = policy.make_env(clips, artefacts=None)
-    env.reset(seed=0)
-    summary, runs = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
+    runs = []
+    for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
+            args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
+        env = policy.make_env(clips, artefacts=None)
+        env.reset(seed=0)
+        runs += evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)[1]
+    summary = summarize(runs)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}

@@ -19,7 +19,7 @@ from agents.metrics import episode_length_ratio, max_reward_ratio, root_displace
 from agents.rollout import Policy, run_episode
 from reference_motion.motion import Motion
 
-__all__ = ["Policy", "Rollout", "evaluate", "per_clip", "rollout", "zero_policy"]
+__all__ = ["Policy", "Rollout", "evaluate", "per_clip", "rollout", "summarize", "zero_policy"]
 
 
 @dataclass(frozen=True)
@@ -79,11 +79,17 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
     clips = list(range(len(base.clips))) if clips is None else clips
     runs = [rollout(env, policy, clip, min(k * offset_step, base.last_start(clip)), corrupted)
             for clip in clips for k in range(episodes)]
+    return summarize(runs), runs
+
+
+def summarize(runs: list[Rollout]) -> dict[str, float]:
+    """ADAPT's summary of ``runs``: ``ELR_mean``, ``ELR_std``, ``SR90``, ``RDE_mean``, ``RDE_std``,
+    ``MRR_mean``, ``MRR_std`` and ``rollouts``."""
     summary: dict[str, float] = {"rollouts": len(runs), "SR90": float(np.mean([r.sr90 for r in runs]))}
     for name, key in (("ELR", "elr"), ("RDE", "rde"), ("MRR", "mrr")):
         values = np.array([getattr(r, key) for r in runs])
         summary[f"{name}_mean"], summary[f"{name}_std"] = float(values.mean()), float(values.std())
-    return summary, runs
+    return summary
 
 
 def per_clip(runs: list[Rollout]) -> list[dict]:

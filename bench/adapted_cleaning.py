@@ -28,7 +28,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import AdaptConfig, adapt_policy
 from agents.clean import CleanConfig, clean_motion
-from agents.policy import load_policy
+from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.artefacts import ArtefactRecipe, corrupt
@@ -75,12 +75,12 @@ def main() -> None:
                    help="adapt with the KL-following learning rate (AdaptConfig.target_kl)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
-    policy = load_policy(args.policy)
     frames = int(round(args.seconds * 60)) + 1
     rows = []
     with tempfile.TemporaryDirectory() as cache:
         for i, clip in enumerate(spread(expand_clips(args.clips), args.takes)):
-            reference = corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i)
+            [(policy, [reference])] = route_clips(args.policy, lambda foot: [corrupted_take(
+                clip, foot, args.seconds, args.strength, args.seed + i)])
             looped = reference.n_frames >= frames
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, cache_dir=Path(cache))

@@ -1,0 +1,123 @@
+"""A policy set: shipped policies, each for a class of motion, and the rule that picks one per clip.
+
+A clip is routed before anything is simulated, from the reference alone: a clip whose root moves
+backwards relative to the pelvis heading (median speed along the heading below
+``-backward_speed_mps``) goes to the ``backward`` policy, every other clip to ``default``. The rule
+reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion
+library it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s) from every
+other take (≥ 0.00 m/s).
+
+On disk a policy set is a directory holding ``policy_set.json``::
+
+    {"format": "physmimic.policy_set/1", "default": "../mimic_general",
+     "backward": "../mimic_walk_back", "backward_speed_mps": 0.2}
+
+with the policy directories relative to it. ``agents/evaluate.py`` and ``agents/clean.py`` take a
+policy set wherever they take a policy.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from agents.policy import MimicPolicy, PolicyError, load_policy
+from reference_motion.motion import Motion
+
+SET_FILE = "policy_set.json"
+FORMAT = "physmimic.policy_set/1"
+
+
+def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
+    """``(T,)`` the root's horizontal velocity (m/s) along the pelvis heading (its x axis projected on
+    the ground) in each frame of ``qpos (T, nq)`` (free joint first: position, then w-x-y-z
+    quaternion; world, z up); negative while moving backwards."""
+    if len(qpos) < 2:
+        raise ValueError(f"heading_speeds needs at least 2 frames, got {len(qpos)}")
+    w, x, y, z = qpos[:, 3:7].T
+    heading = np.stack([1 - 2 * (y * y + z * z), 2 * (x * y + w * z)], axis=1)
+    heading /= np.maximum(np.linalg.norm(heading, axis=1, keepdims=True), 1e-9)
+    velocity = np.gradient(qpos[:, :2], 1.0 / fps, axis=0)
+    return np.sum(velocity * heading, axis=1)
+
+
+def walks_backward(motion: Motion, backward_speed_mps: float) -> bool:
+    """Whether ``motion``'s median heading speed (:func:`heading_speeds`) is below ``-backward_speed_mps``."""
+    return bool(np.median(heading_speeds(motion.qpos, motion.fps)) < -backward_speed_mps)
+
+
+@dataclass(frozen=True)
+class PolicySet:
+    """Policies by motion class.
+
+    Attributes:
+        path: the set's directory.
+        default: directory of the policy for every clip not routed elsewhere.
+        backward: directory of the policy for clips walked backwards.
+        backward_speed_mps: a clip whose median heading speed is below minus this is walked backwards.
+    """
+
+    path: Path
+    default: Path
+    backward: Path
+    backward_speed_mps: float = 0.2
+
+    def route(self, motion: Motion) -> Path:
+        """The directory of the policy that performs ``motion``."""
+        return self.backward if walks_backward(motion, self.backward_speed_mps) else self.default
+
+    def save(self) -> Path:
+        """Write ``policy_set.json`` (policy paths relative to the set's directory)."""
+        self.path.mkdir(parents=True, exist_ok=True)
+        rel = {name: os.path.relpath(getattr(self, name).resolve(), self.path.resolve()) for name in ("default", "backward")}
+        out = self.path / SET_FILE
+        out.write_text(json.dumps({"format": FORMAT, **rel, "backward_speed_mps": self.backward_speed_mps}, indent=1))
+        return out
+
+
+def is_policy_set(path: str | Path) -> bool:
+    """Whether ``path`` is a policy-set directory (holds ``policy_set.json``)."""
+    return (Path(path) / SET_FILE).is_file()
+
+
+def load_policy_set(path: str | Path) -> PolicySet:
+    """Read a policy-set directory; :class:`PolicyError` names a missing file or field."""
+    path = Path(path)
+    file = path / SET_FILE
+    try:
+        spec = json.loads(file.read_text())
+    except (OSError, json.JSONDecodeError) as err:
+        raise PolicyError(f"{file}: cannot read the policy set: {err}") from err
+    if spec.get("format") != FORMAT:
+        raise PolicyError(f"{file}: format {spec.get('format')!r}, expected {FORMAT!r}")
+    missing = [k for k in ("default", "backward") if not isinstance(spec.get(k), str)]
+    if missing:
+        raise PolicyError(f"{file}: field(s) {', '.join(missing)} missing; expected policy directories relative to {path}")
+    threshold = spec.get("backward_speed_mps", 0.2)
+    if not (isinstance(threshold, (int, float)) and threshold >= 0):
+        raise PolicyError(f"{file}: backward_speed_mps must be a number >= 0, got {threshold!r}")
+    return PolicySet(path, path / spec["default"], path / spec["backward"], float(threshold))
+
+
+def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:
+    """The clips ``load(foot)`` returns (``foot``: the policies' foot model, ``"one"`` or ``"two"``),
+    grouped by the policy that performs them: ``[(policy, clips), ...]``, one group for a plain
+    policy directory ``path``, one per policy used for a policy set (clips in their order)."""
+    if not is_policy_set(path):
+        policy = load_policy(path)
+        return [(policy, load(policy.foot))]
+    policy_set = load_policy_set(path)
+    policies = {p: load_policy(p) for p in (policy_set.default, policy_set.backward)}
+    feet = {p.foot for p in policies.values()}
+    if len(feet) > 1:
+        raise PolicyError(f"{policy_set.path / SET_FILE}: its policies drive different humanoids ({sorted(feet)}); "
+                          "a policy set needs one foot model")
+    groups: dict[Path, list[Motion]] = {}
+    for motion in load(feet.pop()):
+        groups.setdefault(policy_set.route(motion), []).append(motion)
+    return [(policies[p], clips) for p, clips in groups.items()]

@@ -1,0 +1,72 @@
+"""agents/policy_set.py: the backward-walking rule by hand and on real clips, the set file, routing."""
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from agents import evaluate
+from agents.policy import PolicyError
+from agents.policy_set import PolicySet, heading_speeds, load_policy_set, route_clips, walks_backward
+from reference_motion.library import load_motion
+
+MODELS = Path(__file__).parents[1] / "models"
+
+
+def _quat_yaw(yaw: float) -> np.ndarray:
+    return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+
+
+def test_heading_speed_by_hand():
+    """A root facing +y (yaw 90°) moving at 0.5 m/s along −y: −0.5 m/s along its heading; moving
+    sideways (+x) it is 0."""
+    fps = 60.0
+    t = np.arange(30) / fps
+    qpos = np.zeros((30, 7))
+    qpos[:, 3:7] = _quat_yaw(math.pi / 2)
+    qpos[:, 1] = -0.5 * t
+    assert np.allclose(heading_speeds(qpos, fps), -0.5)
+    qpos[:, 1], qpos[:, 0] = 0.0, 0.5 * t
+    assert np.allclose(heading_speeds(qpos, fps), 0.0, atol=1e-12)
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        heading_speeds(qpos[:1], fps)
+
+
+def test_a_walk_is_forward_and_the_same_walk_played_backwards_is_not():
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    backwards = walk.with_qpos(walk.qpos[::-1].copy(), loop=False)
+    assert np.median(heading_speeds(walk.qpos, walk.fps)) > 0.5  # DeepMimic's walk: ~1 m/s
+    assert not walks_backward(walk, 0.2) and walks_backward(backwards, 0.2)
+
+
+def test_policy_set_file_round_trip_and_errors(tmp_path):
+    saved = PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", 0.3).save()
+    spec = json.loads(saved.read_text())
+    assert not Path(spec["default"]).is_absolute() and spec["format"] == "physmimic.policy_set/1"
+    loaded = load_policy_set(tmp_path / "set")
+    assert loaded.default.resolve() == (MODELS / "mimic_walk").resolve() and loaded.backward_speed_mps == 0.3
+    bad = tmp_path / "bad"
+    bad.mkdir()
+    (bad / "policy_set.json").write_text(json.dumps({"format": "physmimic.policy_set/1", "default": "x"}))
+    with pytest.raises(PolicyError, match="backward missing"):
+        load_policy_set(bad)
+    (bad / "policy_set.json").write_text("{not json")
+    with pytest.raises(PolicyError, match="cannot read the policy set"):
+        load_policy_set(bad)
+
+
+def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
+    """The walk goes to the default policy, the walk played backwards to the backward one; the
+    evaluation command runs each group with its own policy and reports every rollout."""
+    PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu").save()
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    backwards = walk.with_qpos(walk.qpos[::-1].copy(), loop=False)
+    groups = route_clips(tmp_path / "set", lambda foot: [walk, backwards, walk])
+    assert [(g.path.name, len(clips)) for g, clips in groups] == [("mimic_walk", 2), ("mimic_imu", 1)]
+    assert groups[1][1][0] is backwards
+    (plain,) = route_clips(MODELS / "mimic_walk", lambda foot: [walk, backwards])
+    assert plain[0].path.name == "mimic_walk" and len(plain[1]) == 2
+    result = evaluate.main(["--policy", str(tmp_path / "set"), "--clips", "deepmimic:walk", "--episodes", "2"])
+    assert result["rollouts"] == 2 and result["ELR_mean"] == 1.0  # mimic_walk walks its own clip whole
