@@ -17,7 +17,7 @@ import pytest
 import perception.__main__ as perception_cli
 from agents import make_dataset
 import reference_motion.__main__ as motion_cli
-from agents import clean, evaluate, physmimic, ship, train_ppo
+from agents import clean, evaluate, physmimic, policy_set, ship, train_ppo
 from agents.policy import load_policy
 from reference_motion.atomic import atomic_write
 from reference_motion.cli import TRACEBACK_VARIABLE
@@ -62,11 +62,11 @@ def _no_traceback_override(monkeypatch):
 
 @pytest.fixture(autouse=True, scope="module")
 def _policy_loaded_once():
-    """evaluate.py and clean.py load the shipped walk policy once for all cases (it takes seconds)."""
+    """evaluate.py and clean.py (through agents.policy_set) load the shipped walk policy once for
+    all cases (it takes seconds)."""
     cached = functools.cache(load_policy)
     with pytest.MonkeyPatch.context() as patch:
-        for module in (evaluate, clean):
-            patch.setattr(module, "load_policy", cached)
+        patch.setattr(policy_set, "load_policy", cached)
         yield
 
 
