@@ -27,6 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from agents.policy import MimicPolicy, PolicyError, load_policy
+from reference_motion import rotations as rot
 from reference_motion.motion import Motion
 
 SET_FILE = "policy_set.json"
@@ -39,9 +40,8 @@ def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
     quaternion; world, z up); negative while moving backwards."""
     if len(qpos) < 2:
         raise ValueError(f"heading_speeds needs at least 2 frames, got {len(qpos)}")
-    w, x, y, z = qpos[:, 3:7].T
-    heading = np.stack([1 - 2 * (y * y + z * z), 2 * (x * y + w * z)], axis=1)
-    heading /= np.maximum(np.linalg.norm(heading, axis=1, keepdims=True), 1e-9)
+    heading_angle = rot.yaw(qpos[:, 3:7])
+    heading = np.stack([np.cos(heading_angle), np.sin(heading_angle)], axis=1)
     velocity = np.gradient(qpos[:, :2], 1.0 / fps, axis=0)
     return np.sum(velocity * heading, axis=1)
 
@@ -93,6 +93,8 @@ def load_policy_set(path: str | Path) -> PolicySet:
         spec = json.loads(file.read_text())
     except (OSError, json.JSONDecodeError) as err:
         raise PolicyError(f"{file}: cannot read the policy set: {err}") from err
+    if not isinstance(spec, dict):
+        raise PolicyError(f"{file}: holds a JSON {type(spec).__name__}, expected an object with format, default and backward")
     if spec.get("format") != FORMAT:
         raise PolicyError(f"{file}: format {spec.get('format')!r}, expected {FORMAT!r}")
     missing = [k for k in ("default", "backward") if not isinstance(spec.get(k), str)]

@@ -44,7 +44,7 @@ from agents.lr_schedule import kl_following
 from agents.policy import MimicPolicy, load_policy
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.vec_env import ShardedVecEnv, shard_count
-from agents.warm_start import warm_start
+from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
@@ -311,8 +311,9 @@ class CheckpointAndEvaluate(BaseCallback):
             f.write(json.dumps(record) + "\n")
         if score > self.best:
             self.best = score
-            self._save(self.run_dir / "best", "model")
-            self._sidecar(record).save(self.best_path)
+            with deferred_signals():  # the best policy's files and its sidecar, all or none
+                self._save(self.run_dir / "best", "model")
+                self._sidecar(record).save(self.best_path)
         print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
               f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
         return summary["SR90"]
@@ -354,7 +355,7 @@ def _interrupt(signum: int, frame: object) -> None:
 @contextmanager
 def deferred_signals(signals: tuple[int, ...] = (signal.SIGINT, signal.SIGTERM)) -> Iterator[None]:
     """Within the block, ``signals`` are only recorded; after it, the handlers from before run once
-    for each signal that came (a handler that is not callable, e.g. ``SIG_IGN``, is skipped). A
+    for each signal that came (``SIG_DFL``: the signal is raised again; ``SIG_IGN``: nothing). A
     process-directed signal reaches whichever thread does not block it, and torch's threads do not,
     so masking the main thread does not keep a ``kill`` out of a checkpoint being written: a second
     ``kill`` during the save after the first once left a truncated file behind."""
@@ -368,6 +369,8 @@ def deferred_signals(signals: tuple[int, ...] = (signal.SIGINT, signal.SIGTERM))
     for s in dict.fromkeys(pending):
         if callable(previous[s]):
             previous[s](s, None)
+        elif previous[s] == signal.SIG_DFL:
+            signal.raise_signal(s)
 
 
 def newest_checkpoint(run_dir: Path) -> Path | None:
@@ -438,7 +441,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
             model.set_env(venv)
             print(f"initialised from {args.init_from}", flush=True)
         else:
-            venv = VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=args.gamma)
+            venv = observation_normalizer(venv, args.gamma)
             model.set_env(venv)
     model.policy.log_std.requires_grad_(False)  # fixed exploration noise (ADAPT: σ² = 0.03)
     remaining = args.total_steps - model.num_timesteps
@@ -447,6 +450,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         venv.close()
         return
     callback = CheckpointAndEvaluate(run_dir, eval_env, args)
+    handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}  # restored when training ends
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
         model.learn(remaining, callback=CallbackList([callback, *kl_following(args.target_kl)]),
@@ -459,6 +463,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         print(f"interrupted at {model.num_timesteps} steps; checkpoint saved, continue with --resume", flush=True)
     finally:
         venv.close()
+        for s, handler in handlers.items():
+            signal.signal(s, handler)
 
 
 if __name__ == "__main__":

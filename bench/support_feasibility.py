@@ -109,6 +109,9 @@ def main() -> None:
         return
     print(f"{'clip':<56}{'CoP out, median (cm)':>22}{'frames > 5 cm out':>20}")
     for r in rows:
+        if r["frames"] == 0:
+            print(f"{r['clip']:<56}{'no frame carried':>42}")
+            continue
         print(f"{r['clip']:<56}{100 * r['cop_outside_median_m']:>22.1f}{100 * r['frames_outside']:>19.0f}%")
 
 

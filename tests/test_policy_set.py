@@ -52,6 +52,9 @@ def test_policy_set_file_round_trip_and_errors(tmp_path):
     (bad / "policy_set.json").write_text(json.dumps({"format": "physmimic.policy_set/1", "default": "x"}))
     with pytest.raises(PolicyError, match="backward missing"):
         load_policy_set(bad)
+    (bad / "policy_set.json").write_text("[1, 2]")
+    with pytest.raises(PolicyError, match="holds a JSON list, expected an object"):
+        load_policy_set(bad)
     (bad / "policy_set.json").write_text("{not json")
     with pytest.raises(PolicyError, match="cannot read the policy set"):
         load_policy_set(bad)

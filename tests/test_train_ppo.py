@@ -154,6 +154,15 @@ def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_pat
     assert np.allclose(widened(obs), source(np.delete(obs, np.s_[13:16])), atol=1e-4)
 
 
+def test_a_warm_start_refuses_a_policy_observed_in_another_frame(tmp_path):
+    """A world-frame policy cannot seed a heading-frame run (the same observation size as world +
+    dp_com would otherwise load it silently)."""
+    with pytest.raises(SystemExit, match="observed in the 'world' frame; a warm start cannot change the frame to 'heading'"):
+        main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--obs-frame", "heading",
+              "--run-dir", str(tmp_path / "run"), "--no-progress", "--n-envs", "2", "--n-steps", "64",
+              "--batch-size", "64", "--total-steps", "64"])
+
+
 def test_a_kill_during_a_checkpoint_is_held_until_the_save_is_done():
     """deferred_signals: SIGTERM sent inside the block runs the handler from before only after the
     block (once, however often it came); a SIG_IGN handler from before stays ignored."""
