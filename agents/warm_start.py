@@ -68,19 +68,20 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     if config.obs_frame != source_config.obs_frame:  # same sizes possible (heading vs world + dp_com)
         raise PolicyError(f"{source.path}: observed in the {source_config.obs_frame!r} frame; a warm start cannot "
                           f"change the frame to {config.obs_frame!r}")
-    gained = config.observes_com_offset and not source_config.observes_com_offset
-    if not gained or sizes[0][0] != sizes[1][0] + 3 or venv.action_space.shape != source.model.action_space.shape:
-        source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
-        model.policy.load_state_dict(source.model.policy.state_dict())
-        normalizer = observation_normalizer(venv, gamma)
-        normalizer.obs_rms = source.normalizer.obs_rms.copy()
-        return normalizer
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
-    model.policy.load_state_dict(widen_inputs(source.model.policy.state_dict(), span.start, 3))
+    n_new = span.stop - span.start
+    gained = config.observes_com_offset and not source_config.observes_com_offset
+    state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
+    widen = (gained and sizes[0][0] == sizes[1][0] + n_new
+             and venv.action_space.shape == source.model.action_space.shape)
+    if widen:
+        state = widen_inputs(state, span.start, n_new)
+        rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_new, COM_OFFSET_STD_M**2))
+        print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
+    else:
+        source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
+    model.policy.load_state_dict(state)
     normalizer = observation_normalizer(venv, gamma)
-    rms = source.normalizer.obs_rms.copy()
-    rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(3, COM_OFFSET_STD_M**2))
     normalizer.obs_rms = rms
-    print(f"widened {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
     return normalizer
 
