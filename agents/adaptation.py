@@ -8,8 +8,10 @@ them in the policy's observation statistics, loads its PPO weights and learns in
 ``chunk_steps``; after each chunk the deterministic policy is evaluated on the clip
 (:func:`agents.evaluation.evaluate`, ``eval_episodes`` start frames spread over the clip). It stops
 when SR90 reaches ``target_sr90``, when ``budget_s`` of wall time (evaluations included) or
-``max_steps`` run out, and keeps the best chunk (SR90, then ELR; the policy as given when no
-chunk beats it).
+``max_steps`` run out, and keeps the best chunk (SR90, then ELR, then the mean reward ratio MRR;
+the policy as given when no chunk beats it). With ``target_sr90=None`` it does not stop at
+survival but trains on to the budget: once the clip is performed whole, the reward (how closely
+it is tracked, and for ``MimicGait-v0`` its contacts) decides which chunk is kept.
 
 The observation statistics stay frozen (``VecNormalize.training = False``, unless
 ``update_normalizer``): the policy's layers were trained on inputs normalised by them, so moving
@@ -27,14 +29,17 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import math
 import os
 import shutil
 import time
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
+from typing import Callable
 
 import gymnasium as gym
 import numpy as np
+import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.env_util import make_vec_env
@@ -66,7 +71,8 @@ class AdaptConfig:
 
     Attributes:
         budget_s: wall-time budget (s) of the whole adaptation, evaluations included (300).
-        target_sr90: stop once an evaluation reaches this SR90 (0.9).
+        target_sr90: stop once an evaluation reaches this SR90 (0.9); ``None``: never stop early,
+            train to ``budget_s`` / ``max_steps`` and keep the chunk with the best (SR90, ELR, MRR).
         chunk_steps: environment (control) steps between evaluations (20 000).
         max_steps: most environment steps in all (``None``: only the budget limits).
         n_envs: environments stepped together (4; a DummyVecEnv, one process).
@@ -77,6 +83,9 @@ class AdaptConfig:
             the module's documentation).
         target_kl: follow this approximate KL per PPO update with the learning rate, starting from the
             policy's own (:mod:`agents.lr_schedule`); ``None``: the policy's rate, fixed.
+        action_variance: the exploration noise σ² (rad²) while adapting, kept by the adapted policy
+            (its stochastic retries in :mod:`agents.clean` sample with it); ``None``: the policy's
+            own (ADAPT's 0.03). A cached adaptation is reused only for the same value.
         torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
             and where other processes use the cores, more threads wait on each other: 2 threads
             took 69 s for what 1 does in 3 s beside a training run on 2 cores).
@@ -84,7 +93,7 @@ class AdaptConfig:
     """
 
     budget_s: float = 300.0
-    target_sr90: float = 0.9
+    target_sr90: float | None = 0.9
     chunk_steps: int = 20_000
     max_steps: int | None = None
     n_envs: int = 4
@@ -93,6 +102,7 @@ class AdaptConfig:
     seed: int = 0
     update_normalizer: bool = False
     target_kl: float | None = None
+    action_variance: float | None = None
     torch_threads: int = 1
     cache_dir: Path = field(default_factory=default_cache_dir)
 
@@ -102,13 +112,17 @@ class AdaptConfig:
         for name in ("chunk_steps", "n_envs", "n_steps", "eval_episodes", "torch_threads"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
+        if self.action_variance is not None and not self.action_variance > 0:
+            raise ValueError(f"action_variance must be positive or None, got {self.action_variance}")
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
         steps = self.max_steps or float("inf")
-        return self.budget_s >= other.budget_s and steps >= (other.max_steps or float("inf"))
+        polished = self.target_sr90 is None or (other.target_sr90 is not None
+                                                and self.target_sr90 >= other.target_sr90)
+        return polished and self.budget_s >= other.budget_s and steps >= (other.max_steps or float("inf"))
 
 
 @dataclass(frozen=True)
@@ -126,7 +140,13 @@ class AdaptResult:
         wall_s: wall time of the adaptation (s; of the run that made it, when cached).
         stopped_by: ``"target"`` (SR90 reached ``target_sr90``), ``"already_good"`` (it had before
             any training), ``"budget"`` or ``"max_steps"``.
-        chunks: one record per evaluated chunk: ``steps``, ``wall_s``, ``SR90``, ``ELR_mean``.
+        chunks: one record per evaluated chunk: ``steps``, ``wall_s``, ``SR90``, ``ELR_mean``,
+            ``MRR_mean`` and what ``on_chunk`` returned for it (entries made before ``MRR_mean``
+            was recorded lack it).
+        before: the evaluation of the policy as given (``SR90``, ``ELR_mean``, ``MRR_mean``, ...)
+            and what ``on_chunk`` returned for it (empty for older cache entries).
+        kept_steps: the steps of the chunk kept (0: none beat the policy as given, which is kept
+            with its own exploration noise; ``None`` for older cache entries).
     """
 
     policy: MimicPolicy
@@ -141,12 +161,15 @@ class AdaptResult:
     wall_s: float
     stopped_by: str
     chunks: list[dict]
+    before: dict = field(default_factory=dict)
+    kept_steps: int | None = None
 
     def as_dict(self) -> dict:
         """JSON-ready record (without the policy object)."""
         return {"path": str(self.path), "key": self.key, "cached": self.cached, "SR90_before": self.sr90_before,
                 "SR90_after": self.sr90_after, "ELR_before": self.elr_before, "ELR_after": self.elr_after,
-                "steps": self.steps, "wall_s": self.wall_s, "stopped_by": self.stopped_by, "chunks": self.chunks}
+                "steps": self.steps, "wall_s": self.wall_s, "stopped_by": self.stopped_by, "chunks": self.chunks,
+                "before": self.before, "kept_steps": self.kept_steps}
 
 
 def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
@@ -157,6 +180,15 @@ def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
     h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
     h.update((Path(policy.path) / MODEL_FILE).read_bytes())
     return h.hexdigest()
+
+
+ChunkHook = Callable[[MimicPolicy], dict]
+"""Called with the policy being adapted after each chunk; returns figures to record with it."""
+
+
+def chunk_rank(summary: dict) -> tuple[float, float, float]:
+    """How a chunk's evaluation ranks: SR90, then ELR, then the mean reward ratio."""
+    return summary["SR90"], summary["ELR_mean"], summary["MRR_mean"]
 
 
 class _Budget(BaseCallback):
@@ -187,7 +219,8 @@ def _result(path: Path, record: dict, cached: bool) -> AdaptResult:
     return AdaptResult(policy=load_policy(path), path=path, key=record["key"], cached=cached,
                        sr90_before=record["SR90_before"], sr90_after=record["SR90_after"],
                        elr_before=record["ELR_before"], elr_after=record["ELR_after"], steps=record["steps"],
-                       wall_s=record["wall_s"], stopped_by=record["stopped_by"], chunks=record["chunks"])
+                       wall_s=record["wall_s"], stopped_by=record["stopped_by"], chunks=record["chunks"],
+                       before=record.get("before", {}), kept_steps=record.get("kept_steps"))
 
 
 def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
@@ -201,27 +234,31 @@ def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
         made_with = AdaptConfig(**{**record["config"], "cache_dir": config.cache_dir})
     except (ValueError, KeyError, TypeError):
         return None  # an older or damaged entry: adapt again
-    if record["SR90_after"] < config.target_sr90 and not made_with.covers(config):
+    reached = config.target_sr90 is not None and record["SR90_after"] >= config.target_sr90
+    if made_with.action_variance != config.action_variance or not (reached or made_with.covers(config)):
         return None
     return _result(path, record, cached=True)
 
 
 def adapt_policy(policy: MimicPolicy, reference: Motion, config: AdaptConfig = AdaptConfig(),
-                 progress: bool = True) -> AdaptResult:
+                 progress: bool = True, on_chunk: ChunkHook | None = None) -> AdaptResult:
     """``policy`` fine-tuned with PPO on ``reference`` (at least :data:`MIN_ADAPT_FRAMES` frames,
     the policy's model, 60 Hz), or the cached result of an earlier call (see the module's
-    documentation)."""
+    documentation). ``on_chunk(policy)`` is called with the policy as trained so far after each
+    chunk's evaluation (and once before training); what it returns (JSON-native values; keys of the
+    evaluation's own are overridden by it) is added to that chunk's record (``AdaptResult.chunks``;
+    the call before training to ``AdaptResult.before``); its time counts against the budget."""
     if reference.n_frames < MIN_ADAPT_FRAMES:
         raise ValueError(f"{reference.name}: {reference.n_frames} frames; adaptation needs at least "
                          f"{MIN_ADAPT_FRAMES}")
     key = adaptation_key(reference, policy)
     path = Path(config.cache_dir) / key
     with torch_threads(config.torch_threads):
-        return _load_cached(path, config) or _adapt(policy, reference, config, key, path, progress)
+        return _load_cached(path, config) or _adapt(policy, reference, config, key, path, progress, on_chunk)
 
 
 def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str, path: Path,
-           progress: bool) -> AdaptResult:
+           progress: bool, on_chunk: ChunkHook | None) -> AdaptResult:
     """:func:`adapt_policy` without the cache: train, keep the best chunk, write ``path``."""
     started = time.monotonic()
     eval_env = policy.make_env([reference], artefacts=None)  # the policy's own task, on this clip as given
@@ -233,18 +270,22 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     batch_size = min(policy.model.batch_size, config.n_steps * config.n_envs)
     model = PPO.load(Path(policy.path) / MODEL_FILE, env=venv, device="cpu", n_steps=config.n_steps,
                      batch_size=batch_size, seed=config.seed, tensorboard_log=None, verbose=0)
-    model.policy.log_std.requires_grad_(False)  # the exploration noise stays as trained (train_ppo.py)
+    model.policy.log_std.requires_grad_(False)  # the exploration noise stays fixed (train_ppo.py)
     adapted = MimicPolicy(Path(policy.path), model, venv, policy.sidecar)
 
     def snapshot() -> tuple[dict, object]:
         return copy.deepcopy(model.policy.state_dict()), copy.deepcopy(venv.obs_rms)
 
     t0 = time.monotonic()
-    before = best = _evaluate(eval_env, adapted, config.eval_episodes)
+    best = _evaluate(eval_env, adapted, config.eval_episodes)
+    before = {**(on_chunk(adapted) if on_chunk else {}), **best}
     eval_s = time.monotonic() - t0
-    best_state = snapshot()
+    best_state, kept_steps = snapshot(), 0  # the policy as given, its own noise included
+    if config.action_variance is not None:  # from here on, and in every chunk kept
+        with torch.no_grad():
+            model.policy.log_std.fill_(0.5 * math.log(config.action_variance))
     first_step, chunks = model.num_timesteps, []
-    stopped_by = "already_good" if before["SR90"] >= config.target_sr90 else ""
+    stopped_by = "already_good" if config.target_sr90 is not None and before["SR90"] >= config.target_sr90 else ""
     bar = tqdm(total=int(np.ceil(config.budget_s)), desc=f"adapting to {reference.name}", unit="s",
                disable=not progress)
     bar.set_postfix(SR90=f"{before['SR90']:.2f}", steps=0)
@@ -259,14 +300,15 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         model.learn(chunk, callback=callbacks, reset_num_timesteps=False, progress_bar=False)
         t0 = time.monotonic()
         summary = _evaluate(eval_env, adapted, config.eval_episodes)
-        eval_s = time.monotonic() - t0
         trained = model.num_timesteps - first_step
-        chunks.append({"steps": trained, "wall_s": time.monotonic() - started, "SR90": summary["SR90"],
-                       "ELR_mean": summary["ELR_mean"]})
+        hooked = on_chunk(adapted) if on_chunk else {}
+        chunks.append({**hooked, "steps": trained, "wall_s": time.monotonic() - started, "SR90": summary["SR90"],
+                       "ELR_mean": summary["ELR_mean"], "MRR_mean": summary["MRR_mean"]})
+        eval_s = time.monotonic() - t0
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
-        if (summary["SR90"], summary["ELR_mean"]) > (best["SR90"], best["ELR_mean"]):  # survive first, then longer
-            best, best_state = summary, snapshot()
-        if summary["SR90"] >= config.target_sr90:
+        if chunk_rank(summary) > chunk_rank(best):  # survive first, then longer, then closer
+            best, best_state, kept_steps = summary, snapshot(), trained
+        if config.target_sr90 is not None and summary["SR90"] >= config.target_sr90:
             stopped_by = "target"
         elif config.max_steps is not None and trained >= config.max_steps:
             stopped_by = "max_steps"
@@ -279,6 +321,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     record = {"key": key, "base_policy": str(policy.path), "clip": reference.name, "SR90_before": before["SR90"],
               "SR90_after": best["SR90"], "ELR_before": before["ELR_mean"], "ELR_after": best["ELR_mean"],
               "steps": model.num_timesteps - first_step, "wall_s": wall_s, "stopped_by": stopped_by, "chunks": chunks,
+              "before": before, "kept_steps": kept_steps,
               "config": {k: v for k, v in asdict(config).items() if k != "cache_dir"}}
     _save(path, model, venv, _sidecar(policy, reference, record, best))
     venv.close()

@@ -31,6 +31,7 @@ import sys
 from collections import deque
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import Callable
 
 if __package__ in (None, ""):  # `python agents/clean.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -328,6 +329,18 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     return p
 
 
+def or_none(parse: Callable[[str], float]) -> Callable[[str], float | None]:
+    """An argparse type: ``none`` (any case) gives ``None``, anything else goes to ``parse``."""
+    def parse_or_none(text: str) -> float | None:
+        return None if text.strip().lower() == "none" else parse(text)
+
+    return parse_or_none
+
+
+sr90_target = or_none(fraction)
+"""``--adapt-target``: a fraction (stop adapting at that SR90), or ``none`` (train to the budget)."""
+
+
 def add_performance_options(p: argparse.ArgumentParser) -> None:
     """The options of how a clip is re-performed (failures, per-clip adaptation), shared by every
     command that cleans a clip with a policy; read back by :func:`clean_config` and :func:`adapt_to_clip`."""
@@ -340,9 +353,12 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--no-adapt", action="store_true", help="clean with the policy as given (zero-shot)")
     g.add_argument("--adapt-budget-s", type=positive_float, default=AdaptConfig.budget_s,
                    help="wall-time budget of the adaptation (s)")
-    g.add_argument("--adapt-target", type=fraction, default=AdaptConfig.target_sr90,
-                   help="stop adapting once SR90 on the clip reaches this")
+    g.add_argument("--adapt-target", type=sr90_target, default=AdaptConfig.target_sr90,
+                   help="stop adapting once SR90 on the clip reaches this; 'none': use the whole budget, "
+                        "keeping the chunk that performs the clip whole most closely (highest reward)")
     g.add_argument("--adapt-steps", type=positive_int, default=None, help="most environment steps (None: no limit)")
+    g.add_argument("--adapt-variance", type=or_none(positive_float), default=AdaptConfig.action_variance,
+                   help="exploration noise sigma^2 (rad^2) while adapting; 'none': the policy's own")
     g.add_argument("--adapt-chunk", type=positive_int, default=AdaptConfig.chunk_steps,
                    help="environment steps between evaluations")
     g.add_argument("--adapt-cache", type=output_dir, default=None,
@@ -389,7 +405,8 @@ def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespa
         print(f"not adapting: {reference.n_frames} frames, adaptation needs {MIN_ADAPT_FRAMES}; cleaning zero-shot")
         return None
     config = AdaptConfig(budget_s=args.adapt_budget_s, target_sr90=args.adapt_target, max_steps=args.adapt_steps,
-                         chunk_steps=args.adapt_chunk, cache_dir=args.adapt_cache or default_cache_dir())
+                         chunk_steps=args.adapt_chunk, action_variance=args.adapt_variance,
+                         cache_dir=args.adapt_cache or default_cache_dir())
     result = adapt_policy(policy, reference, config)
     how = "reused from the cache" if result.cached else f"stopped by {result.stopped_by}"
     print(f"adapted {policy.path} to the clip: SR90 {result.sr90_before:.2f} -> {result.sr90_after:.2f}, "

@@ -2,15 +2,18 @@
 
 Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
 [no_fc=DIR no_toeref=DIR one_segment=DIR] [--clips SOURCE ...] [--seconds 10] [--episodes 5]
-[--adapt-budget-s S] [--json [OUT]]``
+[--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V]] [--json [OUT]]``
 
 For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
 ``agents/train_ppo.py --env-id MimicGait-v0 --gait-ablation no_fc|no_toeref`` or ``--foot one``)
 and each held-out walk (default: the library test split's forward walks, styles never trained on),
 the clip is re-performed end to end by ``agents/clean.py``'s algorithm (rewind-and-retry,
 re-anchoring only as a last resort), zero-shot or, with ``--adapt-budget-s S``, by the policy
-adapted to the clip first (:mod:`agents.adaptation`, at most ``S`` s per clip, a fresh cache, as
-``agents/reconstruct_gait.py`` does by default), and scored against its gait reference and contact targets
+adapted to the clip first (:mod:`agents.adaptation`, at most ``S`` s per clip, a fresh cache;
+stopping at SR90 0.9 unless ``--adapt-target none`` trains on to the budget, with the policy's own
+exploration noise unless ``--adapt-variance``; ``agents/reconstruct_gait.py``'s defaults are
+``--adapt-budget-s 600 --adapt-target none --adapt-variance 0.01``; the joint RMSE and contact F1
+before and after every chunk are kept in the JSON), and scored against its gait reference and contact targets
 (:mod:`agents.gait_metrics`): joint-angle RMSE (goal ≤ 3°; ContactVision 3.27°), contact F1
 against ĉ (goal ≥ 0.85), push-off peak toe angle and timing against the ToeRef target, forward
 displacement error (goal ≤ 5%), the gait parameters of the simulated contacts against those of
@@ -30,12 +33,13 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import AdaptConfig, adapt_policy
-from agents.clean import CleanConfig, clean_motion
+from agents.clean import CleanConfig, clean_motion, or_none, sr90_target
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy, load_policy
 from agents.reconstruct_gait import gait_targets, reconstruction_metrics
 from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from reference_motion.cli import positive_float
 from reference_motion.library import expand_clips, load_motion
 
 CLIPS = tuple(f"library:data/library#dataset-1_walk_{style}_{take:03d}" for style in ("giant", "old", "tired")
@@ -45,27 +49,39 @@ CLIPS = tuple(f"library:data/library#dataset-1_walk_{style}_{take:03d}" for styl
 PARAMETERS = ("stance", "swing", "single_support", "double_support")
 
 
-def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adapt_budget_s: float = 0.0) -> dict:
-    """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0) and
-    their means."""
+def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adapt_budget_s: float = 0.0,
+          adapt_target: float | None = AdaptConfig.target_sr90, adapt_variance: float | None = None) -> dict:
+    """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0, up
+    to SR90 ``adapt_target``) and their means."""
     generalist = load_policy(policy_dir)
     with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
-        rows = [score_clip(generalist, clip, seconds, episodes, adapt_budget_s, cache) for clip in clips]
-    return {"policy": policy_dir, "adapt_budget_s": adapt_budget_s, "clips": rows, "mean": means(rows)}
+        config = AdaptConfig(budget_s=adapt_budget_s or 1.0, target_sr90=adapt_target,
+                             action_variance=adapt_variance, cache_dir=Path(cache))
+        rows = [score_clip(generalist, clip, seconds, episodes, config if adapt_budget_s > 0 else None)
+                for clip in clips]
+    return {"policy": policy_dir, "adapt_budget_s": adapt_budget_s, "adapt_target": adapt_target,
+            "adapt_variance": adapt_variance, "clips": rows,
+            "mean": means(rows)}
 
 
-def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int, adapt_budget_s: float,
-               cache: str) -> dict:
-    """The metrics of one clip re-performed by ``generalist``, adapted to it first when ``adapt_budget_s`` > 0."""
+def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int, adapt: AdaptConfig | None) -> dict:
+    """The metrics of one clip re-performed by ``generalist``, adapted to it first with ``adapt``
+    (with the joint RMSE and contact F1 after every chunk)."""
     reference = load_motion(clip, FOOT_MODELS[generalist.foot], min_frames=int(seconds * 60) + 1)
     reference = reference.with_qpos(reference.qpos[:int(seconds * 60) + 1], loop=False)
     targets, toe_targets, gait_reference = gait_targets(generalist, reference)
     policy, adaptation = generalist, {}
-    if adapt_budget_s > 0:
-        adapted = adapt_policy(generalist, reference, AdaptConfig(budget_s=adapt_budget_s, cache_dir=Path(cache)),
-                               progress=False)
+    if adapt is not None:
+        def quality(current: MimicPolicy) -> dict:  # the clip re-performed by the policy as trained so far
+            m = reconstruction_metrics(clean_motion(current, reference, CleanConfig(), progress=False),
+                                       gait_reference, targets, toe_targets)
+            return {"joint_rmse_deg": m["joint_rmse_deg"], "contact_f1": m["contact_f1"]}
+
+        adapted = adapt_policy(generalist, reference, adapt, progress=False, on_chunk=quality)
         policy = adapted.policy
-        adaptation = {"adapt_s": adapted.wall_s, "adapt_steps": adapted.steps, "ELR_before": adapted.elr_before}
+        adaptation = {"adapt_s": adapted.wall_s, "adapt_steps": adapted.steps, "ELR_before": adapted.elr_before,
+                      "adapt_stopped_by": adapted.stopped_by, "adapt_before": adapted.before,
+                      "adapt_chunks": adapted.chunks}
     start = time.perf_counter()
     simulated = clean_motion(policy, reference, CleanConfig(), progress=False)
     wall = time.perf_counter() - start
@@ -108,6 +124,10 @@ def main() -> None:
     p.add_argument("--episodes", type=int, default=5, help="5-s segments per clip for ELR / SR90")
     p.add_argument("--adapt-budget-s", type=float, default=0.0,
                    help="adapt each policy to each clip for at most this long first (0: zero-shot)")
+    p.add_argument("--adapt-target", type=sr90_target, default=AdaptConfig.target_sr90,
+                   help="stop adapting once SR90 reaches this; 'none': train to the budget")
+    p.add_argument("--adapt-variance", type=or_none(positive_float), default=None,
+                   help="exploration noise σ² (rad²) while adapting ('none', the default: the policy's own)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
     clips = expand_clips(args.clips)
@@ -115,7 +135,8 @@ def main() -> None:
     for item in args.policies:
         name, _, directory = item.partition("=")
         print(f"{name} ({directory})", flush=True)
-        results[name] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s)
+        results[name] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s, args.adapt_target,
+                              args.adapt_variance)
     print(f"\n{'policy':<12}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
           f"{'reanch':>7}{'ELR':>6}{'SR90':>6}")
     for name, r in results.items():
@@ -129,7 +150,8 @@ def main() -> None:
         print(f"{k:<16}" + "".join(f"{r['mean'][f'{k}_simulated']:>12.3f}" for r in results.values())
               + f"{first[f'{k}_targets']:>12.3f}")
     emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes,
-               "adapt_budget_s": args.adapt_budget_s, "results": results}, args.json)
+               "adapt_budget_s": args.adapt_budget_s, "adapt_target": args.adapt_target,
+               "adapt_variance": args.adapt_variance, "results": results}, args.json)
 
 
 if __name__ == "__main__":

@@ -1,8 +1,10 @@
 """clean.py: retries and re-anchors after a failure, per-clip adaptation and its cache, the video
 marks, with the shipped walk policy (each test a few seconds)."""
 
+import argparse
 import json
 import time
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -10,10 +12,11 @@ import pytest
 from stable_baselines3 import PPO
 
 from agents import clean
-from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key
+from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key, chunk_rank
 from agents.clean import CleanConfig, StateRing, clean_motion, reanchor_marks
 from agents.policy import MimicPolicy, load_policy
 from agents.rollout import FAILURES, run_episode
+from reference_motion.cli import UsageError
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.render import MARK_RGB, render_frames
@@ -126,6 +129,62 @@ def test_adaptation_writes_the_cache_and_reuses_it(walk_policy, tmp_path):
     # another clip (here: the same one corrupted) is another entry; a bigger budget adapts again
     assert adaptation_key(turn.with_qpos(turn.qpos + 1e-6), walk_policy) != first.key
     assert not AdaptConfig(budget_s=20, max_steps=1024).covers(AdaptConfig(budget_s=60, max_steps=1024))
+
+
+def test_adaptation_without_a_target_trains_to_its_limit_and_reports_each_chunk(walk_policy, tmp_path):
+    """target_sr90=None: no early stop even where the policy already performs the clip whole
+    (walk, its training clip); on_chunk sees the policy before training and after each chunk;
+    action_variance replaces the policy's exploration noise."""
+    walk = load_motion("deepmimic:walk", min_frames=300)
+    seen = []
+
+    def hook(policy: MimicPolicy) -> dict:
+        seen.append(policy.model.num_timesteps)
+        return {"calls": len(seen)}
+
+    config = AdaptConfig(budget_s=60, max_steps=2048, chunk_steps=1024, n_envs=2, n_steps=512, eval_episodes=1,
+                         target_sr90=None, action_variance=0.01, cache_dir=tmp_path)
+    result = adapt_policy(walk_policy, walk, config, progress=False, on_chunk=hook)
+    assert result.sr90_before == 1.0  # a target of 0.9 would have stopped before any training
+    assert result.stopped_by == "max_steps" and result.steps == 2048
+    assert [c["calls"] for c in result.chunks] == [2, 3] and result.before["calls"] == 1
+    assert seen[1] - seen[0] == 1024 and seen[2] - seen[1] == 1024
+    assert all(0 < c["MRR_mean"] <= 1 for c in result.chunks)
+    assert result.kept_steps in (0, 1024, 2048)
+    log_std = PPO.load(result.path / "model.zip", device="cpu").policy.log_std.detach().numpy()
+    own = walk_policy.model.policy.log_std.detach().numpy()
+    # a chunk kept: trained with the noise asked for; none: the policy as given, its own noise
+    np.testing.assert_allclose(log_std, 0.5 * np.log(0.01) if result.kept_steps else own, rtol=1e-6)
+    assert not np.allclose(own, 0.5 * np.log(0.01))
+    again = adapt_policy(walk_policy, walk, config, progress=False)
+    assert again.cached and again.before == result.before
+    other_noise = adapt_policy(walk_policy, walk, replace(config, action_variance=0.02, max_steps=1024),
+                               progress=False)
+    assert not other_noise.cached  # the cache holds what was adapted with another noise: adapted anew
+    # a cached run that stopped at a target does not stand in for one trained to the budget
+    assert not AdaptConfig(budget_s=60, target_sr90=0.9).covers(AdaptConfig(budget_s=60, target_sr90=None))
+    assert AdaptConfig(budget_s=60, target_sr90=None).covers(AdaptConfig(budget_s=60, target_sr90=0.9))
+
+
+def test_chunks_rank_by_survival_then_length_then_reward():
+    def rank(sr90: float, elr: float, mrr: float) -> tuple:
+        return chunk_rank({"SR90": sr90, "ELR_mean": elr, "MRR_mean": mrr})
+
+    assert rank(1.0, 0.9, 0.1) > rank(0.8, 1.0, 0.9)
+    assert rank(1.0, 0.9, 0.1) < rank(1.0, 1.0, 0.05)
+    assert rank(1.0, 1.0, 0.5) > rank(1.0, 1.0, 0.4)
+
+
+def test_adapt_target_and_variance_options_read_a_number_or_none():
+    args = clean.build_parser().parse_args(["deepmimic:walk", "--policy", str(WALK_POLICY), "--out", "o.npz",
+                                            "--adapt-target", "None", "--adapt-variance", "none"])
+    assert args.adapt_target is None and args.adapt_variance is None
+    assert clean.sr90_target("0.8") == 0.8
+    with pytest.raises(argparse.ArgumentTypeError, match="from 0 to 1"):
+        clean.sr90_target("1.5")
+    with pytest.raises(UsageError, match="--adapt-variance: expected a positive number, got '0'"):
+        clean.build_parser().parse_args(["deepmimic:walk", "--policy", str(WALK_POLICY), "--out", "o.npz",
+                                         "--adapt-variance", "0"])
 
 
 def test_adaptation_can_follow_a_target_kl(walk_policy, tmp_path):

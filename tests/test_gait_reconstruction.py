@@ -75,3 +75,16 @@ def test_reconstruct_gait_end_to_end(tmp_path):
     assert set(report["gait_parameters"]["targets"]) >= {"stance", "swing", "single_support", "double_support"}
     with pytest.raises(SystemExit, match="gait reconstruction needs a MimicGait-v0 policy"):
         reconstruct(["deepmimic:walk", "--policy", "models/mimic_walk", "--no-adapt", "--out", str(out)])
+
+
+def test_gait_reconstruction_adapts_per_sequence_by_default_and_clean_does_not():
+    from agents.clean import build_parser as clean_parser
+    from agents.reconstruct_gait import GAIT_ADAPTATION, build_parser
+    gait = build_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_gait", "--out", "o.npz"])
+    assert (gait.adapt_target, gait.adapt_budget_s, gait.adapt_variance) == (None, 600.0, 0.01)
+    assert GAIT_ADAPTATION.target_sr90 is None
+    told = build_parser().parse_args(["deepmimic:walk", "--policy", "p", "--out", "o.npz", "--adapt-target", "0.9",
+                                      "--adapt-budget-s", "60"])
+    assert (told.adapt_target, told.adapt_budget_s) == (0.9, 60.0)
+    clean = clean_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_walk", "--out", "o.npz"])
+    assert (clean.adapt_target, clean.adapt_budget_s, clean.adapt_variance) == (0.9, 300.0, None)
