@@ -10,7 +10,8 @@ Contacts → toe targets → a policy adapted to the clip → the simulated moti
 the contact targets ĉ of the clip come from the policy's perception source (its sidecar's
 ``contacts``: VGRFNet on the reference's joints, or the ContactTransformer on its keypoints), the
 ToeRefEstimator turns them into toe targets, the ``MimicGait-v0`` policy is fine-tuned on the clip
-(:mod:`agents.adaptation`, cached; ``--no-adapt`` skips it) and re-performs it as
+(:mod:`agents.adaptation`, per sequence as :data:`GAIT_ADAPTATION` says unless the ``--adapt-*``
+options say otherwise, cached; ``--no-adapt`` skips it) and re-performs it as
 ``agents/clean.py`` does (rewind-and-retry, re-anchoring only as a last resort). Printed and
 written with ``--json``: the joint-angle RMSE against the gait reference, the F1 of the simulated
 contacts against ĉ, the push-offs (peak toe dorsiflexion and its timing against the ToeRef
