@@ -29,7 +29,6 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
-import math
 import os
 import shutil
 import time
@@ -39,7 +38,6 @@ from typing import Callable
 
 import gymnasium as gym
 import numpy as np
-import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.env_util import make_vec_env
@@ -49,7 +47,7 @@ from tqdm import tqdm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy
+from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, set_action_variance
 from agents.rollout import torch_threads
 from agents.sidecar import PolicySidecar
 from envs.config import MimicConfig
@@ -116,6 +114,10 @@ class AdaptConfig:
             raise ValueError(f"action_variance must be positive or None, got {self.action_variance}")
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
+
+    def reached(self, sr90: float) -> bool:
+        """Whether an SR90 of ``sr90`` ends the adaptation (never when ``target_sr90`` is ``None``)."""
+        return self.target_sr90 is not None and sr90 >= self.target_sr90
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
@@ -234,8 +236,8 @@ def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
         made_with = AdaptConfig(**{**record["config"], "cache_dir": config.cache_dir})
     except (ValueError, KeyError, TypeError):
         return None  # an older or damaged entry: adapt again
-    reached = config.target_sr90 is not None and record["SR90_after"] >= config.target_sr90
-    if made_with.action_variance != config.action_variance or not (reached or made_with.covers(config)):
+    enough = config.reached(record["SR90_after"]) or made_with.covers(config)
+    if made_with.action_variance != config.action_variance or not enough:
         return None
     return _result(path, record, cached=True)
 
@@ -282,10 +284,9 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     eval_s = time.monotonic() - t0
     best_state, kept_steps = snapshot(), 0  # the policy as given, its own noise included
     if config.action_variance is not None:  # from here on, and in every chunk kept
-        with torch.no_grad():
-            model.policy.log_std.fill_(0.5 * math.log(config.action_variance))
+        set_action_variance(model, config.action_variance)
     first_step, chunks = model.num_timesteps, []
-    stopped_by = "already_good" if config.target_sr90 is not None and before["SR90"] >= config.target_sr90 else ""
+    stopped_by = "already_good" if config.reached(before["SR90"]) else ""
     bar = tqdm(total=int(np.ceil(config.budget_s)), desc=f"adapting to {reference.name}", unit="s",
                disable=not progress)
     bar.set_postfix(SR90=f"{before['SR90']:.2f}", steps=0)
@@ -308,7 +309,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
         if chunk_rank(summary) > chunk_rank(best):  # survive first, then longer, then closer
             best, best_state, kept_steps = summary, snapshot(), trained
-        if config.target_sr90 is not None and summary["SR90"] >= config.target_sr90:
+        if config.reached(summary["SR90"]):
             stopped_by = "target"
         elif config.max_steps is not None and trained >= config.max_steps:
             stopped_by = "max_steps"

@@ -10,6 +10,7 @@ shipped policies live in ``models/NAME/``.
 from __future__ import annotations
 
 import json
+import math
 import pickle
 import zipfile
 from dataclasses import dataclass, field
@@ -18,6 +19,7 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
+import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import VecNormalize
 
@@ -77,6 +79,13 @@ class MimicPolicy:
             raise PolicyError(f"{self.path}: the policy expects observations {obs} and actions {act}, but the "
                               f"environment gives {env.observation_space.shape} and {env.action_space.shape}; it was "
                               f"trained on {self.env_id} with foot={self.foot!r}")
+
+
+def set_action_variance(model: PPO, variance: float) -> None:
+    """Set ``model``'s Gaussian exploration noise to σ² = ``variance`` (rad²) on every action
+    dimension (its ``log_std`` parameter, ½ log σ²)."""
+    with torch.no_grad():
+        model.policy.log_std.fill_(0.5 * math.log(variance))
 
 
 def load_policy(path: str | Path) -> MimicPolicy:

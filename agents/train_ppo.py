@@ -41,7 +41,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.policy import MimicPolicy, load_policy
+from agents.policy import MimicPolicy, load_policy, set_action_variance
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
@@ -436,8 +436,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
                                    "log_std_init": 0.5 * math.log(args.action_variance)})
         if args.init_from is not None:  # warm start: another run's weights and observation statistics
             venv = warm_start(model, venv, load_policy(args.init_from), env_config(args), args.gamma)
-            with torch.no_grad():  # this run's exploration noise (--action-variance), not the source's
-                model.policy.log_std.fill_(0.5 * math.log(args.action_variance))
+            set_action_variance(model, args.action_variance)  # this run's noise, not the source's
             model.set_env(venv)
             print(f"initialised from {args.init_from}", flush=True)
         else:

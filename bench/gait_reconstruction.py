@@ -11,8 +11,8 @@ the clip is re-performed end to end by ``agents/clean.py``'s algorithm (rewind-a
 re-anchoring only as a last resort), zero-shot or, with ``--adapt-budget-s S``, by the policy
 adapted to the clip first (:mod:`agents.adaptation`, at most ``S`` s per clip, a fresh cache;
 stopping at SR90 0.9 unless ``--adapt-target none`` trains on to the budget, with the policy's own
-exploration noise unless ``--adapt-variance``; ``agents/reconstruct_gait.py``'s defaults are
-``--adapt-budget-s 600 --adapt-target none --adapt-variance 0.01``; the joint RMSE and contact F1
+exploration noise unless ``--adapt-variance``; ``agents/reconstruct_gait.py`` adapts as
+``agents.reconstruct_gait.GAIT_ADAPTATION`` says; the joint RMSE and contact F1
 before and after every chunk are kept in the JSON), and scored against its gait reference and contact targets
 (:mod:`agents.gait_metrics`): joint-angle RMSE (goal ≤ 3°; ContactVision 3.27°), contact F1
 against ĉ (goal ≥ 0.85), push-off peak toe angle and timing against the ToeRef target, forward
@@ -55,10 +55,9 @@ def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adap
     to SR90 ``adapt_target``) and their means."""
     generalist = load_policy(policy_dir)
     with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
-        config = AdaptConfig(budget_s=adapt_budget_s or 1.0, target_sr90=adapt_target,
-                             action_variance=adapt_variance, cache_dir=Path(cache))
-        rows = [score_clip(generalist, clip, seconds, episodes, config if adapt_budget_s > 0 else None)
-                for clip in clips]
+        adapt = (AdaptConfig(budget_s=adapt_budget_s, target_sr90=adapt_target, action_variance=adapt_variance,
+                             cache_dir=Path(cache)) if adapt_budget_s > 0 else None)
+        rows = [score_clip(generalist, clip, seconds, episodes, adapt) for clip in clips]
     return {"policy": policy_dir, "adapt_budget_s": adapt_budget_s, "adapt_target": adapt_target,
             "adapt_variance": adapt_variance, "clips": rows,
             "mean": means(rows)}
