@@ -135,7 +135,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --run-dir")
     g.add_argument("--init-from", type=Path, default=None,
                    help="start a new run from the weights and observation statistics of a shipped policy "
-                        "(e.g. models/mimic_imu): same foot, observation and action set, same --net")
+                        "(e.g. models/mimic_imu): same foot, observation and action set; --net the same or wider "
+                        "(agents/warm_start.py: the run starts acting exactly as the source)")
     g.add_argument("--checkpoint-every", type=positive_int, default=100_000, help="steps between checkpoints")
     g.add_argument("--eval-every", type=positive_int, default=200_000, help="steps between evaluations")
     g.add_argument("--eval-episodes", type=positive_int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")

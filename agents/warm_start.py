@@ -1,11 +1,19 @@
 """Warm-starting a PPO run from a trained policy (``train_ppo.py --init-from``), also across an
-observation that gained inputs.
+observation that gained inputs or onto wider hidden layers.
 
 A policy trained on ADAPT's world-frame observation (:mod:`envs.observations`) can be carried to
 the same observation with ``dp_com`` (``MimicConfig.com_offset``): the first layer of actor and
 critic gets zero weights for the new inputs, so the widened network computes exactly what the
 source did until training gives those inputs weight, and the observation statistics get a
 neutral entry for them. Any other mismatch of spaces is an error.
+
+A policy can also seed a run with wider hidden layers (``--net 512,512`` from a ``256,256``
+policy), to give a network that underfits its data more capacity without starting over: the
+source's weights fill the top-left block of each layer, the new units get the new network's own
+random input weights, and every weight from a new unit into an old one or into an output is zero
+(:func:`widen_hidden`). The new units are then computed but not read, so the run starts acting
+and valuing exactly as the source; their outgoing weights have non-zero gradients (a new unit's
+tanh activation is not zero), so training brings them in.
 """
 
 from __future__ import annotations
@@ -50,6 +58,37 @@ def widen_inputs(state_dict: dict[str, torch.Tensor], insert_at: int, n_new: int
     return out
 
 
+def widen_hidden(source: dict[str, torch.Tensor], target: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:
+    """``source`` (a ``state_dict``) embedded in the wider network whose freshly initialised
+    ``state_dict`` is ``target``: same parameter names, each tensor at least as large in every
+    dimension. A weight ``(out, in)`` takes the source's ``[:o, :i]`` block; its rows past ``o`` (new
+    units) keep ``target``'s initial values, and its columns past ``i`` are zero in the first ``o``
+    rows (an old unit or an output does not read a new unit), so the result computes the source's
+    outputs for every input. Biases and other vectors take the source's first entries.
+
+    Raises :class:`PolicyError` naming a parameter the networks do not share, or one that would
+    shrink (a warm start widens layers; it cannot add, remove or narrow them)."""
+    if source.keys() != target.keys():
+        differ = sorted(source.keys() ^ target.keys())
+        raise PolicyError(f"warm start: the source policy and this run's network have different layers ({differ}); "
+                          f"--net may widen the source's hidden layers, not change how many there are")
+    out = {}
+    for name, weights in source.items():
+        fresh = target[name]
+        if weights.shape == fresh.shape:
+            out[name] = weights
+            continue
+        if weights.dim() != fresh.dim() or any(s > t for s, t in zip(weights.shape, fresh.shape)):
+            raise PolicyError(f"warm start: {name} is {tuple(weights.shape)} in the source and {tuple(fresh.shape)} "
+                              f"in this run's network; --net may only widen the source's hidden layers")
+        wide = fresh.detach().clone()
+        wide[tuple(slice(0, n) for n in weights.shape)] = weights
+        if weights.dim() == 2:
+            wide[: weights.shape[0], weights.shape[1]:] = 0.0
+        out[name] = wide
+    return out
+
+
 def widen_statistics(mean: np.ndarray, var: np.ndarray, insert_at: int, new_var: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Running observation mean and variance ``(D,)`` with entries for ``len(new_var)`` new inputs at
     ``insert_at`` (mean 0, variance ``new_var``)."""
@@ -62,7 +101,8 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     ``config``) and return ``venv`` wrapped in ``source``'s observation statistics.
 
     The spaces must match, or differ only by ``dp_com``: ``config`` observes it and the source's
-    environment did not (then the inputs are widened, see the module docstring)."""
+    environment did not (then the inputs are widened, see the module docstring). ``model``'s hidden
+    layers may be wider than the source's (:func:`widen_hidden`)."""
     sizes = venv.observation_space.shape, source.model.observation_space.shape
     source_config = source.record.env.mimic_config()
     if config.obs_frame != source_config.obs_frame:  # same sizes possible (heading vs world + dp_com)
@@ -80,7 +120,11 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
         print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
     else:
         source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
-    model.policy.load_state_dict(state)
+    fresh = model.policy.state_dict()
+    wide = widen_hidden(state, fresh)
+    if any(wide[name] is not state[name] for name in wide):
+        print(f"widening {source.path}'s hidden layers (new units are not read until trained)", flush=True)
+    model.policy.load_state_dict(wide)
     normalizer = observation_normalizer(venv, gamma)
     normalizer.obs_rms = rms
     return normalizer

@@ -10,7 +10,7 @@ from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy
 from agents.train_ppo import build_parser, deferred_signals, main, newest_checkpoint, recorded_progress, training_motions
-from agents.warm_start import FIRST_LAYERS, widen_inputs, widen_statistics
+from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
@@ -152,6 +152,50 @@ def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_pat
     moved[13:16] += [0.4, -0.3, 0.1]  # the character 0.5 m off the reference
     assert np.allclose(widened(obs), widened(moved), atol=1e-5)
     assert np.allclose(widened(obs), source(np.delete(obs, np.s_[13:16])), atol=1e-4)
+
+
+def mlp(sizes: list[int]) -> torch.nn.Sequential:
+    """A tanh MLP named as SB3 names one: layers 0, 2, 4, ... (tanh between)."""
+    layers = []
+    for a, b in zip(sizes[:-1], sizes[1:]):
+        layers += [torch.nn.Linear(a, b), torch.nn.Tanh()]
+    return torch.nn.Sequential(*layers[:-1])
+
+
+def test_widened_hidden_layers_compute_the_source_and_train_their_new_units():
+    """widen_hidden: a 3-4-4-2 MLP embedded in a 3-7-6-2 one gives the same outputs for any input,
+    and a loss on the outputs sends gradient into the new units' outgoing weights."""
+    torch.manual_seed(0)
+    small, wide = mlp([3, 4, 4, 2]), mlp([3, 7, 6, 2])
+    wide.load_state_dict(widen_hidden(small.state_dict(), wide.state_dict()))
+    x = torch.randn(50, 3) * 3
+    assert torch.allclose(wide(x), small(x), atol=1e-6)
+    assert wide[2].weight[4:].abs().min() > 0  # new units read every unit, old and new
+    assert not wide[2].weight[:4, 4:].any() and not wide[4].weight[:, 4:].any()  # nothing reads a new unit
+    wide(x).pow(2).sum().backward()
+    assert wide[4].weight.grad[:, 4:].abs().sum() > 0 and wide[2].weight.grad[:4, 4:].abs().sum() > 0
+    with pytest.raises(PolicyError, match=r"2.weight is \(4, 4\) in the source and \(3, 4\)"):
+        widen_hidden(small.state_dict(), mlp([3, 4, 3, 2]).state_dict())
+    with pytest.raises(PolicyError, match="different layers"):
+        widen_hidden(small.state_dict(), mlp([3, 4, 4, 4, 2]).state_dict())
+
+
+def test_a_warm_start_onto_wider_hidden_layers_acts_as_the_source(tmp_path):
+    """--init-from a 256,256 policy with --net 300,260: before any learning the run takes the
+    source's actions and values the states as the source does."""
+    source = load_policy(WALK_POLICY)
+    run = tmp_path / "run"
+    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--net", "300,260", "--run-dir", str(run),
+          "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps", "128",
+          "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128", "--eval-episodes", "1"])
+    wide = load_policy(run / "best")
+    assert wide.model.policy.state_dict()["mlp_extractor.value_net.2.weight"].shape == (260, 300)
+    env = wide.make_env(["deepmimic:walk"])
+    obs, _ = env.reset(seed=0)
+    assert np.allclose(wide(obs), source(obs), atol=1e-4)
+    values = [p.model.policy.predict_values(torch.as_tensor(p.normalizer.normalize_obs(obs))[None].float())
+              for p in (wide, source)]
+    assert torch.allclose(*values, rtol=1e-4)  # the running statistics moved a little in 128 steps
 
 
 def test_a_warm_start_refuses_a_policy_observed_in_another_frame(tmp_path):
