@@ -176,11 +176,13 @@ class AdaptResult:
 
 def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
-    resolved path and the bytes of its ``model.zip``)."""
+    resolved path, the bytes of its ``model.zip`` and the task it is adapted in: the same weights
+    under a gait ablation, :meth:`MimicPolicy.ablated`, adapt to another policy)."""
     h = hashlib.sha1()
     h.update(np.ascontiguousarray(reference.qpos, dtype=np.float64).tobytes())
     h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
     h.update((Path(policy.path) / MODEL_FILE).read_bytes())
+    h.update(json.dumps(asdict(policy.record.env), sort_keys=True, default=str).encode())
     return h.hexdigest()
 
 

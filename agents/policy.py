@@ -13,7 +13,7 @@ import json
 import math
 import pickle
 import zipfile
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +23,7 @@ import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import VecNormalize
 
-from agents.sidecar import PolicySidecar
+from agents.sidecar import GAIT_ENV_ID, PolicySidecar
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 
@@ -71,6 +71,23 @@ class MimicPolicy:
         env = self.record.env.make(clips, **kwargs)
         self.check_env(env)
         return env
+
+    def ablated(self, ablation: str) -> MimicPolicy:
+        """This policy, its task changed to one of ContactVision Fig. 12's ablations of
+        ``MimicGait-v0`` (:meth:`envs.config.GaitConfig.ablated`: ``"no_fc"`` or ``"no_toeref"``):
+        the same weights, but :meth:`make_env` builds the ablated task, so adapting the copy
+        (:mod:`agents.adaptation`) fine-tunes it under the ablated reward or toe targets. The
+        sidecar records the change (``ablation``); the files on disk are not touched."""
+        record = self.record
+        if record.env.env_id != GAIT_ENV_ID:
+            raise PolicyError(f"{self.path}: a {record.env.env_id} policy; gait ablations apply to {GAIT_ENV_ID}")
+        try:
+            gait = record.env.gait_config().ablated(ablation)
+        except ValueError as err:
+            raise PolicyError(f"{self.path}: {err}") from None
+        task = replace(record.env, gait=asdict(gait))
+        sidecar = replace(record, env=task, extra={**record.extra, "ablation": ablation}).to_dict()
+        return replace(self, sidecar=sidecar)
 
     def check_env(self, env: gym.Env) -> None:
         """Raise :class:`PolicyError` unless ``env``'s spaces are the ones the policy was trained on."""

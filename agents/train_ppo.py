@@ -46,7 +46,7 @@ from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, Tra
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
-from envs.config import CONTACT_MODES, FOOT_MODELS, GaitConfig, MimicConfig
+from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
@@ -182,18 +182,9 @@ def foot(args: argparse.Namespace) -> str:
 VEC_KINDS = ("sharded", "dummy", "subproc")
 """``--vec`` choices: how the training envs are stepped (``agents/vec_env.py``, stable-baselines3)."""
 
-GAIT_ABLATIONS = ("no_fc", "no_toeref")
-"""``--gait-ablation`` choices (contactvision Fig. 12): no contact reward, toe targets 0."""
-
-
 def gait_config(args: argparse.Namespace) -> GaitConfig:
     """``MimicGait-v0``'s reward constants for this run: ContactVision's, or an ablation's."""
-    ablation = args.gait_ablation
-    if ablation == "no_fc":
-        return GaitConfig(w_fc=0.0)
-    if ablation == "no_toeref":
-        return GaitConfig(toe_reference=False)
-    return GaitConfig()
+    return GaitConfig().ablated(args.gait_ablation)
 
 
 def env_config(args: argparse.Namespace) -> MimicConfig:

@@ -1,11 +1,16 @@
 """ContactVision's gait reconstruction on held-out walks, and its Fig. 12 ablations, side by side.
 
 Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
-[no_fc=DIR no_toeref=DIR one_segment=DIR] [--clips SOURCE ...] [--seconds 10] [--episodes 5]
-[--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V]] [--json [OUT]]``
+[no_fc=DIR no_toeref=DIR one_segment=DIR] [--ablations no_fc no_toeref] [--clips SOURCE ...]
+[--seconds 10] [--episodes 5] [--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V]]
+[--json [OUT]]``
 
 For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
-``agents/train_ppo.py --env-id MimicGait-v0 --gait-ablation no_fc|no_toeref`` or ``--foot one``)
+``agents/train_ppo.py --env-id MimicGait-v0 --gait-ablation no_fc|no_toeref`` or ``--foot one``,
+or, with ``--ablations``, each policy is also scored under each ablation of its task
+(:meth:`agents.policy.MimicPolicy.ablated`): the same weights adapted per sequence under the
+ablated reward or toe targets, as ContactVision trains each ablation per sequence, and judged
+against the same gait reference and contact targets as the policy itself)
 and each held-out walk (default: the library test split's forward walks, styles never trained on),
 the clip is re-performed end to end by ``agents/clean.py``'s algorithm (rewind-and-retry,
 re-anchoring only as a last resort), zero-shot or, with ``--adapt-budget-s S``, by the policy
@@ -37,7 +42,7 @@ from agents.clean import CleanConfig, clean_motion, or_none, sr90_target
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy, load_policy
 from agents.reconstruct_gait import gait_targets, reconstruction_metrics
-from envs.config import FOOT_MODELS
+from envs.config import FOOT_MODELS, GAIT_ABLATIONS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.cli import positive_float
 from reference_motion.library import expand_clips, load_motion
@@ -50,25 +55,29 @@ PARAMETERS = ("stance", "swing", "single_support", "double_support")
 
 
 def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adapt_budget_s: float = 0.0,
-          adapt_target: float | None = AdaptConfig.target_sr90, adapt_variance: float | None = None) -> dict:
+          adapt_target: float | None = AdaptConfig.target_sr90, adapt_variance: float | None = None,
+          ablation: str | None = None) -> dict:
     """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0, up
-    to SR90 ``adapt_target``) and their means."""
-    generalist = load_policy(policy_dir)
+    to SR90 ``adapt_target``; under a gait ``ablation`` of its task when one is named) and their means."""
+    judge = load_policy(policy_dir)
+    generalist = judge.ablated(ablation) if ablation else judge
     with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
         adapt = (AdaptConfig(budget_s=adapt_budget_s, target_sr90=adapt_target, action_variance=adapt_variance,
                              cache_dir=Path(cache)) if adapt_budget_s > 0 else None)
-        rows = [score_clip(generalist, clip, seconds, episodes, adapt) for clip in clips]
-    return {"policy": policy_dir, "adapt_budget_s": adapt_budget_s, "adapt_target": adapt_target,
+        rows = [score_clip(generalist, clip, seconds, episodes, adapt, judge) for clip in clips]
+    return {"policy": policy_dir, "ablation": ablation, "adapt_budget_s": adapt_budget_s, "adapt_target": adapt_target,
             "adapt_variance": adapt_variance, "clips": rows,
             "mean": means(rows)}
 
 
-def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int, adapt: AdaptConfig | None) -> dict:
+def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int, adapt: AdaptConfig | None,
+               judge: MimicPolicy | None = None) -> dict:
     """The metrics of one clip re-performed by ``generalist``, adapted to it first with ``adapt``
-    (with the joint RMSE and contact F1 after every chunk)."""
+    (with the joint RMSE and contact F1 after every chunk), against the gait reference and contact
+    targets of ``judge``'s task (default: ``generalist``'s own)."""
     reference = load_motion(clip, FOOT_MODELS[generalist.foot], min_frames=int(seconds * 60) + 1)
     reference = reference.with_qpos(reference.qpos[:int(seconds * 60) + 1], loop=False)
-    targets, toe_targets, gait_reference = gait_targets(generalist, reference)
+    targets, toe_targets, gait_reference = gait_targets(judge or generalist, reference)
     policy, adaptation = generalist, {}
     if adapt is not None:
         def quality(current: MimicPolicy) -> dict:  # the clip re-performed by the policy as trained so far
@@ -118,6 +127,9 @@ def means(rows: list[dict]) -> dict:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--policies", nargs="+", required=True, metavar="NAME=DIR", help="policies to compare")
+    p.add_argument("--ablations", nargs="*", choices=GAIT_ABLATIONS, default=[],
+                   help="also score each policy under these ablations of its task (rows NAME-ABLATION; with "
+                        "--adapt-budget-s the same weights are adapted under the ablation)")
     p.add_argument("--clips", nargs="+", default=list(CLIPS), help="held-out walks (SOURCE strings or clip sets)")
     p.add_argument("--seconds", type=float, default=10.0, help="each clip looped or cut to this long")
     p.add_argument("--episodes", type=int, default=5, help="5-s segments per clip for ELR / SR90")
@@ -134,19 +146,23 @@ def main() -> None:
     for item in args.policies:
         name, _, directory = item.partition("=")
         print(f"{name} ({directory})", flush=True)
-        results[name] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s, args.adapt_target,
-                              args.adapt_variance)
-    print(f"\n{'policy':<12}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
+        for ablation in [None, *args.ablations]:
+            row = name if ablation is None else f"{name}-{ablation}"
+            if ablation is not None:
+                print(f"{row} ({directory} under {ablation})", flush=True)
+            results[row] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s,
+                                 args.adapt_target, args.adapt_variance, ablation)
+    print(f"\n{'policy':<22}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
           f"{'reanch':>7}{'ELR':>6}{'SR90':>6}")
     for name, r in results.items():
         m = r["mean"]
-        print(f"{name:<12}{m['joint_rmse_deg']:>9.2f}{m['contact_f1']:>7.3f}{m['forward_displacement_error']:>9.1%}"
+        print(f"{name:<22}{m['joint_rmse_deg']:>9.2f}{m['contact_f1']:>7.3f}{m['forward_displacement_error']:>9.1%}"
               f"{m['push_off_peak_deg']:>9.1f}{m['push_off_target_peak_deg']:>8.1f}{m['push_off_timing_ms']:>10.0f}"
               f"{m['reanchors']:>7.1f}{m['ELR']:>6.2f}{m['SR90']:>6.2f}")
-    print(f"\n{'gait parameter':<16}" + "".join(f"{n:>12}" for n in results) + f"{'targets ĉ':>12}")
+    print(f"\n{'gait parameter':<16}" + "".join(f"{n:>20}" for n in results) + f"{'targets ĉ':>12}")
     first = next(iter(results.values()))["mean"]
     for k in PARAMETERS:
-        print(f"{k:<16}" + "".join(f"{r['mean'][f'{k}_simulated']:>12.3f}" for r in results.values())
+        print(f"{k:<16}" + "".join(f"{r['mean'][f'{k}_simulated']:>20.3f}" for r in results.values())
               + f"{first[f'{k}_targets']:>12.3f}")
     emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes,
                "adapt_budget_s": args.adapt_budget_s, "adapt_target": args.adapt_target,

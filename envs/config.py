@@ -10,7 +10,7 @@ reconstruction reward, contactvision App. C).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 from envs.observations import OBS_FRAMES
@@ -234,6 +234,18 @@ class GaitConfig:
         if not self.end_effectors:
             raise ValueError("GaitConfig.end_effectors is empty")
 
+    def ablated(self, ablation: str | None) -> GaitConfig:
+        """These constants under one of ContactVision Fig. 12's ablations (:data:`GAIT_ABLATIONS`):
+        ``"no_fc"`` drops the contact reward (w_fc 0), ``"no_toeref"`` holds the toe targets at 0;
+        ``None``: unchanged. The third ablation, the one-segment foot, is a body, not a constant."""
+        if ablation is None:
+            return self
+        if ablation == "no_fc":
+            return replace(self, w_fc=0.0)
+        if ablation == "no_toeref":
+            return replace(self, toe_reference=False)
+        raise ValueError(f"unknown gait ablation {ablation!r}; expected one of {GAIT_ABLATIONS}")
+
     @property
     def weights(self) -> dict[str, float]:
         """``{term: w}`` for the terms of :data:`envs.rewards.GAIT_TERMS`."""
@@ -245,3 +257,8 @@ class GaitConfig:
         """``{term: α}`` for the terms of :data:`envs.rewards.GAIT_TERMS`."""
         return {"r_q": self.alpha_q, "r_v": self.alpha_v, "r_e": self.alpha_e, "r_fc": self.alpha_fc,
                 "r_up": self.alpha_up, "r_root_ori": self.alpha_root_ori, "r_torque": self.alpha_torque}
+
+
+GAIT_ABLATIONS = ("no_fc", "no_toeref")
+"""ContactVision Fig. 12's ablations of ``MimicGait-v0``'s constants (:meth:`GaitConfig.ablated`):
+no contact reward, toe targets 0."""

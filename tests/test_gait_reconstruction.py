@@ -88,3 +88,29 @@ def test_gait_reconstruction_adapts_per_sequence_by_default_and_clean_does_not()
     assert (told.adapt_target, told.adapt_budget_s) == (0.9, 60.0)
     clean = clean_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_walk", "--out", "o.npz"])
     assert (clean.adapt_target, clean.adapt_budget_s, clean.adapt_variance) == (0.9, 300.0, None)
+
+
+def test_a_gait_policy_under_an_ablation_adapts_in_the_ablated_task(tmp_path):
+    """MimicPolicy.ablated: the same weights in ContactVision Fig. 12's ablated tasks (no contact
+    reward; toe targets 0); adapting the copy fine-tunes it there and caches it apart from the policy."""
+    from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key
+    from agents.policy import PolicyError, load_policy
+
+    full = load_policy("models/mimic_gait_ff")
+    reference = load_motion("deepmimic:walk", "humanoid_2seg")
+    tasks = {name: policy.make_env([reference], artefacts=None).unwrapped
+             for name, policy in (("full", full), ("no_fc", full.ablated("no_fc")),
+                                  ("no_toeref", full.ablated("no_toeref")))}
+    assert [t.gait_config.w_fc for t in tasks.values()] == [0.3, 0.0, 0.3]
+    assert np.degrees(tasks["full"].toe_targets[0].max()) > 20 and not tasks["no_toeref"].toe_targets[0].any()
+    keys = {adaptation_key(reference, p) for p in (full, full.ablated("no_fc"), full.ablated("no_toeref"))}
+    assert len(keys) == 3  # an ablated adaptation never comes back from the cache as the full one
+    adapted = adapt_policy(full.ablated("no_fc"), reference,
+                           AdaptConfig(budget_s=120, target_sr90=None, max_steps=1024, chunk_steps=1024, n_envs=2,
+                                       n_steps=256, eval_episodes=1, cache_dir=tmp_path), progress=False)
+    assert adapted.steps == 1024 and adapted.policy.record.env.gait_config().w_fc == 0.0
+    assert adapted.policy.record.extra["ablation"] == "no_fc"
+    with pytest.raises(PolicyError, match="gait ablations apply to MimicGait-v0"):
+        load_policy("models/mimic_walk").ablated("no_fc")
+    with pytest.raises(PolicyError, match=r"unknown gait ablation 'no_feet'; expected one of \('no_fc', 'no_toeref'\)"):
+        full.ablated("no_feet")
