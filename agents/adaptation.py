@@ -21,7 +21,7 @@ of steps they already count a few thousand more would move them by well under 1%
 The adapted policy is a policy directory like any other (``model.zip``,
 ``model_vecnormalize.pkl``, ``sidecar.json`` with an ``adaptation`` record), cached under
 ``cache_dir/<key>/`` where ``key`` (:func:`adaptation_key`) hashes the clip's content, rate and
-model with the policy's path and weights, so cleaning the same clip again skips the training.
+model with the policy's path, weights and gait ablation, so cleaning the same clip again skips the training.
 """
 
 from __future__ import annotations
@@ -176,13 +176,15 @@ class AdaptResult:
 
 def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
-    resolved path, the bytes of its ``model.zip`` and the task it is adapted in: the same weights
-    under a gait ablation, :meth:`MimicPolicy.ablated`, adapt to another policy)."""
+    resolved path, the bytes of its ``model.zip`` and, for the same weights in a gait-ablated task
+    (:meth:`MimicPolicy.ablated`), the ablation: it adapts to another policy)."""
     h = hashlib.sha1()
     h.update(np.ascontiguousarray(reference.qpos, dtype=np.float64).tobytes())
     h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
     h.update((Path(policy.path) / MODEL_FILE).read_bytes())
-    h.update(json.dumps(asdict(policy.record.env), sort_keys=True, default=str).encode())
+    ablation = policy.record.extra.get("ablation")
+    if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
+        h.update(f"|ablation={ablation}".encode())
     return h.hexdigest()
 
 

@@ -24,6 +24,7 @@ from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar
+from envs.config import GAIT_ABLATIONS
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 
@@ -77,15 +78,20 @@ class MimicPolicy:
         ``MimicGait-v0`` (:meth:`envs.config.GaitConfig.ablated`: ``"no_fc"`` or ``"no_toeref"``):
         the same weights, but :meth:`make_env` builds the ablated task, so adapting the copy
         (:mod:`agents.adaptation`) fine-tunes it under the ablated reward or toe targets. The
-        sidecar records the change (``ablation``); the files on disk are not touched."""
+        sidecar records the change (``ablation``); the files on disk are not touched, and the copy
+        shares this policy's model and statistics objects (:func:`agents.adaptation.adapt_policy`
+        trains a copy loaded from disk). A policy already in an ablated task (ablated here, or
+        trained with ``--gait-ablation``) is refused: ablations are compared one at a time."""
         record = self.record
         if record.env.env_id != GAIT_ENV_ID:
             raise PolicyError(f"{self.path}: a {record.env.env_id} policy; gait ablations apply to {GAIT_ENV_ID}")
-        try:
-            gait = record.env.gait_config().ablated(ablation)
-        except ValueError as err:
-            raise PolicyError(f"{self.path}: {err}") from None
-        task = replace(record.env, gait=asdict(gait))
+        if ablation not in GAIT_ABLATIONS:
+            raise PolicyError(f"{self.path}: unknown gait ablation {ablation!r}; expected one of {GAIT_ABLATIONS}")
+        gait = record.env.gait_config()
+        if "ablation" in record.extra or gait.w_fc == 0 or not gait.toe_reference:
+            raise PolicyError(f"{self.path}: already in an ablated task (w_fc {gait.w_fc}, toe_reference "
+                              f"{gait.toe_reference}); ablate the full policy instead")
+        task = replace(record.env, gait=asdict(gait.ablated(ablation)))
         sidecar = replace(record, env=task, extra={**record.extra, "ablation": ablation}).to_dict()
         return replace(self, sidecar=sidecar)
 

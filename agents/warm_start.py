@@ -59,15 +59,17 @@ def widen_inputs(state_dict: dict[str, torch.Tensor], insert_at: int, n_new: int
 
 
 def widen_hidden(source: dict[str, torch.Tensor], target: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:
-    """``source`` (a ``state_dict``) embedded in the wider network whose freshly initialised
-    ``state_dict`` is ``target``: same parameter names, each tensor at least as large in every
-    dimension. A weight ``(out, in)`` takes the source's ``[:o, :i]`` block; its rows past ``o`` (new
-    units) keep ``target``'s initial values, and its columns past ``i`` are zero in the first ``o``
-    rows (an old unit or an output does not read a new unit), so the result computes the source's
-    outputs for every input. Biases and other vectors take the source's first entries.
+    """``source`` (an SB3 ``MlpPolicy`` ``state_dict``) embedded in the network with wider hidden
+    layers whose freshly initialised ``state_dict`` is ``target``. A weight ``(out, in)`` takes the
+    source's ``[:o, :i]`` block; its rows past ``o`` (new units) keep ``target``'s initial values,
+    and its columns past ``i`` are zero in the first ``o`` rows (an old unit or an output does not
+    read a new unit), so the result computes the source's actions and values for every input.
+    Biases take the source's first entries.
 
-    Raises :class:`PolicyError` naming a parameter the networks do not share, or one that would
-    shrink (a warm start widens layers; it cannot add, remove or narrow them)."""
+    Only hidden units may be new: rows (and biases) of the ``mlp_extractor`` layers, and the
+    columns that read them in the next layer or in ``action_net`` / ``value_net``. Raises
+    :class:`PolicyError` naming a parameter the networks do not share, one that would shrink, or
+    one whose observation inputs, actions or log-std would grow (those would not act as the source)."""
     if source.keys() != target.keys():
         differ = sorted(source.keys() ^ target.keys())
         raise PolicyError(f"warm start: the source policy and this run's network have different layers ({differ}); "
@@ -78,7 +80,11 @@ def widen_hidden(source: dict[str, torch.Tensor], target: dict[str, torch.Tensor
         if weights.shape == fresh.shape:
             out[name] = weights
             continue
-        if weights.dim() != fresh.dim() or any(s > t for s, t in zip(weights.shape, fresh.shape)):
+        hidden_rows = name.startswith("mlp_extractor.")  # a hidden layer's units may be new
+        hidden_cols = weights.dim() == 2 and name not in FIRST_LAYERS  # it reads hidden units, not the observation
+        growable = (hidden_rows, hidden_cols)
+        if weights.dim() != fresh.dim() or any(s > t or (s < t and not ok) for s, t, ok
+                                               in zip(weights.shape, fresh.shape, growable)):
             raise PolicyError(f"warm start: {name} is {tuple(weights.shape)} in the source and {tuple(fresh.shape)} "
                               f"in this run's network; --net may only widen the source's hidden layers")
         wide = fresh.detach().clone()

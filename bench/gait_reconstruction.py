@@ -141,6 +141,9 @@ def main() -> None:
                    help="exploration noise σ² (rad²) while adapting ('none', the default: the policy's own)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
+    if args.ablations and not args.adapt_budget_s > 0:
+        p.error("--ablations needs --adapt-budget-s: an ablation changes what a policy is trained on (no_fc: the "
+                "reward alone), so the same weights zero-shot score as the policy itself")
     clips = expand_clips(args.clips)
     results = {}
     for item in args.policies:
@@ -164,7 +167,7 @@ def main() -> None:
     for k in PARAMETERS:
         print(f"{k:<16}" + "".join(f"{r['mean'][f'{k}_simulated']:>20.3f}" for r in results.values())
               + f"{first[f'{k}_targets']:>12.3f}")
-    emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes,
+    emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes, "ablations": args.ablations,
                "adapt_budget_s": args.adapt_budget_s, "adapt_target": args.adapt_target,
                "adapt_variance": args.adapt_variance, "results": results}, args.json)
 

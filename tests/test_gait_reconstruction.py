@@ -114,3 +114,5 @@ def test_a_gait_policy_under_an_ablation_adapts_in_the_ablated_task(tmp_path):
         load_policy("models/mimic_walk").ablated("no_fc")
     with pytest.raises(PolicyError, match=r"unknown gait ablation 'no_feet'; expected one of \('no_fc', 'no_toeref'\)"):
         full.ablated("no_feet")
+    with pytest.raises(PolicyError, match="already in an ablated task"):
+        adapted.policy.ablated("no_toeref")  # ablations are compared one at a time, not stacked

@@ -154,30 +154,59 @@ def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_pat
     assert np.allclose(widened(obs), source(np.delete(obs, np.s_[13:16])), atol=1e-4)
 
 
-def mlp(sizes: list[int]) -> torch.nn.Sequential:
-    """A tanh MLP named as SB3 names one: layers 0, 2, 4, ... (tanh between)."""
-    layers = []
-    for a, b in zip(sizes[:-1], sizes[1:]):
-        layers += [torch.nn.Linear(a, b), torch.nn.Tanh()]
-    return torch.nn.Sequential(*layers[:-1])
+class Actor(torch.nn.Module):
+    """SB3's actor, named as SB3 names it: a tanh MLP ``mlp_extractor.policy_net`` (layers 0, 2, ...)
+    and the linear ``action_net``; ``sizes`` = (inputs, hidden ..., actions)."""
+
+    def __init__(self, sizes: list[int]):
+        super().__init__()
+        layers = []
+        for a, b in zip(sizes[:-2], sizes[1:-1]):
+            layers += [torch.nn.Linear(a, b), torch.nn.Tanh()]
+        self.mlp_extractor = torch.nn.Module()
+        self.mlp_extractor.policy_net = torch.nn.Sequential(*layers)
+        self.action_net = torch.nn.Linear(sizes[-2], sizes[-1])
+
+    def forward(self, x: torch.Tensor) -> torch.Tensor:
+        return self.action_net(self.mlp_extractor.policy_net(x))
 
 
 def test_widened_hidden_layers_compute_the_source_and_train_their_new_units():
-    """widen_hidden: a 3-4-4-2 MLP embedded in a 3-7-6-2 one gives the same outputs for any input,
+    """widen_hidden: a 3-4-4-2 actor embedded in a 3-7-6-2 one gives the same outputs for any input,
     and a loss on the outputs sends gradient into the new units' outgoing weights."""
     torch.manual_seed(0)
-    small, wide = mlp([3, 4, 4, 2]), mlp([3, 7, 6, 2])
+    small, wide = Actor([3, 4, 4, 2]), Actor([3, 7, 6, 2])
     wide.load_state_dict(widen_hidden(small.state_dict(), wide.state_dict()))
     x = torch.randn(50, 3) * 3
     assert torch.allclose(wide(x), small(x), atol=1e-6)
-    assert wide[2].weight[4:].abs().min() > 0  # new units read every unit, old and new
-    assert not wide[2].weight[:4, 4:].any() and not wide[4].weight[:, 4:].any()  # nothing reads a new unit
+    second, out = wide.mlp_extractor.policy_net[2], wide.action_net
+    assert second.weight[4:].abs().min() > 0  # new units read every unit, old and new
+    assert not second.weight[:4, 4:].any() and not out.weight[:, 4:].any()  # nothing reads a new unit
     wide(x).pow(2).sum().backward()
-    assert wide[4].weight.grad[:, 4:].abs().sum() > 0 and wide[2].weight.grad[:4, 4:].abs().sum() > 0
-    with pytest.raises(PolicyError, match=r"2.weight is \(4, 4\) in the source and \(3, 4\)"):
-        widen_hidden(small.state_dict(), mlp([3, 4, 3, 2]).state_dict())
+    assert out.weight.grad[:, 4:].abs().sum() > 0 and second.weight.grad[:4, 4:].abs().sum() > 0
+    with pytest.raises(PolicyError, match=r"policy_net.2.weight is \(4, 4\) in the source and \(3, 4\)"):
+        widen_hidden(small.state_dict(), Actor([3, 4, 3, 2]).state_dict())
     with pytest.raises(PolicyError, match="different layers"):
-        widen_hidden(small.state_dict(), mlp([3, 4, 4, 4, 2]).state_dict())
+        widen_hidden(small.state_dict(), Actor([3, 4, 4, 4, 2]).state_dict())
+
+
+def test_a_wider_network_may_not_grow_its_inputs_or_outputs():
+    """widen_hidden on SB3's layer names: hidden units may be new, observation inputs and actions not."""
+    def policy(n_obs: int, hidden: int, n_act: int) -> dict[str, torch.Tensor]:
+        state = {}
+        for net in ("policy_net", "value_net"):
+            state[f"mlp_extractor.{net}.0.weight"] = torch.randn(hidden, n_obs)
+            state[f"mlp_extractor.{net}.0.bias"] = torch.randn(hidden)
+        state["action_net.weight"], state["action_net.bias"] = torch.randn(n_act, hidden), torch.randn(n_act)
+        state["value_net.weight"], state["value_net.bias"] = torch.randn(1, hidden), torch.randn(1)
+        state["log_std"] = torch.zeros(n_act)
+        return state
+
+    wide = widen_hidden(policy(5, 4, 2), policy(5, 9, 2))
+    assert wide["action_net.weight"].shape == (2, 9) and not wide["action_net.weight"][:, 4:].any()
+    for target, grown in ((policy(6, 9, 2), "mlp_extractor.policy_net.0.weight"), (policy(5, 9, 3), "action_net.weight")):
+        with pytest.raises(PolicyError, match=f"{grown} is .* --net may only widen the source's hidden layers"):
+            widen_hidden(policy(5, 4, 2), target)
 
 
 def test_a_warm_start_onto_wider_hidden_layers_acts_as_the_source(tmp_path):
@@ -189,7 +218,9 @@ def test_a_warm_start_onto_wider_hidden_layers_acts_as_the_source(tmp_path):
           "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps", "128",
           "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128", "--eval-episodes", "1"])
     wide = load_policy(run / "best")
-    assert wide.model.policy.state_dict()["mlp_extractor.value_net.2.weight"].shape == (260, 300)
+    state = wide.model.policy.state_dict()
+    assert state["mlp_extractor.value_net.2.weight"].shape == (260, 300)
+    assert state["action_net.weight"][:, 256:].abs().max() < 1e-6  # the new units are still not read
     env = wide.make_env(["deepmimic:walk"])
     obs, _ = env.reset(seed=0)
     assert np.allclose(wide(obs), source(obs), atol=1e-4)
