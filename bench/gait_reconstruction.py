@@ -1,13 +1,13 @@
 """ContactVision's gait reconstruction on held-out walks, and its Fig. 12 ablations, side by side.
 
 Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
-[no_fc=DIR no_toeref=DIR one_segment=DIR] [--ablations no_fc no_toeref] [--clips SOURCE ...]
+[no_fc=DIR no_toeref=DIR one_segment=DIR] [--ablations none no_fc no_toeref] [--clips SOURCE ...]
 [--seconds 10] [--episodes 5] [--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V]]
 [--json [OUT]]``
 
 For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
 ``agents/train_ppo.py --env-id MimicGait-v0 --gait-ablation no_fc|no_toeref`` or ``--foot one``,
-or, with ``--ablations``, each policy is also scored under each ablation of its task
+or, with ``--ablations``, each policy is scored under each listed ablation of its task (``none``: as it is)
 (:meth:`agents.policy.MimicPolicy.ablated`): the same weights adapted per sequence under the
 ablated reward or toe targets, as ContactVision trains each ablation per sequence, and judged
 against the same gait reference and contact targets as the policy itself)
@@ -127,9 +127,9 @@ def means(rows: list[dict]) -> dict:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--policies", nargs="+", required=True, metavar="NAME=DIR", help="policies to compare")
-    p.add_argument("--ablations", nargs="*", choices=GAIT_ABLATIONS, default=[],
-                   help="also score each policy under these ablations of its task (rows NAME-ABLATION; with "
-                        "--adapt-budget-s the same weights are adapted under the ablation)")
+    p.add_argument("--ablations", nargs="+", choices=("none", *GAIT_ABLATIONS), default=["none"],
+                   help="score each policy under these ablations of its task (none: as it is; rows NAME and "
+                        "NAME-ABLATION; the same weights are adapted under the ablation, so it needs --adapt-budget-s)")
     p.add_argument("--clips", nargs="+", default=list(CLIPS), help="held-out walks (SOURCE strings or clip sets)")
     p.add_argument("--seconds", type=float, default=10.0, help="each clip looped or cut to this long")
     p.add_argument("--episodes", type=int, default=5, help="5-s segments per clip for ELR / SR90")
@@ -141,18 +141,16 @@ def main() -> None:
                    help="exploration noise σ² (rad²) while adapting ('none', the default: the policy's own)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
-    if args.ablations and not args.adapt_budget_s > 0:
+    if set(args.ablations) - {"none"} and not args.adapt_budget_s > 0:
         p.error("--ablations needs --adapt-budget-s: an ablation changes what a policy is trained on (no_fc: the "
                 "reward alone), so the same weights zero-shot score as the policy itself")
     clips = expand_clips(args.clips)
     results = {}
     for item in args.policies:
         name, _, directory = item.partition("=")
-        print(f"{name} ({directory})", flush=True)
-        for ablation in [None, *args.ablations]:
+        for ablation in [None if a == "none" else a for a in args.ablations]:
             row = name if ablation is None else f"{name}-{ablation}"
-            if ablation is not None:
-                print(f"{row} ({directory} under {ablation})", flush=True)
+            print(f"{row} ({directory}{'' if ablation is None else f' under {ablation}'})", flush=True)
             results[row] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s,
                                  args.adapt_target, args.adapt_variance, ablation)
     print(f"\n{'policy':<22}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
