@@ -215,10 +215,16 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     mocap = mocap_options(args)
     if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions():
         return clips
+    return load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap)
+
+
+def load_training_motions(clips: list[str], model: str, mirror: bool, speeds: list[float] = (1.0,),
+                          mocap: MocapOptions = MocapOptions()) -> list[Motion]:
+    """``clips`` loaded for ``model`` (each at least two episodes long at the slowest warp, looped
+    if need be), then augmented: time-warped to each of ``speeds`` and, if ``mirror``, mirrored."""
     frames = 2 * (MimicConfig().episode_frames + 1)
-    motions = [load_motion(c, FOOT_MODELS[foot(args)], min_frames=int(frames * max(args.speeds)) + 2, mocap=mocap)
-               for c in clips]
-    return augmented(motions, mirrored=args.mirror, speeds=args.speeds)
+    motions = [load_motion(c, model, min_frames=int(frames * max(speeds)) + 2, mocap=mocap) for c in clips]
+    return augmented(motions, mirrored=mirror, speeds=speeds)
 
 
 WALL_FILE = "wall.json"
@@ -365,6 +371,14 @@ def deferred_signals(signals: tuple[int, ...] = (signal.SIGINT, signal.SIGTERM))
             signal.raise_signal(s)
 
 
+def policy_kwargs(net: str, action_variance: float) -> dict:
+    """SB3 ``MlpPolicy`` arguments of every mimic policy: actor and critic tanh MLPs of the hidden
+    sizes ``net`` ("256,256"), Gaussian actions of variance ``action_variance`` (rad²)."""
+    sizes = [int(n) for n in str(net).split(",")]
+    return {"net_arch": {"pi": sizes, "vf": sizes}, "activation_fn": torch.nn.Tanh,
+            "log_std_init": 0.5 * math.log(action_variance)}
+
+
 def newest_checkpoint(run_dir: Path) -> Path | None:
     found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / "checkpoints").glob("step_*.zip")
              if CHECKPOINT.search(p.name)]
@@ -420,12 +434,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     else:
         if args.resume:
             print(f"no checkpoint in {run_dir}; starting from scratch", flush=True)
-        net = [int(n) for n in str(args.net).split(",")]
         model = PPO("MlpPolicy", venv, learning_rate=args.lr, n_steps=args.n_steps, batch_size=args.batch_size,
                     n_epochs=args.epochs, gamma=args.gamma, gae_lambda=args.gae_lambda, clip_range=args.clip_range,
                     seed=args.seed, device=args.device, tensorboard_log=str(run_dir / "tb"), verbose=0,
-                    policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
-                                   "log_std_init": 0.5 * math.log(args.action_variance)})
+                    policy_kwargs=policy_kwargs(args.net, args.action_variance))
         if args.init_from is not None:  # warm start: another run's weights and observation statistics
             venv = warm_start(model, venv, load_policy(args.init_from), env_config(args), args.gamma)
             set_action_variance(model, args.action_variance)  # this run's noise, not the source's

@@ -1,0 +1,401 @@
+"""Distil a policy set (or one policy) into one network by DAgger, then fine-tune it with PPO.
+
+Usage::
+
+    python agents/distill.py --teacher models/mimic_set --clips library:data/library/train \\
+        deepmimic:walk deepmimic:run deepmimic:walker/turn_left0 deepmimic:walker/turn_right0 \\
+        --mirror --corrupted-fraction 0.5 --net 256,256 --out runs/distill_256
+    python agents/distill.py --out runs/distill_256 --resume          # after an interruption
+    python agents/train_ppo.py ... --init-from runs/distill_256/student  # PPO from the student
+
+Why: the generalist (``models/mimic_general``) walks forwards and has not learned to walk
+backwards in 28 M steps, while a specialist learned the backward walks it can carry
+(``models/mimic_walk_back``); ``models/mimic_set`` routes between the two. Whether one network of a
+given size can hold both is a supervised question, answered here without RL's trust region: the
+student is fitted to the teachers' actions on the states it visits itself (DAgger, Ross et al.
+2011), every hidden unit from a fresh initialisation.
+
+Round 0 collects ``steps_per_round`` control steps with the teachers acting (each episode's clip
+routed as the set routes it, :mod:`agents.policy_set`), later rounds with the student acting; both
+add their Gaussian exploration noise (σ² of the teachers, ADAPT's 0.03), so the states cover what
+PPO will visit. Every state is labelled with its teacher's mean action and value. After each round
+the student (an SB3 ``MlpPolicy`` of ``net``, actor and critic, as ``train_ppo.py`` builds them)
+is fitted to every label so far by minibatch Adam on
+
+    L = mean_i ||μ_s(x_i) − μ_t(x_i)||² / (A σ²) + mean_i (V_s(x_i) − V_t(x_i))² / var(V_t)
+
+(an action error of one exploration σ per dimension costs 1, as does a value error of one standard
+deviation of the teachers' values). The student keeps the set's default policy's observation
+statistics, frozen; each teacher reads its own. A tenth of the states (whole episodes) is held
+out; its action RMSE per motion class (the clip's teacher) is what the log reports.
+
+``OUT`` holds ``student/`` (a policy directory: ``model.zip``, ``model_vecnormalize.pkl``,
+``sidecar.json`` with the distillation's record), ``data.npz`` (the labelled states) and
+``log.jsonl`` (one line per round), each written whole after every round: ``--resume`` continues
+after the last round finished, losing at most one round.
+"""
+
+from __future__ import annotations
+
+import json
+import shutil
+import sys
+import time
+from collections.abc import Callable
+from dataclasses import asdict, dataclass
+from pathlib import Path
+
+if __package__ in (None, ""):  # `python agents/distill.py`: make the repository importable
+    sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
+
+import gymnasium as gym
+import numpy as np
+import torch
+from stable_baselines3 import PPO
+from stable_baselines3.common.vec_env import DummyVecEnv
+from tqdm import tqdm
+
+import envs  # noqa: F401  (registers the ids)
+from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError
+from agents.policy_set import is_policy_set, load_policy_set, route_clips
+from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
+from agents.train_ppo import load_training_motions, policy_kwargs
+from envs import ArtefactMix
+from envs.config import FOOT_MODELS
+from reference_motion.artefacts import ArtefactRecipe
+from reference_motion.atomic import atomic_write, write_json
+from reference_motion.cli import (CliParser, fraction, non_negative_float, one_line_errors, output_dir, positive_float,
+                                  positive_int)
+from reference_motion.library import expand_clips
+from reference_motion.motion import Motion
+
+
+@dataclass(frozen=True)
+class DistillConfig:
+    """How a student is distilled.
+
+    Attributes:
+        net: the student's hidden layer sizes, actor and critic ("256,256").
+        rounds: DAgger rounds; round 0 is acted by the teachers, the rest by the student (4).
+        steps_per_round: control steps collected per round (50 000; ~1 min on one core).
+        epochs: passes over every label so far after each round (5).
+        batch_size: minibatch size (512).
+        lr: Adam learning rate (3e-4).
+        holdout: share of the episodes held out to report the fit (0.1).
+        seed: seed of the environment, the noise, the initialisation and the minibatches (0).
+    """
+
+    net: str = "256,256"
+    rounds: int = 4
+    steps_per_round: int = 50_000
+    epochs: int = 5
+    batch_size: int = 512
+    lr: float = 3e-4
+    holdout: float = 0.1
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not all(n.strip().isdigit() and int(n) > 0 for n in self.net.split(",")):
+            raise ValueError(f"net must be positive layer sizes like '256,256', got {self.net!r}")
+        for name in ("rounds", "steps_per_round", "epochs", "batch_size"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
+        if not 0 <= self.holdout < 1:
+            raise ValueError(f"holdout must be in [0, 1), got {self.holdout}")
+
+
+@dataclass
+class Labels:
+    """Labelled states, one row per control step.
+
+    Attributes:
+        obs: ``(N, D)`` float32 raw observations (not normalised).
+        actions: ``(N, A)`` float32 the teacher's mean action (rad offsets).
+        values: ``(N,)`` float32 the teacher's value of the state.
+        teacher: ``(N,)`` int index of the state's teacher (order of :func:`teachers_by_clip`'s list).
+        episode: ``(N,)`` int episode number (unique over rounds; the holdout splits by it).
+    """
+
+    obs: np.ndarray
+    actions: np.ndarray
+    values: np.ndarray
+    teacher: np.ndarray
+    episode: np.ndarray
+
+    def __len__(self) -> int:
+        return len(self.obs)
+
+    def __add__(self, other: Labels) -> Labels:
+        return Labels(*(np.concatenate([a, b]) for a, b in zip(self.fields(), other.fields())))
+
+    def fields(self) -> tuple[np.ndarray, ...]:
+        return self.obs, self.actions, self.values, self.teacher, self.episode
+
+    def save(self, path: Path) -> None:
+        with atomic_write(path) as tmp:
+            with open(tmp, "wb") as f:
+                np.savez(f, **dict(zip(("obs", "actions", "values", "teacher", "episode"), self.fields())))
+
+    @classmethod
+    def load(cls, path: Path) -> Labels:
+        with np.load(path) as data:
+            return cls(data["obs"], data["actions"], data["values"], data["teacher"], data["episode"])
+
+
+@dataclass(frozen=True)
+class Teachers:
+    """The policies a student learns from.
+
+    Attributes:
+        policies: one policy, or the policies of a policy set that perform some clip.
+        of_clip: per clip name, the index in ``policies`` of the policy that performs it.
+        default: index of the policy whose observation statistics and task the student takes (a
+            set's ``default`` policy).
+        motions: the clips, grouped by teacher.
+    """
+
+    policies: list[MimicPolicy]
+    of_clip: dict[str, int]
+    default: int
+    motions: list[Motion]
+
+    @property
+    def names(self) -> list[str]:
+        return [Path(p.path).name for p in self.policies]
+
+
+def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> Teachers:
+    """The teachers in ``teacher`` (a policy or a policy-set directory) and the clips ``load(foot)``
+    returns (``foot``: the teachers' foot model), each routed to its teacher as the set routes it."""
+    groups = route_clips(teacher, load)
+    policies = [policy for policy, _ in groups]
+    default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)
+    default = next((i for i, p in enumerate(policies) if Path(p.path).resolve() == default_dir.resolve()), None)
+    if default is None:
+        raise PolicyError(f"{teacher}: no clip is routed to its default policy {default_dir}, whose observation "
+                          f"statistics the student takes; add clips it performs")
+    of_clip: dict[str, int] = {}
+    for i, (_, clips) in enumerate(groups):
+        for m in clips:
+            if of_clip.setdefault(m.name, i) != i:  # episodes are routed by their clip's name
+                raise ValueError(f"two clips named {m.name!r} go to different teachers; give them distinct names")
+    return Teachers(policies, of_clip, default, [m for _, clips in groups for m in clips])
+
+
+def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(N, A)`` mean actions (rad offsets) and ``(N,)`` values of ``policy`` for raw observations
+    ``obs (N, D)`` (normalised by the policy's own statistics)."""
+    x = torch.as_tensor(policy.normalizer.normalize_obs(obs), dtype=torch.float32)
+    with torch.no_grad():
+        mean = policy.model.policy.get_distribution(x).distribution.mean
+        value = policy.model.policy.predict_values(x)[:, 0]
+    return mean.numpy(), value.numpy()
+
+
+def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: int, sigma: float,
+            rng: np.random.Generator, first_episode: int, progress: bool = True) -> Labels:
+    """``steps`` control steps on ``env``, acted by ``actor`` (``None``: each episode's teacher),
+    mean action plus Gaussian noise of std ``sigma`` (rad), labelled by each episode's teacher."""
+    obs_rows, who, episode_of = [], [], []
+    episode = first_episode
+    obs, info = env.reset(seed=int(rng.integers(2**31)))
+    for _ in tqdm(range(steps), desc="collecting", unit="step", disable=not progress, leave=False):
+        teacher = teachers.of_clip[info["clip"]]
+        policy = actor if actor is not None else teachers.policies[teacher]
+        mean, _ = mean_actions_and_values(policy, obs[None])
+        obs_rows.append(obs)
+        who.append(teacher)
+        episode_of.append(episode)
+        obs, _, terminated, truncated, info = env.step(mean[0] + sigma * rng.standard_normal(mean.shape[1]))
+        if terminated or truncated:
+            episode += 1
+            obs, info = env.reset()
+    obs_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(who)
+    actions = np.zeros((len(obs_all), env.action_space.shape[0]), np.float32)
+    values = np.zeros(len(obs_all), np.float32)
+    for i, teacher in enumerate(teachers.policies):
+        rows = who_all == i
+        if rows.any():
+            actions[rows], values[rows] = mean_actions_and_values(teacher, obs_all[rows])
+    return Labels(obs_all, actions, values, who_all, np.asarray(episode_of))
+
+
+def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: float, rng: np.random.Generator,
+        progress: bool = True) -> float:
+    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``;
+    returns the last epoch's mean loss."""
+    policy = student.model.policy
+    params = [p for name, p in policy.named_parameters() if name != "log_std"]
+    optimizer = torch.optim.Adam(params, lr=config.lr)
+    x_all = torch.as_tensor(student.normalizer.normalize_obs(labels.obs), dtype=torch.float32)
+    a_all, v_all = torch.as_tensor(labels.actions), torch.as_tensor(labels.values)
+    value_var = max(float(v_all.var()), 1e-6)
+    n_actions = a_all.shape[1]
+    loss_mean = float("nan")
+    for _ in tqdm(range(config.epochs), desc="fitting", unit="epoch", disable=not progress, leave=False):
+        total = 0.0
+        for batch in np.array_split(rng.permutation(len(labels)), max(1, len(labels) // config.batch_size)):
+            x, a, v = x_all[batch], a_all[batch], v_all[batch]
+            mean = policy.get_distribution(x).distribution.mean
+            value = policy.predict_values(x)[:, 0]
+            loss = ((mean - a) ** 2).sum(1).mean() / (n_actions * sigma**2) + ((value - v) ** 2).mean() / value_var
+            optimizer.zero_grad()
+            loss.backward()
+            optimizer.step()
+            total += float(loss.detach()) * len(batch)
+        loss_mean = total / len(labels)
+    return loss_mean
+
+
+def center_values(student: MimicPolicy, labels: Labels) -> None:
+    """Shift the student's value output by the mean gap to the teachers' values on ``labels``: a
+    fresh critic outputs ~0 where the teachers' values are ~10² (returns of ~1-3 per step at γ
+    0.99), a gap minibatch Adam would close at only ~``lr`` per step."""
+    _, values = mean_actions_and_values(student, labels.obs)
+    with torch.no_grad():
+        student.model.policy.value_net.bias += float(np.mean(labels.values - values))
+
+
+def fit_report(student: MimicPolicy, labels: Labels, names: list[str]) -> dict:
+    """Action RMSE (rad) per teacher and overall, and the value R², of ``student`` on ``labels``."""
+    actions, values = mean_actions_and_values(student, labels.obs)
+    error = (actions - labels.actions) ** 2
+    report = {"action_rmse": float(np.sqrt(error.mean())),
+              "value_r2": float(1 - ((values - labels.values) ** 2).mean() / max(labels.values.var(), 1e-12))}
+    for i, name in enumerate(names):
+        rows = labels.teacher == i
+        report[f"action_rmse_{name}"] = float(np.sqrt(error[rows].mean())) if rows.any() else None
+    return report
+
+
+def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labels]:
+    """``(train, held out)``: whole episodes, about ``share`` of them held out (the same ones
+    whatever the round, by hashing the episode number with ``seed``)."""
+    held = (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
+    pick = lambda rows: Labels(*(f[rows] for f in labels.fields()))  # noqa: E731
+    return pick(~held), pick(held)
+
+
+def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> MimicPolicy:
+    """A freshly initialised student on ``env`` with the default teacher's observation statistics
+    and exploration noise."""
+    variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
+    model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
+                policy_kwargs=policy_kwargs(config.net, variance))
+    return MimicPolicy(default.path, model, default.normalizer, {})
+
+
+def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: dict, training: TrainingRecord,
+                 config: DistillConfig) -> Path:
+    """Write ``out/student`` whole (temporary folder, then renamed): the model, the default
+    teacher's statistics, and a sidecar naming the default teacher's task and this distillation."""
+    final, tmp = out / "student", out / ".student.tmp"
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir(parents=True)
+    student.model.save(tmp / MODEL_FILE)
+    shutil.copy2(Path(default.path) / STATS_FILE, tmp / STATS_FILE)
+    variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
+    PolicySidecar(env=default.record.env, ppo=PPOSettings(net=config.net, action_variance=variance), training=training,
+                  metrics={}, extra={"distillation": record}).save(tmp / SIDECAR_FILE)
+    shutil.rmtree(final, ignore_errors=True)
+    tmp.rename(final)
+    return final
+
+
+def build_parser(prog: str | None = None) -> CliParser:
+    p = CliParser(prog=prog, description=__doc__.split("\n\n")[0])
+    p.add_argument("--teacher", help="a policy set directory (models/mimic_set) or a policy directory")
+    p.add_argument("--clips", nargs="+", help="training clips: SOURCE strings or clip sets")
+    p.add_argument("--exclude", nargs="*", default=[], help="clips to leave out")
+    p.add_argument("--mirror", action="store_true", help="also every clip mirrored left/right")
+    p.add_argument("--corrupted-fraction", type=fraction, default=0.5,
+                   help="share of episodes with an IMU-corrupted reference (as the teachers trained)")
+    p.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"))
+    p.add_argument("--variants-per-clip", type=positive_int, default=2, help="corrupted references per clip")
+    defaults = DistillConfig()
+    p.add_argument("--net", default=defaults.net, help="the student's hidden layer sizes")
+    p.add_argument("--rounds", type=positive_int, default=defaults.rounds)
+    p.add_argument("--steps-per-round", type=positive_int, default=defaults.steps_per_round)
+    p.add_argument("--epochs", type=positive_int, default=defaults.epochs)
+    p.add_argument("--batch-size", type=positive_int, default=defaults.batch_size)
+    p.add_argument("--lr", type=positive_float, default=defaults.lr)
+    p.add_argument("--seed", type=int, default=defaults.seed)
+    p.add_argument("--out", type=output_dir, required=True)
+    p.add_argument("--resume", action="store_true", help="continue the distillation in --out")
+    p.add_argument("--no-progress", action="store_true")
+    return p
+
+
+@one_line_errors
+def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
+    """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the student's directory."""
+    argv = sys.argv[1:] if argv is None else argv
+    args = build_parser(prog).parse_args(argv)
+    out: Path = args.out
+    settings = out / "args.json"
+    if args.resume:
+        if not settings.is_file():
+            raise FileNotFoundError(f"{settings}: not found: no distillation to resume in {out} (--resume)")
+        stored = json.loads(settings.read_text())
+        more_rounds = {"rounds": args.rounds} if "--rounds" in argv else {}  # a resumed run may be extended
+        args = type(args)(**{**stored, **more_rounds, "out": out, "resume": True, "no_progress": args.no_progress})
+    elif settings.exists():
+        raise ValueError(f"{out}: already holds a distillation; pass --resume to continue it or pick a new --out")
+    if not args.teacher or not args.clips:
+        raise ValueError("--teacher and --clips are needed (unless --resume)")
+    config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,
+                           batch_size=args.batch_size, lr=args.lr, seed=args.seed)
+    torch.manual_seed(config.seed)
+    clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
+    teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror))
+    names, default = teachers.names, teachers.policies[teachers.default]
+    mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
+                      variants_per_clip=args.variants_per_clip, seed=config.seed) if args.corrupted_fraction > 0 else None
+    env = default.make_env(teachers.motions, artefacts=mix)
+    student = new_student(env, default, config)
+    sigma = float(default.model.policy.log_std.detach().exp().mean())
+    log_file, data_file = out / "log.jsonl", out / "data.npz"
+    done = [json.loads(line) for line in log_file.read_text().splitlines()] if args.resume and log_file.exists() else []
+    labels = Labels.load(data_file) if done else None
+    if done:
+        student = MimicPolicy(default.path, PPO.load(out / "student" / MODEL_FILE, env=DummyVecEnv([lambda: env]),
+                                                     device="cpu"), default.normalizer, {})
+        print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
+    out.mkdir(parents=True, exist_ok=True)
+    write_json(settings, {**vars(args), "out": str(out)})
+    rng = np.random.default_rng([config.seed, len(done)])
+    started = time.monotonic() - (done[-1]["wall_s"] if done else 0.0)
+    for round_ in range(len(done), config.rounds):
+        actor = None if round_ == 0 else student
+        first_episode = int(labels.episode.max()) + 1 if labels is not None else 0
+        new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress)
+        labels = new if labels is None else labels + new
+        train, held = split_holdout(labels, config.holdout, config.seed)
+        if round_ == 0:
+            center_values(student, train)
+        loss = fit(student, train, config, sigma, rng, not args.no_progress)
+        record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),
+                  "loss": loss, "wall_s": time.monotonic() - started, "held_out": fit_report(student, held, names),
+                  "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}
+        labels.save(data_file)
+        training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
+                                  strength=tuple(args.strength), mirror=args.mirror, init_from=str(args.teacher),
+                                  commands=["python agents/distill.py " + " ".join(argv)], seed=config.seed,
+                                  steps=len(labels), wall_s=record["wall_s"])
+        save_student(out, student, default, {"config": asdict(config), "teachers": names, "rounds": done + [record]},
+                     training, config)
+        with open(log_file, "a") as f:
+            f.write(json.dumps(record) + "\n")
+        done.append(record)
+        report = record["held_out"]
+        print(f"[round {round_}] {record['states']} states, loss {loss:.3f}, held-out action RMSE "
+              f"{report['action_rmse']:.3f} rad (" + ", ".join(f"{n} {report[f'action_rmse_{n}'] or float('nan'):.3f}"
+                                                            for n in names)
+              + f"), value R² {report['value_r2']:.3f}, {record['acted_episode_steps']:.0f} steps per episode acted",
+              flush=True)
+    env.close()
+    return out / "student"
+
+
+if __name__ == "__main__":
+    main()

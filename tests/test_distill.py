@@ -1,0 +1,64 @@
+"""agents/distill.py: DAgger from a policy set into one network, on the DeepMimic walk and the same
+walk played backwards (two teachers), and the command end to end with a resume."""
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from agents.distill import DistillConfig, center_values, collect, fit, fit_report, load_teachers, main, mean_actions_and_values, new_student
+from agents.policy import load_policy
+from agents.policy_set import PolicySet
+from reference_motion.library import load_motion
+
+MODELS = Path(__file__).parents[1] / "models"
+
+
+def test_each_episode_is_labelled_by_the_teacher_its_clip_routes_to_and_a_student_fits_them(tmp_path):
+    walk = load_motion("deepmimic:walk", "humanoid_1seg", min_frames=700)
+    backwards = replace(walk.with_qpos(walk.qpos[::-1].copy(), loop=False), name="walk_backwards")
+    PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu").save()
+    teachers = load_teachers(tmp_path / "set", lambda foot: [walk, backwards])
+    assert teachers.names == ["mimic_walk", "mimic_imu"] and teachers.default == 0
+    assert teachers.of_clip == {walk.name: 0, "walk_backwards": 1}
+
+    default = teachers.policies[0]
+    env = default.make_env(teachers.motions, artefacts=None)
+    rng = np.random.default_rng(0)
+    labels = collect(env, None, teachers, 600, 0.17, rng, first_episode=0, progress=False)
+    assert len(labels) == 600 and set(np.unique(labels.teacher)) == {0, 1}  # both clips were met
+    for i, teacher in enumerate(teachers.policies):  # each row carries its own teacher's mean action
+        rows = labels.teacher == i
+        assert np.allclose(labels.actions[rows], mean_actions_and_values(teacher, labels.obs[rows])[0], atol=1e-5)
+    assert not np.allclose(*(mean_actions_and_values(t, labels.obs[:50])[0] for t in teachers.policies))
+
+    student = new_student(env, default, DistillConfig(net="64,64"))
+    before = fit_report(student, labels, teachers.names)
+    center_values(student, labels)
+    assert abs(fit_report(student, labels, teachers.names)["value_r2"]) < 0.2  # the mean is matched, no more
+    fit(student, labels, DistillConfig(net="64,64", epochs=30, batch_size=64, lr=1e-3), 0.17, rng, progress=False)
+    after = fit_report(student, labels, teachers.names)
+    assert after["action_rmse"] < 0.5 * before["action_rmse"] and after["value_r2"] > 0.3  # from ~0 once centred
+    assert set(after) == {"action_rmse", "value_r2", "action_rmse_mimic_walk", "action_rmse_mimic_imu"}
+
+
+def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
+    out = tmp_path / "distill"
+    common = ["--net", "32,32", "--steps-per-round", "200", "--epochs", "2", "--batch-size", "64", "--no-progress"]
+    main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0",
+          "--rounds", "1", "--out", str(out), *common])
+    student = load_policy(out / "student")
+    assert student.model.policy.state_dict()["mlp_extractor.policy_net.2.weight"].shape == (32, 32)
+    assert student.record.ppo.net == "32,32" and student.record.env.env_id == "MimicIMU-v0"
+    env = student.make_env(["deepmimic:walk"])
+    assert student(env.reset(seed=0)[0]).shape == (20,)
+    main(["--out", str(out), "--resume", "--rounds", "2", "--no-progress"])
+    rounds = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
+    assert [r["round"] for r in rounds] == [0, 1] and [r["acted_by"] for r in rounds] == ["teachers", "student"]
+    assert rounds[1]["states"] == 400 and load_policy(out / "student").record.extra["distillation"]["rounds"][1]["round"] == 1
+    with pytest.raises(SystemExit, match="already holds a distillation"):
+        main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--out", str(out), *common])
+    with pytest.raises(SystemExit, match="no distillation to resume"):
+        main(["--out", str(tmp_path / "none"), "--resume"])
