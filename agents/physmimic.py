@@ -26,6 +26,7 @@ COMMANDS = {
     "gait": ("agents.reconstruct_gait", "reconstruct a walk with the two-segment foot: contacts, toe targets, "
                                         "MimicGait-v0 policy, gait report (agents/reconstruct_gait.py)"),
     "train-diffpd": ("agents.train_diffpd", "train the differentiable PD cycle's networks (agents/train_diffpd.py)"),
+    "distill": ("agents.distill", "distil a policy set into one network by DAgger (agents/distill.py)"),
     "ship": ("agents.ship", "ship a training run's best policy to models/ (agents/ship.py)"),
 }
 """Command → (module whose ``main(argv, prog)`` runs it, what it does)."""
