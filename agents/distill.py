@@ -339,8 +339,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         stored = json.loads(settings.read_text())
         more_rounds = {"rounds": args.rounds} if "--rounds" in argv else {}  # a resumed run may be extended
         args = type(args)(**{**stored, **more_rounds, "out": out, "resume": True, "no_progress": args.no_progress})
+        history = stored.get("commands", [])
     elif settings.exists():
         raise ValueError(f"{out}: already holds a distillation; pass --resume to continue it or pick a new --out")
+    else:
+        history = []
     if not args.teacher or not args.clips:
         raise ValueError("--teacher and --clips are needed (unless --resume)")
     config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,
@@ -362,6 +365,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                                      device="cpu"), default.normalizer, {})
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
     out.mkdir(parents=True, exist_ok=True)
+    args.commands = history + ["python agents/distill.py " + " ".join(argv)]  # every command of the run, in order
     write_json(settings, {**vars(args), "out": str(out)})
     rng = np.random.default_rng([config.seed, len(done)])
     started = time.monotonic() - (done[-1]["wall_s"] if done else 0.0)
@@ -380,7 +384,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
                                   strength=tuple(args.strength), mirror=args.mirror, init_from=str(args.teacher),
-                                  commands=["python agents/distill.py " + " ".join(argv)], seed=config.seed,
+                                  commands=args.commands, seed=config.seed,
                                   steps=len(labels), wall_s=record["wall_s"])
         save_student(out, student, default, {"config": asdict(config), "teachers": names, "rounds": done + [record]},
                      training, config)

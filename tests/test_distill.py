@@ -57,7 +57,9 @@ def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
     main(["--out", str(out), "--resume", "--rounds", "2", "--no-progress"])
     rounds = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
     assert [r["round"] for r in rounds] == [0, 1] and [r["acted_by"] for r in rounds] == ["teachers", "student"]
-    assert rounds[1]["states"] == 400 and load_policy(out / "student").record.extra["distillation"]["rounds"][1]["round"] == 1
+    record = load_policy(out / "student").record
+    assert rounds[1]["states"] == 400 and record.extra["distillation"]["rounds"][1]["round"] == 1
+    assert len(record.training.commands) == 2 and "--resume" in record.training.commands[1]  # the run's history
     with pytest.raises(SystemExit, match="already holds a distillation"):
         main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--out", str(out), *common])
     with pytest.raises(SystemExit, match="no distillation to resume"):
