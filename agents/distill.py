@@ -42,7 +42,8 @@ import shutil
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+import math
+from dataclasses import asdict, dataclass, field
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/distill.py`: make the repository importable
@@ -83,6 +84,9 @@ class DistillConfig:
         lr: Adam learning rate (3e-4).
         holdout: share of the episodes held out to report the fit (0.1).
         seed: seed of the environment, the noise, the initialisation and the minibatches (0).
+        teacher_weights: loss weight of each teacher's states, by the teacher's directory name
+            (e.g. ``{"mimic_walk_back": 4.0}``); a teacher not named weighs 1. It separates what a
+            student of some size can hold from how much of the data a motion class is.
     """
 
     net: str = "256,256"
@@ -93,6 +97,7 @@ class DistillConfig:
     lr: float = 3e-4
     holdout: float = 0.1
     seed: int = 0
+    teacher_weights: dict[str, float] = field(default_factory=dict)
 
     def __post_init__(self) -> None:
         if not all(n.strip().isdigit() and int(n) > 0 for n in self.net.split(",")):
@@ -102,6 +107,17 @@ class DistillConfig:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
         if not 0 <= self.holdout < 1:
             raise ValueError(f"holdout must be in [0, 1), got {self.holdout}")
+        for name, weight in self.teacher_weights.items():
+            if not (math.isfinite(weight) and weight > 0):
+                raise ValueError(f"teacher weight of {name!r} must be a positive number, got {weight}")
+
+    def weights_of(self, names: list[str]) -> np.ndarray:
+        """``(T,)`` loss weight of each of the teachers ``names``; raises on a weight for a teacher not
+        among them (a misspelt name would silently weigh nothing)."""
+        unknown = set(self.teacher_weights) - set(names)
+        if unknown:
+            raise ValueError(f"teacher weights for {sorted(unknown)}, but the teachers are {names}")
+        return np.array([self.teacher_weights.get(n, 1.0) for n in names], dtype=np.float32)
 
 
 @dataclass
@@ -221,29 +237,33 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
 
 
 def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: float, rng: np.random.Generator,
-        progress: bool = True) -> float:
-    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``;
-    returns the last epoch's mean loss."""
+        progress: bool = True, teacher_weights: np.ndarray | None = None) -> float:
+    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``,
+    each state's term weighted by its teacher's entry of ``teacher_weights (T,)`` (default: all 1;
+    a minibatch's loss is its weighted mean); returns the last epoch's weighted mean loss."""
     policy = student.model.policy
     params = [p for name, p in policy.named_parameters() if name != "log_std"]
     optimizer = torch.optim.Adam(params, lr=config.lr)
     x_all = torch.as_tensor(student.normalizer.normalize_obs(labels.obs), dtype=torch.float32)
     a_all, v_all = torch.as_tensor(labels.actions), torch.as_tensor(labels.values)
+    w_all = torch.ones(len(labels)) if teacher_weights is None else torch.as_tensor(teacher_weights)[labels.teacher]
     value_var = max(float(v_all.var()), 1e-6)
     n_actions = a_all.shape[1]
     loss_mean = float("nan")
     for _ in tqdm(range(config.epochs), desc="fitting", unit="epoch", disable=not progress, leave=False):
-        total = 0.0
+        total, weight_total = 0.0, 0.0
         for batch in np.array_split(rng.permutation(len(labels)), max(1, len(labels) // config.batch_size)):
-            x, a, v = x_all[batch], a_all[batch], v_all[batch]
+            x, a, v, w = x_all[batch], a_all[batch], v_all[batch], w_all[batch]
             mean = policy.get_distribution(x).distribution.mean
             value = policy.predict_values(x)[:, 0]
-            loss = ((mean - a) ** 2).sum(1).mean() / (n_actions * sigma**2) + ((value - v) ** 2).mean() / value_var
+            per_state = ((mean - a) ** 2).sum(1) / (n_actions * sigma**2) + (value - v) ** 2 / value_var
+            loss = (w * per_state).sum() / w.sum()
             optimizer.zero_grad()
             loss.backward()
             optimizer.step()
-            total += float(loss.detach()) * len(batch)
-        loss_mean = total / len(labels)
+            total += float(loss.detach()) * float(w.sum())
+            weight_total += float(w.sum())
+        loss_mean = total / weight_total
     return loss_mean
 
 
@@ -302,6 +322,20 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
     return final
 
 
+def parse_teacher_weights(items: list[str]) -> dict[str, float]:
+    """``["mimic_walk_back=4"]`` → ``{"mimic_walk_back": 4.0}`` (``--teacher-weight``)."""
+    weights = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        try:
+            weights[name] = float(value) if sep and name else float("nan")
+        except ValueError:
+            weights[name] = float("nan")
+        if not math.isfinite(weights[name]):
+            raise ValueError(f"--teacher-weight {item!r}: expected NAME=W with W a positive number, e.g. mimic_walk_back=4")
+    return weights
+
+
 def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0])
     p.add_argument("--teacher", help="a policy set directory (models/mimic_set) or a policy directory")
@@ -320,6 +354,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--batch-size", type=positive_int, default=defaults.batch_size)
     p.add_argument("--lr", type=positive_float, default=defaults.lr)
     p.add_argument("--seed", type=int, default=defaults.seed)
+    p.add_argument("--teacher-weight", nargs="+", default=[], metavar="NAME=W",
+                   help="loss weight of a teacher's states, by its directory name (mimic_walk_back=4); others weigh 1")
     p.add_argument("--out", type=output_dir, required=True)
     p.add_argument("--resume", action="store_true", help="continue the distillation in --out")
     p.add_argument("--no-progress", action="store_true")
@@ -347,11 +383,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     if not args.teacher or not args.clips:
         raise ValueError("--teacher and --clips are needed (unless --resume)")
     config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,
-                           batch_size=args.batch_size, lr=args.lr, seed=args.seed)
+                           batch_size=args.batch_size, lr=args.lr, seed=args.seed,
+                           teacher_weights=parse_teacher_weights(getattr(args, "teacher_weight", [])))
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
     teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror))
     names, default = teachers.names, teachers.policies[teachers.default]
+    weights = config.weights_of(names)
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
                       variants_per_clip=args.variants_per_clip, seed=config.seed) if args.corrupted_fraction > 0 else None
     env = default.make_env(teachers.motions, artefacts=mix)
@@ -377,7 +415,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         train, held = split_holdout(labels, config.holdout, config.seed)
         if round_ == 0:
             center_values(student, train)
-        loss = fit(student, train, config, sigma, rng, not args.no_progress)
+        loss = fit(student, train, config, sigma, rng, not args.no_progress, weights)
         record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),
                   "loss": loss, "wall_s": time.monotonic() - started, "held_out": fit_report(student, held, names),
                   "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}

@@ -8,7 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.distill import DistillConfig, center_values, collect, fit, fit_report, load_teachers, main, mean_actions_and_values, new_student
+from agents.distill import (DistillConfig, Labels, center_values, collect, fit, fit_report, load_teachers, main,
+                            mean_actions_and_values, new_student, parse_teacher_weights)
 from agents.policy import load_policy
 from agents.policy_set import PolicySet
 from reference_motion.library import load_motion
@@ -64,3 +65,31 @@ def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
         main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--out", str(out), *common])
     with pytest.raises(SystemExit, match="no distillation to resume"):
         main(["--out", str(tmp_path / "none"), "--resume"])
+
+
+def test_teacher_weights_pull_the_fit_toward_the_heavier_teachers_labels():
+    """The same states labelled by two teachers that disagree (+0.1 and -0.1 rad on every action, values
+    10 and 20): weighted 1 : 4, the least-squares student settles on the weighted means, -0.06 rad and 18."""
+    default = load_policy(MODELS / "mimic_walk")
+    env = default.make_env(["deepmimic:walk"], artefacts=None)
+    rng = np.random.default_rng(0)
+    obs = np.stack([env.reset(seed=s)[0] for s in range(64)])
+    n, n_act = len(obs), env.action_space.shape[0]
+    labels = Labels(np.concatenate([obs, obs]), np.concatenate([np.full((n, n_act), 0.1), np.full((n, n_act), -0.1)]).astype(np.float32),
+                    np.concatenate([np.full(n, 10.0), np.full(n, 20.0)]).astype(np.float32),
+                    np.repeat([0, 1], n), np.arange(2 * n))
+    config = DistillConfig(net="16,16", epochs=300, batch_size=128, lr=3e-3, teacher_weights={"b": 4.0})
+    weights = config.weights_of(["a", "b"])
+    assert weights.tolist() == [1.0, 4.0]
+    student = new_student(env, default, config)
+    center_values(student, labels)  # the unweighted mean, 15
+    fit(student, labels, config, 0.17, rng, progress=False, teacher_weights=weights)
+    actions, values = mean_actions_and_values(student, obs)
+    assert np.allclose(actions, -0.06, atol=0.01) and np.allclose(values, 18.0, atol=0.5)
+    with pytest.raises(ValueError, match=r"teacher weights for \['mimic_walk_bak'\]"):
+        DistillConfig(teacher_weights={"mimic_walk_bak": 4.0}).weights_of(["mimic_general", "mimic_walk_back"])
+    with pytest.raises(ValueError, match="must be a positive number"):
+        DistillConfig(teacher_weights={"b": 0.0})
+    assert parse_teacher_weights(["mimic_walk_back=4"]) == {"mimic_walk_back": 4.0}
+    with pytest.raises(ValueError, match="expected NAME=W"):
+        parse_teacher_weights(["mimic_walk_back"])
