@@ -22,10 +22,12 @@ PPO will visit. Every state is labelled with its teacher's mean action and value
 the student (an SB3 ``MlpPolicy`` of ``net``, actor and critic, as ``train_ppo.py`` builds them)
 is fitted to every label so far by minibatch Adam on
 
-    L = mean_i ||μ_s(x_i) − μ_t(x_i)||² / (A σ²) + mean_i (V_s(x_i) − V_t(x_i))² / var(V_t)
+    L = Σ_i w_i (||μ_s(x_i) − μ_t(x_i)||² / (A σ²) + (V_s(x_i) − V_t(x_i))² / var(V_t)) / Σ_i w_i
 
 (an action error of one exploration σ per dimension costs 1, as does a value error of one standard
-deviation of the teachers' values). The student keeps the set's default policy's observation
+deviation of the teachers' values; ``w_i`` is the weight of state i's teacher, 1 unless
+``--teacher-weight`` says otherwise, so the logged loss is comparable only between runs of the same
+weights). The student keeps the set's default policy's observation
 statistics, frozen; each teacher reads its own. A tenth of the states (whole episodes) is held
 out; its action RMSE per motion class (the clip's teacher) is what the log reports.
 
@@ -37,13 +39,14 @@ after the last round finished, losing at most one round.
 
 from __future__ import annotations
 
+import argparse
 import json
+import math
 import shutil
 import sys
 import time
 from collections.abc import Callable
-import math
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/distill.py`: make the repository importable
@@ -84,9 +87,10 @@ class DistillConfig:
         lr: Adam learning rate (3e-4).
         holdout: share of the episodes held out to report the fit (0.1).
         seed: seed of the environment, the noise, the initialisation and the minibatches (0).
-        teacher_weights: loss weight of each teacher's states, by the teacher's directory name
-            (e.g. ``{"mimic_walk_back": 4.0}``); a teacher not named weighs 1. It separates what a
-            student of some size can hold from how much of the data a motion class is.
+        teacher_weights: loss weight of each teacher's states, ``(name, weight)`` pairs by the
+            teacher's directory name (e.g. ``(("mimic_walk_back", 4.0),)``); a teacher not named
+            weighs 1. It separates what a student of some size can hold from how much of the data a
+            motion class is.
     """
 
     net: str = "256,256"
@@ -97,7 +101,7 @@ class DistillConfig:
     lr: float = 3e-4
     holdout: float = 0.1
     seed: int = 0
-    teacher_weights: dict[str, float] = field(default_factory=dict)
+    teacher_weights: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
         if not all(n.strip().isdigit() and int(n) > 0 for n in self.net.split(",")):
@@ -107,17 +111,22 @@ class DistillConfig:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
         if not 0 <= self.holdout < 1:
             raise ValueError(f"holdout must be in [0, 1), got {self.holdout}")
-        for name, weight in self.teacher_weights.items():
-            if not (math.isfinite(weight) and weight > 0):
-                raise ValueError(f"teacher weight of {name!r} must be a positive number, got {weight}")
+        seen = [name for name, _ in self.teacher_weights]
+        if len(set(seen)) != len(seen):
+            raise ValueError(f"teacher_weights names a teacher twice: {seen}")
+        for name, weight in self.teacher_weights:
+            if not (isinstance(weight, (int, float)) and math.isfinite(weight) and weight > 0):
+                raise ValueError(f"teacher_weights[{name!r}] must be a finite number > 0, got {weight!r}")
 
     def weights_of(self, names: list[str]) -> np.ndarray:
-        """``(T,)`` loss weight of each of the teachers ``names``; raises on a weight for a teacher not
-        among them (a misspelt name would silently weigh nothing)."""
-        unknown = set(self.teacher_weights) - set(names)
+        """``(T,)`` loss weight of each of the teachers ``names`` (in that order); raises on a weight
+        for a teacher not among them (a misspelt name would silently weigh nothing)."""
+        given = dict(self.teacher_weights)
+        unknown = sorted(set(given) - set(names))
         if unknown:
-            raise ValueError(f"teacher weights for {sorted(unknown)}, but the teachers are {names}")
-        return np.array([self.teacher_weights.get(n, 1.0) for n in names], dtype=np.float32)
+            raise ValueError(f"teacher_weights (--teacher-weight) names {unknown}, which are not teachers; "
+                             f"expected some of {names}")
+        return np.array([given.get(n, 1.0) for n in names], dtype=np.float32)
 
 
 @dataclass
@@ -237,16 +246,20 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
 
 
 def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: float, rng: np.random.Generator,
-        progress: bool = True, teacher_weights: np.ndarray | None = None) -> float:
+        progress: bool = True, teacher_names: list[str] | None = None) -> float:
     """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``,
-    each state's term weighted by its teacher's entry of ``teacher_weights (T,)`` (default: all 1;
-    a minibatch's loss is its weighted mean); returns the last epoch's weighted mean loss."""
+    each state's term weighted by its teacher's ``config.teacher_weights`` (``teacher_names``: the
+    names of ``labels.teacher``'s indices, needed when weights are given); a minibatch's loss is its
+    weighted mean. Returns the last epoch's weighted mean loss."""
+    if config.teacher_weights and teacher_names is None:
+        raise ValueError("fit: config.teacher_weights are given, so teacher_names must name labels.teacher's teachers")
+    weights = config.weights_of(teacher_names) if teacher_names is not None else None
     policy = student.model.policy
     params = [p for name, p in policy.named_parameters() if name != "log_std"]
     optimizer = torch.optim.Adam(params, lr=config.lr)
     x_all = torch.as_tensor(student.normalizer.normalize_obs(labels.obs), dtype=torch.float32)
     a_all, v_all = torch.as_tensor(labels.actions), torch.as_tensor(labels.values)
-    w_all = torch.ones(len(labels)) if teacher_weights is None else torch.as_tensor(teacher_weights)[labels.teacher]
+    w_all = torch.ones(len(labels)) if weights is None else torch.as_tensor(weights)[labels.teacher]
     value_var = max(float(v_all.var()), 1e-6)
     n_actions = a_all.shape[1]
     loss_mean = float("nan")
@@ -322,18 +335,17 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
     return final
 
 
-def parse_teacher_weights(items: list[str]) -> dict[str, float]:
-    """``["mimic_walk_back=4"]`` → ``{"mimic_walk_back": 4.0}`` (``--teacher-weight``)."""
-    weights = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        try:
-            weights[name] = float(value) if sep and name else float("nan")
-        except ValueError:
-            weights[name] = float("nan")
-        if not math.isfinite(weights[name]):
-            raise ValueError(f"--teacher-weight {item!r}: expected NAME=W with W a positive number, e.g. mimic_walk_back=4")
-    return weights
+def teacher_weight(text: str) -> tuple[str, float]:
+    """argparse type of ``--teacher-weight``: ``"mimic_walk_back=4"`` → ``("mimic_walk_back", 4.0)``;
+    raises ``argparse.ArgumentTypeError`` unless it is NAME=W with W a finite number > 0."""
+    name, sep, value = text.partition("=")
+    try:
+        if sep and name:
+            return name, positive_float(value)
+    except argparse.ArgumentTypeError:
+        pass
+    raise argparse.ArgumentTypeError(f"expected NAME=W, a teacher's directory name and a finite weight > 0 "
+                                     f"(e.g. mimic_walk_back=4), got {text!r}")
 
 
 def build_parser(prog: str | None = None) -> CliParser:
@@ -354,8 +366,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--batch-size", type=positive_int, default=defaults.batch_size)
     p.add_argument("--lr", type=positive_float, default=defaults.lr)
     p.add_argument("--seed", type=int, default=defaults.seed)
-    p.add_argument("--teacher-weight", nargs="+", default=[], metavar="NAME=W",
-                   help="loss weight of a teacher's states, by its directory name (mimic_walk_back=4); others weigh 1")
+    p.add_argument("--teacher-weight", type=teacher_weight, nargs="+", default=[], metavar="NAME=W",
+                   help="loss weight of a teacher's states, by its directory name (mimic_walk_back=4); others "
+                        "weigh 1 (a resumed run keeps its own)")
     p.add_argument("--out", type=output_dir, required=True)
     p.add_argument("--resume", action="store_true", help="continue the distillation in --out")
     p.add_argument("--no-progress", action="store_true")
@@ -372,7 +385,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     if args.resume:
         if not settings.is_file():
             raise FileNotFoundError(f"{settings}: not found: no distillation to resume in {out} (--resume)")
-        stored = json.loads(settings.read_text())
+        if "--teacher-weight" in argv:
+            raise ValueError("--teacher-weight cannot change on --resume: a run keeps the weights it started with")
+        stored = {**vars(build_parser(prog).parse_args(["--out", str(out)])), **json.loads(settings.read_text())}
         more_rounds = {"rounds": args.rounds} if "--rounds" in argv else {}  # a resumed run may be extended
         args = type(args)(**{**stored, **more_rounds, "out": out, "resume": True, "no_progress": args.no_progress})
         history = stored.get("commands", [])
@@ -384,12 +399,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         raise ValueError("--teacher and --clips are needed (unless --resume)")
     config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,
                            batch_size=args.batch_size, lr=args.lr, seed=args.seed,
-                           teacher_weights=parse_teacher_weights(getattr(args, "teacher_weight", [])))
+                           teacher_weights=tuple((name, float(w)) for name, w in args.teacher_weight))
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
     teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror))
     names, default = teachers.names, teachers.policies[teachers.default]
-    weights = config.weights_of(names)
+    config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
                       variants_per_clip=args.variants_per_clip, seed=config.seed) if args.corrupted_fraction > 0 else None
     env = default.make_env(teachers.motions, artefacts=mix)
@@ -415,7 +430,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         train, held = split_holdout(labels, config.holdout, config.seed)
         if round_ == 0:
             center_values(student, train)
-        loss = fit(student, train, config, sigma, rng, not args.no_progress, weights)
+        loss = fit(student, train, config, sigma, rng, not args.no_progress, names)
         record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),
                   "loss": loss, "wall_s": time.monotonic() - started, "held_out": fit_report(student, held, names),
                   "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}

@@ -27,6 +27,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from reference_motion.cli import positive_int
 
 
 def mimic_rate(env: gym.Env, actions: np.ndarray) -> tuple[float, float]:
@@ -82,7 +83,7 @@ def humanoid_v5_rate(n_steps: int) -> float:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--steps", type=int, default=10_000, help="control steps per loop and round")
-    parser.add_argument("--rounds", type=int, default=3, help="interleaved rounds (median reported)")
+    parser.add_argument("--rounds", type=positive_int, default=3, help="interleaved rounds (median reported)")
     parser.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = parser.parse_args()
     if hasattr(os, "sched_setaffinity"):

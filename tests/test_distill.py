@@ -1,6 +1,7 @@
 """agents/distill.py: DAgger from a policy set into one network, on the DeepMimic walk and the same
 walk played backwards (two teachers), and the command end to end with a resume."""
 
+import argparse
 import json
 from dataclasses import replace
 from pathlib import Path
@@ -9,7 +10,7 @@ import numpy as np
 import pytest
 
 from agents.distill import (DistillConfig, Labels, center_values, collect, fit, fit_report, load_teachers, main,
-                            mean_actions_and_values, new_student, parse_teacher_weights)
+                            mean_actions_and_values, new_student, teacher_weight)
 from agents.policy import load_policy
 from agents.policy_set import PolicySet
 from reference_motion.library import load_motion
@@ -69,7 +70,9 @@ def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
 
 def test_teacher_weights_pull_the_fit_toward_the_heavier_teachers_labels():
     """The same states labelled by two teachers that disagree (+0.1 and -0.1 rad on every action, values
-    10 and 20): weighted 1 : 4, the least-squares student settles on the weighted means, -0.06 rad and 18."""
+    10 and 20): weighted 4 : 1, the least-squares student settles on the weighted means, +0.06 rad and 12,
+    and the loss it reports is the weighted mean, by hand (0.16² + 4·0.04²) / 5 / 0.17² + (8² + 4·2²) / 5 / 25
+    = 0.857 (var(V_t) = 25)."""
     default = load_policy(MODELS / "mimic_walk")
     env = default.make_env(["deepmimic:walk"], artefacts=None)
     rng = np.random.default_rng(0)
@@ -78,18 +81,40 @@ def test_teacher_weights_pull_the_fit_toward_the_heavier_teachers_labels():
     labels = Labels(np.concatenate([obs, obs]), np.concatenate([np.full((n, n_act), 0.1), np.full((n, n_act), -0.1)]).astype(np.float32),
                     np.concatenate([np.full(n, 10.0), np.full(n, 20.0)]).astype(np.float32),
                     np.repeat([0, 1], n), np.arange(2 * n))
-    config = DistillConfig(net="16,16", epochs=300, batch_size=128, lr=3e-3, teacher_weights={"b": 4.0})
-    weights = config.weights_of(["a", "b"])
-    assert weights.tolist() == [1.0, 4.0]
+    names = ["b", "a"]  # teacher 0 is "b", weighted 4: the weights follow the names' order, not their sorting
+    config = DistillConfig(net="16,16", epochs=300, batch_size=128, lr=3e-3, teacher_weights=(("b", 4.0),))
+    assert config.weights_of(names).tolist() == [4.0, 1.0]
     student = new_student(env, default, config)
     center_values(student, labels)  # the unweighted mean, 15
-    fit(student, labels, config, 0.17, rng, progress=False, teacher_weights=weights)
+    loss = fit(student, labels, config, 0.17, rng, progress=False, teacher_names=names)
     actions, values = mean_actions_and_values(student, obs)
-    assert np.allclose(actions, -0.06, atol=0.01) and np.allclose(values, 18.0, atol=0.5)
-    with pytest.raises(ValueError, match=r"teacher weights for \['mimic_walk_bak'\]"):
-        DistillConfig(teacher_weights={"mimic_walk_bak": 4.0}).weights_of(["mimic_general", "mimic_walk_back"])
-    with pytest.raises(ValueError, match="must be a positive number"):
-        DistillConfig(teacher_weights={"b": 0.0})
-    assert parse_teacher_weights(["mimic_walk_back=4"]) == {"mimic_walk_back": 4.0}
-    with pytest.raises(ValueError, match="expected NAME=W"):
-        parse_teacher_weights(["mimic_walk_back"])
+    assert np.allclose(actions, 0.06, atol=0.01) and np.allclose(values, 12.0, atol=0.5)
+    assert loss == pytest.approx(0.857, abs=0.03)
+    with pytest.raises(ValueError, match="teacher_names must name"):
+        fit(student, labels, config, 0.17, rng, progress=False)
+    with pytest.raises(ValueError, match=r"names \['mimic_walk_bak'\], which are not teachers"):
+        DistillConfig(teacher_weights=(("mimic_walk_bak", 4.0),)).weights_of(["mimic_general", "mimic_walk_back"])
+    with pytest.raises(ValueError, match=r"teacher_weights\['b'\] must be a finite number > 0"):
+        DistillConfig(teacher_weights=(("b", 0.0),))
+    with pytest.raises(ValueError, match="names a teacher twice"):
+        DistillConfig(teacher_weights=(("b", 1.0), ("b", 2.0)))
+    assert teacher_weight("mimic_walk_back=4") == ("mimic_walk_back", 4.0)
+    for bad in ("mimic_walk_back", "mimic_walk_back=0", "=4", "mimic_walk_back=inf"):
+        with pytest.raises(argparse.ArgumentTypeError, match="expected NAME=W"):
+            teacher_weight(bad)
+
+
+def test_a_resumed_distillation_keeps_its_weights_and_reads_an_older_run(tmp_path):
+    """--resume refuses new weights; a run recorded before --teacher-weight existed resumes unweighted."""
+    out = tmp_path / "distill"
+    common = ["--net", "32,32", "--steps-per-round", "200", "--epochs", "2", "--batch-size", "64", "--no-progress"]
+    main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0",
+          "--rounds", "1", "--teacher-weight", "mimic_walk=2", "--out", str(out), *common])
+    assert load_policy(out / "student").record.extra["distillation"]["config"]["teacher_weights"] == [["mimic_walk", 2.0]]
+    with pytest.raises(SystemExit, match="cannot change on --resume"):
+        main(["--out", str(out), "--resume", "--rounds", "2", "--teacher-weight", "mimic_walk=3"])
+    settings = json.loads((out / "args.json").read_text())
+    del settings["teacher_weight"]  # as written before the option existed
+    (out / "args.json").write_text(json.dumps(settings))
+    main(["--out", str(out), "--resume", "--rounds", "2", "--no-progress"])
+    assert load_policy(out / "student").record.extra["distillation"]["config"]["teacher_weights"] == []

@@ -156,7 +156,7 @@ def build(model_name: str) -> str:
     root = ET.Element("mujoco", {"model": model_name})
     ET.SubElement(root, "compiler", {"angle": "degree", "autolimits": "true"})
     # jacobian="sparse": the same solution as the dense Jacobian MuJoCo picks for nv < 60 (qpos within
-    # 1e-15 after a frame), mj_step 1.20x / 1.28x as fast on these 49 / 51-dof bodies (bench/physics_options.py)
+    # 1e-14 after a frame), mj_step 1.21x / 1.27x as fast on these 49 / 51-dof bodies (bench/physics_options.py)
     ET.SubElement(root, "option", {"timestep": _f(TIMESTEP_S), "integrator": "implicitfast", "jacobian": "sparse"})
     size = ET.SubElement(root, "visual")
     ET.SubElement(size, "global", {"offwidth": "1280", "offheight": "720"})
