@@ -15,7 +15,8 @@ is assembled beside ``models/NAME`` and replaces it only once evaluated, so a fa
 ``--resumable`` also copies the run's newest checkpoint and its records (``args.json``,
 ``evaluations.jsonl``, ``wall.json``) to ``models/NAME/run/``, from which a later session resumes
 training (``cp -r models/NAME/run runs/X && python agents/train_ppo.py --run-dir runs/X --resume``).
-Without it, a ``models/NAME/run/`` already there is kept.
+Every other folder already in ``models/NAME`` (a ``run/`` when not ``--resumable``, other runs
+and students kept beside the policy) is kept.
 """
 
 from __future__ import annotations
@@ -97,8 +98,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         write_json(staging / SIDECAR_FILE, sidecar)
         if args.resumable:
             _copy_resumable_run(args.run_dir, staging / "run")
-        elif (out / "run").is_dir():  # the committed resumable run stays beside the new policy
-            shutil.copytree(out / "run", staging / "run")
+        if out.is_dir():  # folders beside the old policy (resumable runs, students) stay beside the new one
+            for folder in out.iterdir():
+                if folder.is_dir() and not (staging / folder.name).exists():
+                    shutil.copytree(folder, staging / folder.name)
         shutil.rmtree(out, ignore_errors=True)
         staging.rename(out)
     finally:

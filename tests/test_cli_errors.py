@@ -274,7 +274,8 @@ def test_an_interrupted_write_leaves_the_old_file(tmp_path):
 
 def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run, tmp_path):
     """``--resumable`` puts the newest checkpoint and the run's records beside the policy; a later
-    ship without it keeps that ``run/`` rather than deleting it with the old policy."""
+    ship without it keeps that ``run/`` and any other folder rather than deleting them with the old
+    policy; a later ``--resumable`` replaces ``run/`` only."""
     checkpoints = trained_run / "checkpoints"
     checkpoints.mkdir(exist_ok=True)
     for step in (10, 20):
@@ -289,6 +290,14 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
     assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["step_20.zip", "step_20_vecnormalize.pkl"]
     assert (run / "args.json").read_text() == '{"seed": 3}'
     assert (run / "evaluations.jsonl").exists() and not (run / "wall.json").exists()
+    (models / "walk" / "student").mkdir()  # another folder kept beside the policy (a student, another run)
+    (models / "walk" / "student" / "model.zip").write_text("student")
     ship.main(common)
     assert (models / "walk" / "run" / "checkpoints" / "step_20.zip").exists()
     assert (models / "walk" / "sidecar.json").exists()
+    assert (models / "walk" / "student" / "model.zip").read_text() == "student"
+    (checkpoints / "step_30.zip").write_bytes((checkpoints / "step_20.zip").read_bytes())
+    (checkpoints / "step_30_vecnormalize.pkl").write_bytes(b"stats")
+    ship.main([*common, "--resumable"])  # the run is replaced by the newer one, the other folder kept
+    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["step_30.zip", "step_30_vecnormalize.pkl"]
+    assert (models / "walk" / "student" / "model.zip").read_text() == "student"
