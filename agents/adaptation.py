@@ -84,6 +84,9 @@ class AdaptConfig:
         action_variance: the exploration noise σ² (rad²) while adapting, kept by the adapted policy
             (its stochastic retries in :mod:`agents.clean` sample with it); ``None``: the policy's
             own (ADAPT's 0.03). A cached adaptation is reused only for the same value.
+        learning_rate: PPO's learning rate while adapting (``None``: the policy's own, as trained;
+            the starting rate when ``target_kl`` is set). A cached adaptation is reused only for
+            the same value.
         torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
             and where other processes use the cores, more threads wait on each other: 2 threads
             took 69 s for what 1 does in 3 s beside a training run on 2 cores).
@@ -101,6 +104,7 @@ class AdaptConfig:
     update_normalizer: bool = False
     target_kl: float | None = None
     action_variance: float | None = None
+    learning_rate: float | None = None
     torch_threads: int = 1
     cache_dir: Path = field(default_factory=default_cache_dir)
 
@@ -110,8 +114,9 @@ class AdaptConfig:
         for name in ("chunk_steps", "n_envs", "n_steps", "eval_episodes", "torch_threads"):
             if getattr(self, name) < 1:
                 raise ValueError(f"{name} must be >= 1, got {getattr(self, name)}")
-        if self.action_variance is not None and not self.action_variance > 0:
-            raise ValueError(f"action_variance must be positive or None, got {self.action_variance}")
+        for name in ("action_variance", "learning_rate"):
+            if getattr(self, name) is not None and not getattr(self, name) > 0:
+                raise ValueError(f"{name} must be positive or None, got {getattr(self, name)}")
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
 
@@ -241,7 +246,9 @@ def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
     except (ValueError, KeyError, TypeError):
         return None  # an older or damaged entry: adapt again
     enough = config.reached(record["SR90_after"]) or made_with.covers(config)
-    if made_with.action_variance != config.action_variance or not enough:
+    same_training = (made_with.action_variance, made_with.learning_rate) == (config.action_variance,
+                                                                              config.learning_rate)
+    if not same_training or not enough:
         return None
     return _result(path, record, cached=True)
 
@@ -274,8 +281,9 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
                                           seed=config.seed))
     venv.training = config.update_normalizer
     batch_size = min(policy.model.batch_size, config.n_steps * config.n_envs)
+    rate = {} if config.learning_rate is None else {"learning_rate": config.learning_rate}
     model = PPO.load(Path(policy.path) / MODEL_FILE, env=venv, device="cpu", n_steps=config.n_steps,
-                     batch_size=batch_size, seed=config.seed, tensorboard_log=None, verbose=0)
+                     batch_size=batch_size, seed=config.seed, tensorboard_log=None, verbose=0, **rate)
     model.policy.log_std.requires_grad_(False)  # the exploration noise stays fixed (train_ppo.py)
     adapted = MimicPolicy(Path(policy.path), model, venv, policy.sidecar)
 

@@ -2,7 +2,7 @@
 
 Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
 [no_fc=DIR no_toeref=DIR one_segment=DIR] [--ablations none no_fc no_toeref] [--clips SOURCE ...]
-[--seconds 10] [--episodes 5] [--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V]]
+[--seconds 10] [--episodes 5] [--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V] [--adapt-lr LR]]
 [--json [OUT]]``
 
 For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
@@ -56,17 +56,18 @@ PARAMETERS = ("stance", "swing", "single_support", "double_support")
 
 def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adapt_budget_s: float = 0.0,
           adapt_target: float | None = AdaptConfig.target_sr90, adapt_variance: float | None = None,
-          ablation: str | None = None) -> dict:
+          ablation: str | None = None, adapt_lr: float | None = None) -> dict:
     """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0, up
     to SR90 ``adapt_target``; under a gait ``ablation`` of its task when one is named) and their means."""
     judge = load_policy(policy_dir)
     generalist = judge.ablated(ablation) if ablation else judge
     with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
         adapt = (AdaptConfig(budget_s=adapt_budget_s, target_sr90=adapt_target, action_variance=adapt_variance,
+                             learning_rate=adapt_lr,
                              cache_dir=Path(cache)) if adapt_budget_s > 0 else None)
         rows = [score_clip(generalist, clip, seconds, episodes, adapt, judge) for clip in clips]
     return {"policy": policy_dir, "ablation": ablation, "adapt_budget_s": adapt_budget_s, "adapt_target": adapt_target,
-            "adapt_variance": adapt_variance, "clips": rows,
+            "adapt_variance": adapt_variance, "adapt_lr": adapt_lr, "clips": rows,
             "mean": means(rows)}
 
 
@@ -139,6 +140,8 @@ def main() -> None:
                    help="stop adapting once SR90 reaches this; 'none': train to the budget")
     p.add_argument("--adapt-variance", type=or_none(positive_float), default=None,
                    help="exploration noise σ² (rad²) while adapting ('none', the default: the policy's own)")
+    p.add_argument("--adapt-lr", type=or_none(positive_float), default=None,
+                   help="PPO learning rate while adapting ('none', the default: the policy's own)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
     if set(args.ablations) - {"none"} and not args.adapt_budget_s > 0:
@@ -152,7 +155,7 @@ def main() -> None:
             row = name if ablation is None else f"{name}-{ablation}"
             print(f"{row} ({directory}{'' if ablation is None else f' under {ablation}'})", flush=True)
             results[row] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s,
-                                 args.adapt_target, args.adapt_variance, ablation)
+                                 args.adapt_target, args.adapt_variance, ablation, args.adapt_lr)
     print(f"\n{'policy':<22}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
           f"{'reanch':>7}{'ELR':>6}{'SR90':>6}")
     for name, r in results.items():
@@ -167,7 +170,7 @@ def main() -> None:
               + f"{first[f'{k}_targets']:>12.3f}")
     emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes, "ablations": args.ablations,
                "adapt_budget_s": args.adapt_budget_s, "adapt_target": args.adapt_target,
-               "adapt_variance": args.adapt_variance, "results": results}, args.json)
+               "adapt_variance": args.adapt_variance, "adapt_lr": args.adapt_lr, "results": results}, args.json)
 
 
 if __name__ == "__main__":

@@ -166,6 +166,22 @@ def test_adaptation_without_a_target_trains_to_its_limit_and_reports_each_chunk(
     assert AdaptConfig(budget_s=60, target_sr90=None).covers(AdaptConfig(budget_s=60, target_sr90=0.9))
 
 
+def test_adaptation_trains_at_the_learning_rate_asked_for(walk_policy, tmp_path):
+    """learning_rate replaces the policy's own rate while adapting; a cached run made at another
+    rate is not reused."""
+    walk = load_motion("deepmimic:walk", min_frames=300)
+    own = walk_policy.model.learning_rate
+    config = AdaptConfig(budget_s=60, max_steps=1024, chunk_steps=1024, n_envs=2, n_steps=512, eval_episodes=1,
+                         target_sr90=None, learning_rate=own * 3, cache_dir=tmp_path)
+    result = adapt_policy(walk_policy, walk, config, progress=False)
+    adapted = PPO.load(result.path / "model.zip", device="cpu")
+    assert adapted.learning_rate == pytest.approx(own * 3) and adapted.lr_schedule(1.0) == pytest.approx(own * 3)
+    assert adapt_policy(walk_policy, walk, config, progress=False).cached
+    assert not adapt_policy(walk_policy, walk, replace(config, learning_rate=None), progress=False).cached
+    with pytest.raises(ValueError, match="learning_rate must be positive or None, got 0"):
+        AdaptConfig(learning_rate=0)
+
+
 def test_chunks_rank_by_survival_then_length_then_reward():
     def rank(sr90: float, elr: float, mrr: float) -> tuple:
         return chunk_rank({"SR90": sr90, "ELR_mean": elr, "MRR_mean": mrr})
