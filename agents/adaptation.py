@@ -30,7 +30,6 @@ import copy
 import hashlib
 import json
 import os
-import shutil
 import time
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -47,7 +46,7 @@ from tqdm import tqdm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, set_action_variance
+from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy, set_action_variance
 from agents.rollout import torch_threads
 from agents.sidecar import PolicySidecar
 from envs.config import MimicConfig
@@ -83,10 +82,9 @@ class AdaptConfig:
             policy's own (:mod:`agents.lr_schedule`); ``None``: the policy's rate, fixed.
         action_variance: the exploration noise σ² (rad²) while adapting, kept by the adapted policy
             (its stochastic retries in :mod:`agents.clean` sample with it); ``None``: the policy's
-            own (ADAPT's 0.03). A cached adaptation is reused only for the same value.
+            own (ADAPT's 0.03).
         learning_rate: PPO's learning rate while adapting (``None``: the policy's own, as trained;
-            the starting rate when ``target_kl`` is set). A cached adaptation is reused only for
-            the same value.
+            the starting rate when ``target_kl`` is set).
         torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
             and where other processes use the cores, more threads wait on each other: 2 threads
             took 69 s for what 1 does in 3 s beside a training run on 2 cores).
@@ -123,6 +121,12 @@ class AdaptConfig:
     def reached(self, sr90: float) -> bool:
         """Whether an SR90 of ``sr90`` ends the adaptation (never when ``target_sr90`` is ``None``)."""
         return self.target_sr90 is not None and sr90 >= self.target_sr90
+
+    def training_settings(self) -> tuple:
+        """What shapes the training itself (not how long it runs): a cached adaptation stands in for
+        another only with the same settings."""
+        return (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
+                self.learning_rate)
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
@@ -235,8 +239,9 @@ def _result(path: Path, record: dict, cached: bool) -> AdaptResult:
 
 
 def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
-    """The cached adaptation in ``path`` if there is one that reached ``config``'s target or was
-    made with at least ``config``'s budget and steps."""
+    """The cached adaptation in ``path`` if there is one made with ``config``'s training settings
+    (:meth:`AdaptConfig.training_settings`) that reached ``config``'s target or was made with at
+    least ``config``'s budget and steps."""
     sidecar = path / SIDECAR_FILE
     if not sidecar.is_file():
         return None
@@ -246,9 +251,7 @@ def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
     except (ValueError, KeyError, TypeError):
         return None  # an older or damaged entry: adapt again
     enough = config.reached(record["SR90_after"]) or made_with.covers(config)
-    same_training = (made_with.action_variance, made_with.learning_rate) == (config.action_variance,
-                                                                              config.learning_rate)
-    if not same_training or not enough:
+    if made_with.training_settings() != config.training_settings() or not enough:
         return None
     return _result(path, record, cached=True)
 
@@ -336,7 +339,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
               "steps": model.num_timesteps - first_step, "wall_s": wall_s, "stopped_by": stopped_by, "chunks": chunks,
               "before": before, "kept_steps": kept_steps,
               "config": {k: v for k, v in asdict(config).items() if k != "cache_dir"}}
-    _save(path, model, venv, _sidecar(policy, reference, record, best))
+    save_policy(path, model, venv, _sidecar(policy, reference, record, best))
     venv.close()
     eval_env.close()
     return _result(path, record, cached=False)
@@ -352,15 +355,3 @@ def _sidecar(policy: MimicPolicy, reference: Motion, record: dict, metrics: dict
                        steps=base.training.steps + record["steps"], wall_s=base.training.wall_s + record["wall_s"])
     return replace(base, training=training, metrics=metrics, score=None, extra={**base.extra, "adaptation": record})
 
-
-def _save(path: Path, model: PPO, venv: VecNormalize, sidecar: PolicySidecar) -> None:
-    """Write the policy directory ``path`` whole: into a temporary folder beside it, then renamed."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir()
-    model.save(tmp / MODEL_FILE)
-    venv.save(str(tmp / STATS_FILE))
-    sidecar.save(tmp / SIDECAR_FILE)
-    shutil.rmtree(path, ignore_errors=True)
-    os.replace(tmp, path)

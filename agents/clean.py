@@ -359,6 +359,8 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--adapt-steps", type=positive_int, default=None, help="most environment steps (None: no limit)")
     g.add_argument("--adapt-variance", type=or_none(positive_float), default=AdaptConfig.action_variance,
                    help="exploration noise sigma^2 (rad^2) while adapting; 'none': the policy's own")
+    g.add_argument("--adapt-lr", type=or_none(positive_float), default=AdaptConfig.learning_rate,
+                   help="PPO learning rate while adapting; 'none': the policy's own")
     g.add_argument("--adapt-chunk", type=positive_int, default=AdaptConfig.chunk_steps,
                    help="environment steps between evaluations")
     g.add_argument("--adapt-cache", type=output_dir, default=None,
@@ -405,7 +407,7 @@ def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespa
         print(f"not adapting: {reference.n_frames} frames, adaptation needs {MIN_ADAPT_FRAMES}; cleaning zero-shot")
         return None
     config = AdaptConfig(budget_s=args.adapt_budget_s, target_sr90=args.adapt_target, max_steps=args.adapt_steps,
-                         chunk_steps=args.adapt_chunk, action_variance=args.adapt_variance,
+                         chunk_steps=args.adapt_chunk, action_variance=args.adapt_variance, learning_rate=args.adapt_lr,
                          cache_dir=args.adapt_cache or default_cache_dir())
     result = adapt_policy(policy, reference, config)
     how = "reused from the cache" if result.cached else f"stopped by {result.stopped_by}"

@@ -42,7 +42,6 @@ from __future__ import annotations
 import argparse
 import json
 import math
-import shutil
 import sys
 import time
 from collections.abc import Callable
@@ -60,7 +59,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError
+from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
 from agents.train_ppo import load_training_motions, policy_kwargs
@@ -320,19 +319,13 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
 
 def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: dict, training: TrainingRecord,
                  config: DistillConfig) -> Path:
-    """Write ``out/student`` whole (temporary folder, then renamed): the model, the default
+    """Write ``out/student`` whole (:func:`agents.policy.save_policy`): the model, the default
     teacher's statistics, and a sidecar naming the default teacher's task and this distillation."""
-    final, tmp = out / "student", out / ".student.tmp"
-    shutil.rmtree(tmp, ignore_errors=True)
-    tmp.mkdir(parents=True)
-    student.model.save(tmp / MODEL_FILE)
-    shutil.copy2(Path(default.path) / STATS_FILE, tmp / STATS_FILE)
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
-    PolicySidecar(env=default.record.env, ppo=PPOSettings(net=config.net, action_variance=variance), training=training,
-                  metrics={}, extra={"distillation": record}).save(tmp / SIDECAR_FILE)
-    shutil.rmtree(final, ignore_errors=True)
-    tmp.rename(final)
-    return final
+    sidecar = PolicySidecar(env=default.record.env, ppo=PPOSettings(net=config.net, action_variance=variance),
+                            training=training, metrics={}, extra={"distillation": record})
+    save_policy(out / "student", student.model, Path(default.path) / STATS_FILE, sidecar)
+    return out / "student"
 
 
 def teacher_weight(text: str) -> tuple[str, float]:

@@ -11,10 +11,13 @@ The two observations hold the same quantities for the bodies and driven joints b
 ``p``, ``v``, ``dp``, ``dv`` entries) and the toe hinges (their ``prev_action`` entries and action
 outputs). The transferred network keeps, for every input it still gets, the source's first-layer
 weights and observation statistics, and for every action it still outputs, the source's output
-weights and log-std: it is the source network with the toe inputs and outputs cut out. What it
-does on the new body is not the source's behaviour (the foot's mass, inertia and contacts
-changed); it is a start for per-sequence adaptation (:mod:`agents.adaptation`) or
-``train_ppo.py --init-from``.
+weights and log-std: it is the source network with the toe inputs and outputs cut out, acting as
+the source would with the cut inputs at their running mean. The ``MimicGait-v0`` toe targets stay
+in the observation and read 0 on the one-segment foot (no toe hinge to bend), as in the
+``no_toeref`` ablation, with the source's statistics: the carried policy starts as the source
+would with straight-toe targets. What it does on the new body is not the source's behaviour (the
+foot's mass, inertia and contacts changed); it is a start for per-sequence adaptation
+(:mod:`agents.adaptation`) or ``train_ppo.py --init-from``.
 """
 
 from __future__ import annotations
@@ -32,7 +35,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv
 if __package__ in (None, ""):  # `python agents/foot_transfer.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, load_policy
+from agents.policy import MimicPolicy, PolicyError, load_policy, save_policy
 from agents.warm_start import FIRST_LAYERS, observation_normalizer
 from envs.config import FOOT_MODELS
 from envs.mimic import MimicEnv
@@ -44,8 +47,13 @@ BODY_BLOCKS = ("p", "v", "dp", "dv")
 ACTION_ROWS = ("action_net.weight", "action_net.bias", "log_std")
 """Parameters of SB3's ``MlpPolicy`` with one row (entry) per action component."""
 
-SOURCE_ONLY = ("name", "evaluation", "evaluate_command", "training_wall_s_total", "training_steps_total")
-"""Sidecar entries ``agents/ship.py`` adds that describe the source as shipped, not the transferred policy."""
+KEPT_HYPERPARAMETERS = ("learning_rate", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda", "clip_range",
+                        "clip_range_vf", "normalize_advantage", "ent_coef", "vf_coef", "max_grad_norm", "use_sde",
+                        "sde_sample_freq", "target_kl", "policy_kwargs", "seed")
+"""The source PPO's settings the carried model is built with."""
+
+LAYOUT_CLIP = ["deepmimic:walk"]
+"""The clip the two environments are built on to read their layouts (which do not depend on it)."""
 
 
 def driven_joint_names(env: MimicEnv) -> list[str]:
@@ -59,6 +67,8 @@ def observed_body_names(env: MimicEnv) -> list[str]:
 
 
 def _name_index(source: list[str], target: list[str], what: str) -> np.ndarray:
+    """Index into ``source`` of each name of ``target`` ``(len(target),)``; :class:`PolicyError`
+    naming the ``what`` (bodies, joints) that ``target`` has and ``source`` lacks."""
     missing = [n for n in target if n not in source]
     if missing:
         raise PolicyError(f"foot transfer: the target has {what} the source lacks ({missing}); only dropping is possible")
@@ -86,13 +96,17 @@ def shared_inputs(source: MimicEnv, target: MimicEnv) -> np.ndarray:
                               f"and {tgt[name].stop - tgt[name].start} in the target")
         else:
             index.append(np.arange(s.start, s.stop))
-    return np.concatenate(index)
+    index = np.concatenate(index)
+    if len(index) != target.observation_space.shape[0]:
+        raise PolicyError(f"foot transfer: matched {len(index)} observation entries, the target observes "
+                          f"{target.observation_space.shape[0]}")
+    return index
 
 
 def cut_network(state_dict: dict[str, torch.Tensor], inputs: np.ndarray, actions: np.ndarray) -> dict[str, torch.Tensor]:
     """A copy of an SB3 ``MlpPolicy`` ``state_dict`` that reads only observation entries ``inputs``
-    (columns of :data:`FIRST_LAYERS`) and outputs only action components ``actions`` (rows of
-    :data:`ACTION_ROWS`); every other parameter as it is."""
+    ``(D_target,)`` int (columns of :data:`FIRST_LAYERS`) and outputs only action components
+    ``actions`` ``(A_target,)`` int (rows of :data:`ACTION_ROWS`); every other parameter as it is."""
     out = dict(state_dict)
     for name in (*FIRST_LAYERS, *ACTION_ROWS):
         if name not in state_dict:
@@ -104,45 +118,46 @@ def cut_network(state_dict: dict[str, torch.Tensor], inputs: np.ndarray, actions
     return out
 
 
-def transfer(source: MimicPolicy, foot: str) -> MimicPolicy:
-    """``source`` carried to the ``foot`` humanoid (module docstring): a policy in memory whose
-    model has the target's spaces and the source's hyperparameters, the source's observation
-    statistics for the inputs kept, and a sidecar naming the new foot and where it came from
-    (``transferred_from``); its ``path`` is still the source's until :func:`save` writes it."""
+def transfer(source: MimicPolicy, foot: str, out: Path, command: str = "") -> MimicPolicy:
+    """Write ``source`` carried to the ``foot`` humanoid (module docstring) as the policy directory
+    ``out`` and return it loaded: a model with the target's spaces, the source's cut weights and
+    PPO settings (:data:`KEPT_HYPERPARAMETERS`; a fresh optimizer: Adam's moments are not carried),
+    the source's observation statistics for the inputs kept, and a sidecar of the target's task
+    whose training record continues the source's (``init_from`` the source, ``command`` appended)."""
+    if not source.sidecar:
+        raise PolicyError(f"{source.path}: no sidecar.json, so its environment and foot are unknown; cannot carry it")
     if foot not in FOOT_MODELS:
         raise PolicyError(f"foot transfer: unknown foot {foot!r}; expected one of {tuple(FOOT_MODELS)}")
     if foot == source.foot:
         raise PolicyError(f"{source.path}: already a foot={foot!r} policy")
-    clip = source.record.training.clips[:1] or ["deepmimic:walk"]
+    if Path(out).resolve() == Path(source.path).resolve():
+        raise PolicyError(f"{out}: is the source policy; write the carried policy elsewhere")
     task = replace(source.record.env, foot=foot)
-    source_env, target_env = source.make_env(clip).unwrapped, task.make(clip)
-    inputs = shared_inputs(source_env, target_env.unwrapped)
-    actions = _name_index(driven_joint_names(source_env), driven_joint_names(target_env.unwrapped), "driven joints")
-    old = source.model
-    model = PPO("MlpPolicy", DummyVecEnv([lambda: target_env]), learning_rate=old.learning_rate, n_steps=old.n_steps,
-                batch_size=old.batch_size, n_epochs=old.n_epochs, gamma=old.gamma, gae_lambda=old.gae_lambda,
-                clip_range=old.clip_range, ent_coef=old.ent_coef, vf_coef=old.vf_coef, max_grad_norm=old.max_grad_norm,
-                target_kl=old.target_kl, policy_kwargs=old.policy_kwargs, device="cpu", verbose=0)
-    model.policy.load_state_dict(cut_network(old.policy.state_dict(), inputs, actions))
-    normalizer = observation_normalizer(model.get_env(), old.gamma)
-    rms = source.normalizer.obs_rms.copy()
-    rms.mean, rms.var = rms.mean[inputs], rms.var[inputs]
-    normalizer.obs_rms = rms
-    record = source.record
-    kept = {k: v for k, v in record.extra.items() if k not in SOURCE_ONLY}
-    sidecar = replace(record, env=task, metrics={}, score=None,
-                      extra={**kept, "transferred_from": str(source.path), "transferred_to_foot": foot})
-    source_env.close()
-    return MimicPolicy(source.path, model, normalizer, sidecar.to_dict())
-
-
-def save(policy: MimicPolicy, out: Path) -> Path:
-    """Write ``policy`` as a policy directory ``out`` (model, statistics, sidecar)."""
-    out.mkdir(parents=True, exist_ok=True)
-    policy.model.save(out / MODEL_FILE)
-    policy.normalizer.save(str(out / STATS_FILE))
-    policy.record.save(out / SIDECAR_FILE)
-    return out
+    source_env, target_env = source.make_env(LAYOUT_CLIP), task.make(LAYOUT_CLIP)
+    try:
+        inputs = shared_inputs(source_env.unwrapped, target_env.unwrapped)
+        actions = _name_index(driven_joint_names(source_env.unwrapped), driven_joint_names(target_env.unwrapped),
+                              "driven joints")
+        old = source.model
+        model = PPO(old.policy_class, DummyVecEnv([lambda: target_env]), device="cpu", verbose=0,
+                    **{name: getattr(old, name) for name in KEPT_HYPERPARAMETERS})
+        try:
+            model.policy.load_state_dict(cut_network(old.policy.state_dict(), inputs, actions))
+        except RuntimeError as err:  # torch names the parameter whose shape differs
+            raise PolicyError(f"{source.path}: its network does not fit the {foot}-foot task once cut: {err}") from err
+        normalizer = observation_normalizer(model.get_env(), old.gamma)
+        normalizer.obs_rms = source.normalizer.obs_rms.copy()
+        normalizer.obs_rms.mean, normalizer.obs_rms.var = normalizer.obs_rms.mean[inputs], normalizer.obs_rms.var[inputs]
+        record = source.record
+        training = replace(record.training, init_from=str(source.path),
+                           commands=[*record.training.commands, *([command] if command else [])])
+        sidecar = replace(record, env=task, training=training, metrics={}, score=None,
+                          extra={"transferred_from": str(source.path)})
+        save_policy(Path(out), model, normalizer, sidecar)
+    finally:
+        source_env.close()
+        target_env.close()
+    return load_policy(out)
 
 
 @one_line_errors
@@ -153,11 +168,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     p.add_argument("--foot", choices=tuple(FOOT_MODELS), default="one", help="the humanoid to carry it to")
     p.add_argument("--out", type=output_dir, required=True, help="the policy directory to write")
     args = p.parse_args(argv)
-    policy = transfer(load_policy(args.policy), args.foot)
-    policy.sidecar["transfer_command"] = " ".join(["python agents/foot_transfer.py", *(sys.argv[1:] if argv is None else argv)])
-    out = save(policy, args.out)
-    print(f"wrote {out}: {args.policy} on foot={args.foot!r}")
-    return out
+    command = " ".join(["python agents/foot_transfer.py", *(sys.argv[1:] if argv is None else argv)])
+    transfer(load_policy(args.policy), args.foot, args.out, command)
+    print(f"wrote {args.out}: {args.policy} on foot={args.foot!r}")
+    return args.out
 
 
 if __name__ == "__main__":

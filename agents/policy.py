@@ -11,7 +11,9 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import pickle
+import shutil
 import zipfile
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -142,6 +144,25 @@ def set_action_variance(model: PPO, variance: float) -> None:
     dimension (its ``log_std`` parameter, ½ log σ²)."""
     with torch.no_grad():
         model.policy.log_std.fill_(0.5 * math.log(variance))
+
+
+def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar: PolicySidecar) -> None:
+    """Write the policy directory ``path`` whole: ``model``, the observation ``statistics`` (a
+    ``VecNormalize`` wrapping environments, or a policy's statistics file to copy: a policy's
+    loaded statistics wrap none and cannot be saved again) and ``sidecar``; into a temporary
+    folder beside it, then renamed over it, so an interrupted write leaves no half policy."""
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    shutil.rmtree(tmp, ignore_errors=True)
+    tmp.mkdir()
+    model.save(tmp / MODEL_FILE)
+    if isinstance(statistics, VecNormalize):
+        statistics.save(str(tmp / STATS_FILE))
+    else:
+        shutil.copy2(statistics, tmp / STATS_FILE)
+    sidecar.save(tmp / SIDECAR_FILE)
+    shutil.rmtree(path, ignore_errors=True)
+    os.replace(tmp, path)
 
 
 def load_policy(path: str | Path) -> MimicPolicy:

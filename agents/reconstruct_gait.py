@@ -60,8 +60,9 @@ survived (``clean.py``'s default) but trains to a 600-s budget, keeping the chun
 best and, among those, has the highest reward, with exploration noise σ² 0.03 rad² (ADAPT's, as in
 training) at the policy's own learning rate. Chosen at 600 s on both validation walks
 (walk_happy_001 / 002): σ² 0.03 reached joint RMSE 3.31° / 2.49° (a repeat on 001: 3.40°), σ² 0.01
-3.81° / 2.95° (it led at 300 s: 3.75° against 3.92°); a rate of 3e-4 unlearned (4.37°), 5e-5
-learned more slowly (3.63°) (README, "Gait reconstruction")."""
+3.81° / 2.95° (it led at 300 s: 3.75° against 3.92°). The rate was compared at σ² 0.01 only, on
+walk_happy_001: 3e-4 unlearned (4.37°), 5e-5 learned more slowly (3.63°) than the policy's own
+1e-4 (README, "Gait reconstruction")."""
 
 
 def build_parser(prog: str | None = None) -> CliParser:
@@ -70,7 +71,7 @@ def build_parser(prog: str | None = None) -> CliParser:
     p = clean_parser(prog, method=False)
     p.description = __doc__.split("\n\n")[0]
     p.set_defaults(adapt_budget_s=GAIT_ADAPTATION.budget_s, adapt_target=GAIT_ADAPTATION.target_sr90,
-                   adapt_variance=GAIT_ADAPTATION.action_variance)
+                   adapt_variance=GAIT_ADAPTATION.action_variance, adapt_lr=GAIT_ADAPTATION.learning_rate)
     p.add_argument("--push-off-strip", type=output_file(".png"),
                    help="a close-up frame strip of the feet through the simulation's strongest push-off")
     return p

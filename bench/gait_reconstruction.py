@@ -58,7 +58,9 @@ def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adap
           adapt_target: float | None = AdaptConfig.target_sr90, adapt_variance: float | None = None,
           ablation: str | None = None, adapt_lr: float | None = None) -> dict:
     """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0, up
-    to SR90 ``adapt_target``; under a gait ``ablation`` of its task when one is named) and their means."""
+    to SR90 ``adapt_target``, with exploration noise ``adapt_variance`` and learning rate
+    ``adapt_lr``, ``None``: the policy's own; under a gait ``ablation`` of its task when one is
+    named) and their means."""
     judge = load_policy(policy_dir)
     generalist = judge.ablated(ablation) if ablation else judge
     with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
@@ -144,6 +146,8 @@ def main() -> None:
                    help="PPO learning rate while adapting ('none', the default: the policy's own)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
+    if (args.adapt_variance is not None or args.adapt_lr is not None) and not args.adapt_budget_s > 0:
+        p.error("--adapt-variance and --adapt-lr set how a policy is adapted; they need --adapt-budget-s")
     if set(args.ablations) - {"none"} and not args.adapt_budget_s > 0:
         p.error("--ablations needs --adapt-budget-s: an ablation changes what a policy is trained on (no_fc: the "
                 "reward alone), so the same weights zero-shot score as the policy itself")

@@ -81,7 +81,7 @@ def test_gait_reconstruction_adapts_per_sequence_by_default_and_clean_does_not()
     from agents.clean import build_parser as clean_parser
     from agents.reconstruct_gait import GAIT_ADAPTATION, build_parser
     gait = build_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_gait", "--out", "o.npz"])
-    assert (gait.adapt_target, gait.adapt_budget_s, gait.adapt_variance) == (None, 600.0, 0.03)
+    assert (gait.adapt_target, gait.adapt_budget_s, gait.adapt_variance, gait.adapt_lr) == (None, 600.0, 0.03, None)
     assert GAIT_ADAPTATION.target_sr90 is None
     told = build_parser().parse_args(["deepmimic:walk", "--policy", "p", "--out", "o.npz", "--adapt-target", "0.9",
                                       "--adapt-budget-s", "60"])
