@@ -11,7 +11,12 @@ when SR90 reaches ``target_sr90``, when ``budget_s`` of wall time (evaluations i
 ``max_steps`` run out, and keeps the best chunk (SR90, then ELR, then the mean reward ratio MRR;
 the policy as given when no chunk beats it). With ``target_sr90=None`` it does not stop at
 survival but trains on to the budget: once the clip is performed whole, the reward (how closely
-it is tracked, and for ``MimicGait-v0`` its contacts) decides which chunk is kept.
+it is tracked, and for ``MimicGait-v0`` its contacts) decides which chunk is kept. With
+``keep="performance"`` the chunks rank instead by the clip performed whole as :mod:`agents.clean`
+performs it (fewest re-anchors, then fewest recoveries, then the highest reward ratio over the
+whole performance): the evaluations restart each rollout from a reference state, so one start
+frame that no chunk survives pins SR90 and leaves the choice to noise in ELR (seen on a held-out
+walk: the chunk kept after 82k of 695k steps), while the performance is what the user gets.
 
 The observation statistics stay frozen (``VecNormalize.training = False``, unless
 ``update_normalizer``): the policy's layers were trained on inputs normalised by them, so moving
@@ -61,6 +66,9 @@ def default_cache_dir() -> Path:
 MIN_ADAPT_FRAMES = MimicConfig().min_clip_frames + 1
 """Frames a clip needs for a mimic environment to train on it (31 at 60 Hz)."""
 
+KEEP_RULES = ("evaluation", "performance")
+"""How the chunk an adaptation keeps is chosen (:attr:`AdaptConfig.keep`)."""
+
 
 @dataclass(frozen=True)
 class AdaptConfig:
@@ -69,7 +77,14 @@ class AdaptConfig:
     Attributes:
         budget_s: wall-time budget (s) of the whole adaptation, evaluations included (300).
         target_sr90: stop once an evaluation reaches this SR90 (0.9); ``None``: never stop early,
-            train to ``budget_s`` / ``max_steps`` and keep the chunk with the best (SR90, ELR, MRR).
+            train to ``budget_s`` / ``max_steps`` and keep the chunk ranked best by ``keep``.
+        keep: which chunk is kept (one of :data:`KEEP_RULES`): ``"evaluation"`` (the default) ranks
+            the chunks by their evaluation (SR90, then ELR, then MRR: :func:`chunk_rank`);
+            ``"performance"`` by the clip performed whole as :mod:`agents.clean` does it (fewest
+            re-anchors, then fewest recoveries, then the highest reward ratio:
+            :func:`performance_rank`): what the user is given, where the evaluations start each
+            rollout from a reference state and can rank on one start frame the whole clip never
+            fails at.
         chunk_steps: environment (control) steps between evaluations (20 000).
         max_steps: most environment steps in all (``None``: only the budget limits).
         n_envs: environments stepped together (4; a DummyVecEnv, one process).
@@ -93,6 +108,7 @@ class AdaptConfig:
 
     budget_s: float = 300.0
     target_sr90: float | None = 0.9
+    keep: str = "evaluation"
     chunk_steps: int = 20_000
     max_steps: int | None = None
     n_envs: int = 4
@@ -115,6 +131,8 @@ class AdaptConfig:
         for name in ("action_variance", "learning_rate"):
             if getattr(self, name) is not None and not getattr(self, name) > 0:
                 raise ValueError(f"{name} must be positive or None, got {getattr(self, name)}")
+        if self.keep not in KEEP_RULES:
+            raise ValueError(f"keep must be one of {KEEP_RULES}, got {self.keep!r}")
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
 
@@ -123,10 +141,11 @@ class AdaptConfig:
         return self.target_sr90 is not None and sr90 >= self.target_sr90
 
     def training_settings(self) -> tuple:
-        """What shapes the training itself (not how long it runs): a cached adaptation stands in for
-        another only with the same settings."""
-        return (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
-                self.learning_rate)
+        """What shapes the adapted policy (how it trains and which chunk it keeps, not how long it
+        runs): a cached adaptation stands in for another only with the same settings."""
+        settings = (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
+                    self.learning_rate)
+        return settings if self.keep == "evaluation" else (*settings, self.keep)  # the default: earlier entries
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
@@ -183,10 +202,12 @@ class AdaptResult:
                 "before": self.before, "kept_steps": self.kept_steps}
 
 
-def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
+def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig | None = None) -> str:
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
     resolved path, the bytes of its ``model.zip`` and, for the same weights in a gait-ablated task
-    (:meth:`MimicPolicy.ablated`), the ablation: it adapts to another policy)."""
+    (:meth:`MimicPolicy.ablated`), the ablation: it adapts to another policy), and of ``config``'s
+    training settings where they differ from the defaults (:meth:`AdaptConfig.training_settings`:
+    runs made otherwise live beside each other instead of replacing each other)."""
     h = hashlib.sha1()
     h.update(np.ascontiguousarray(reference.qpos, dtype=np.float64).tobytes())
     h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
@@ -194,16 +215,42 @@ def adaptation_key(reference: Motion, policy: MimicPolicy) -> str:
     ablation = policy.record.extra.get("ablation")
     if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
         h.update(f"|ablation={ablation}".encode())
+    settings = None if config is None else config.training_settings()
+    if settings is not None and settings != AdaptConfig().training_settings():  # defaults: the keys of earlier versions
+        h.update(f"|training={settings!r}".encode())
     return h.hexdigest()
 
 
-ChunkHook = Callable[[MimicPolicy], dict]
-"""Called with the policy being adapted after each chunk; returns figures to record with it."""
+_EVALUATION_DETAIL = ("rollouts", "ELR_std", "RDE_mean", "RDE_std", "MRR_std")
+"""Evaluation figures left out of the chunk records (kept in ``before``)."""
+
+ChunkHook = Callable[[MimicPolicy, Motion], dict]
+"""Called with the policy being adapted after each chunk and the clip performed whole by it
+(:func:`agents.clean.clean_motion`); returns figures to record with the chunk."""
 
 
 def chunk_rank(summary: dict) -> tuple[float, float, float]:
     """How a chunk's evaluation ranks: SR90, then ELR, then the mean reward ratio."""
     return summary["SR90"], summary["ELR_mean"], summary["MRR_mean"]
+
+
+def performance_rank(summary: dict) -> tuple[int, int, float]:
+    """How a chunk's whole performance of the clip ranks (``summary`` holds its ``reanchors``,
+    ``recoveries`` and ``reward_ratio``): fewest re-anchors, then fewest failures recovered by a
+    retry, then the highest reward ratio (NaN ranks last)."""
+    ratio = summary["reward_ratio"]
+    return -summary["reanchors"], -summary["recoveries"], ratio if np.isfinite(ratio) else -np.inf
+
+
+def _performance(policy: MimicPolicy, reference: Motion) -> tuple[Motion, dict]:
+    """``reference`` performed whole by ``policy`` as :mod:`agents.clean` does it, and the
+    performance's ``reanchors``, ``recoveries`` (counts) and ``reward_ratio``."""
+    from agents.clean import CleanConfig, clean_motion  # agents.clean imports this module
+
+    performed = clean_motion(policy, reference, CleanConfig(), progress=False)
+    source = performed.source
+    return performed, {"reanchors": len(source["reanchors"]), "recoveries": len(source["recoveries"]),
+                       "reward_ratio": source["reward_ratio"]}
 
 
 class _Budget(BaseCallback):
@@ -260,14 +307,15 @@ def adapt_policy(policy: MimicPolicy, reference: Motion, config: AdaptConfig = A
                  progress: bool = True, on_chunk: ChunkHook | None = None) -> AdaptResult:
     """``policy`` fine-tuned with PPO on ``reference`` (at least :data:`MIN_ADAPT_FRAMES` frames,
     the policy's model, 60 Hz), or the cached result of an earlier call (see the module's
-    documentation). ``on_chunk(policy)`` is called with the policy as trained so far after each
-    chunk's evaluation (and once before training); what it returns (JSON-native values; keys of the
-    evaluation's own are overridden by it) is added to that chunk's record (``AdaptResult.chunks``;
-    the call before training to ``AdaptResult.before``); its time counts against the budget."""
+    documentation). ``on_chunk(policy, performed)`` is called with the policy as trained so far
+    and the clip performed whole by it after each chunk's evaluation (and once before training);
+    what it returns (JSON-native values; keys of the evaluation's own are overridden by it) is
+    added to that chunk's record (``AdaptResult.chunks``; the call before training to
+    ``AdaptResult.before``); its time counts against the budget."""
     if reference.n_frames < MIN_ADAPT_FRAMES:
         raise ValueError(f"{reference.name}: {reference.n_frames} frames; adaptation needs at least "
                          f"{MIN_ADAPT_FRAMES}")
-    key = adaptation_key(reference, policy)
+    key = adaptation_key(reference, policy, config)
     path = Path(config.cache_dir) / key
     with torch_threads(config.torch_threads):
         return _load_cached(path, config) or _adapt(policy, reference, config, key, path, progress, on_chunk)
@@ -293,9 +341,19 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     def snapshot() -> tuple[dict, object]:
         return copy.deepcopy(model.policy.state_dict()), copy.deepcopy(venv.obs_rms)
 
+    by_performance = config.keep == "performance"
+    rank = performance_rank if by_performance else chunk_rank
+
+    def judge() -> dict:
+        """The current policy's evaluation, its whole performance when needed, and the hook's figures."""
+        summary = _evaluate(eval_env, adapted, config.eval_episodes)
+        if not (by_performance or on_chunk):
+            return summary
+        performed, figures = _performance(adapted, reference)
+        return {**(on_chunk(adapted, performed) if on_chunk else {}), **summary, **figures}
+
     t0 = time.monotonic()
-    best = _evaluate(eval_env, adapted, config.eval_episodes)
-    before = {**(on_chunk(adapted) if on_chunk else {}), **best}
+    best = before = judge()
     eval_s = time.monotonic() - t0
     best_state, kept_steps = snapshot(), 0  # the policy as given, its own noise included
     if config.action_variance is not None:  # from here on, and in every chunk kept
@@ -315,14 +373,13 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         callbacks = CallbackList([_Budget(deadline, started, bar), *kl_following(config.target_kl)])
         model.learn(chunk, callback=callbacks, reset_num_timesteps=False, progress_bar=False)
         t0 = time.monotonic()
-        summary = _evaluate(eval_env, adapted, config.eval_episodes)
+        summary = judge()
         trained = model.num_timesteps - first_step
-        hooked = on_chunk(adapted) if on_chunk else {}
-        chunks.append({**hooked, "steps": trained, "wall_s": time.monotonic() - started, "SR90": summary["SR90"],
-                       "ELR_mean": summary["ELR_mean"], "MRR_mean": summary["MRR_mean"]})
+        chunks.append({k: v for k, v in summary.items() if k not in _EVALUATION_DETAIL}
+                      | {"steps": trained, "wall_s": time.monotonic() - started})
         eval_s = time.monotonic() - t0
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
-        if chunk_rank(summary) > chunk_rank(best):  # survive first, then longer, then closer
+        if rank(summary) > rank(best):
             best, best_state, kept_steps = summary, snapshot(), trained
         if config.reached(summary["SR90"]):
             stopped_by = "target"

@@ -40,7 +40,7 @@ import numpy as np
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.adaptation import MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
+from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
 from agents.policy import MimicPolicy
 from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
@@ -174,6 +174,11 @@ class _Performance:
         self.rewind = config.rewind_frames(reference.fps, task.frames_per_control, self.episode_frames)
         self.qpos = np.full_like(reference.qpos, np.nan)
         """``(T, nq)`` the committed simulated frames."""
+        self.frames_per_control = task.frames_per_control
+        self.rewards = np.full(reference.n_frames, np.nan)
+        """``(T,)`` the reward of the control step that simulated each committed frame (NaN: a frame
+        started from the reference state)."""
+        self.max_step_reward = float(self.env.unwrapped.max_step_reward)
         self.ring = StateRing(self.rewind + 1)
         self.anchor = 0
         """The latest frame started from the reference state: retries never rewind past it."""
@@ -193,6 +198,8 @@ class _Performance:
             qpos, qvel = episode.state(f)
             self.qpos[f] = qpos
             self.ring.push(f, qpos, qvel)
+            if f > episode.start_frame:  # the start state keeps the reward of the step that reached it
+                self.rewards[f] = episode.rewards[(f - episode.start_frame - 1) // self.frames_per_control]
 
     def _run(self, start: int, stop: int, policy: Policy) -> Episode:
         """``policy`` from the committed simulated state of ``start`` until ``stop`` or a failure."""
@@ -207,7 +214,15 @@ class _Performance:
     def _anchor_at(self, frame: int) -> None:
         """Restart from the reference state of ``frame`` (lifted above the floor if it reaches into it)."""
         self._commit(run_episode(self.env, self.act, {"clip": 0, "start_frame": frame}, max_frames=0), frame, frame)
+        self.rewards[frame] = np.nan
         self.anchor = frame
+
+    def reward_ratio(self) -> float:
+        """The mean over the committed frames simulated by a control step of that step's reward,
+        over the most a step can earn: ADAPT's MRR of the whole performance (NaN when no frame
+        was simulated)."""
+        simulated = self.rewards[np.isfinite(self.rewards)]
+        return float(simulated.mean() / self.max_step_reward) if simulated.size else float("nan")
 
     # ------------------------------------------------------------ the algorithm
     def perform(self, progress: bool) -> None:
@@ -274,7 +289,9 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     The result's ``source`` adds ``cleaned_by`` (the policy's directory), ``reanchors`` and
     ``recoveries`` (lists of :class:`Reanchor` / :class:`Recovery` as dicts) and
     ``simulated_fraction``: the share of frame-to-frame transitions that are physics steps, i.e.
-    ``1 − re-anchors / (frames − 1)`` (1.0: one continuous simulation from the first frame).
+    ``1 − re-anchors / (frames − 1)`` (1.0: one continuous simulation from the first frame), and
+    ``reward_ratio``: the policy's task reward over the whole performance, as a share of the most a
+    control step can earn (each simulated frame counts the reward of the step that simulated it).
     """
     require_frames(reference, MIN_FRAMES, reference.name, "cleaning")
     performance = _Performance(policy, reference, config)
@@ -287,7 +304,8 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     source = {**reference.source, "cleaned_by": str(policy.path),
               "reanchors": [asdict(r) for r in performance.reanchors],
               "recoveries": [asdict(r) for r in performance.recoveries],
-              "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last}
+              "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last,
+              "reward_ratio": performance.reward_ratio()}
     return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
 
@@ -355,12 +373,16 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                    help="wall-time budget of the adaptation (s)")
     g.add_argument("--adapt-target", type=sr90_target, default=AdaptConfig.target_sr90,
                    help="stop adapting once SR90 on the clip reaches this; 'none': use the whole budget, "
-                        "keeping the chunk that performs the clip whole most closely (highest reward)")
+                        "keeping the chunk ranked best by --adapt-keep")
     g.add_argument("--adapt-steps", type=positive_int, default=None, help="most environment steps (None: no limit)")
     g.add_argument("--adapt-variance", type=or_none(positive_float), default=AdaptConfig.action_variance,
                    help="exploration noise sigma^2 (rad^2) while adapting; 'none': the policy's own")
     g.add_argument("--adapt-lr", type=or_none(positive_float), default=AdaptConfig.learning_rate,
                    help="PPO learning rate while adapting; 'none': the policy's own")
+    g.add_argument("--adapt-keep", choices=KEEP_RULES, default=AdaptConfig.keep,
+                   help="which chunk is kept: the best evaluation (SR90, ELR, reward ratio over rollouts from "
+                        "reference states), or the best performance of the whole clip (fewest re-anchors, "
+                        "then fewest recoveries, then the highest reward ratio)")
     g.add_argument("--adapt-chunk", type=positive_int, default=AdaptConfig.chunk_steps,
                    help="environment steps between evaluations")
     g.add_argument("--adapt-cache", type=output_dir, default=None,
@@ -408,7 +430,7 @@ def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespa
         return None
     config = AdaptConfig(budget_s=args.adapt_budget_s, target_sr90=args.adapt_target, max_steps=args.adapt_steps,
                          chunk_steps=args.adapt_chunk, action_variance=args.adapt_variance, learning_rate=args.adapt_lr,
-                         cache_dir=args.adapt_cache or default_cache_dir())
+                         keep=args.adapt_keep, cache_dir=args.adapt_cache or default_cache_dir())
     result = adapt_policy(policy, reference, config)
     how = "reused from the cache" if result.cached else f"stopped by {result.stopped_by}"
     print(f"adapted {policy.path} to the clip: SR90 {result.sr90_before:.2f} -> {result.sr90_after:.2f}, "

@@ -2,7 +2,8 @@
 
 Usage: ``python bench/gait_reconstruction.py --policies full=models/mimic_gait
 [no_fc=DIR no_toeref=DIR one_segment=DIR] [--ablations none no_fc no_toeref] [--clips SOURCE ...]
-[--seconds 10] [--episodes 5] [--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V] [--adapt-lr LR]]
+[--seconds 10] [--episodes 5] [--adapt-budget-s S [--adapt-target SR90|none] [--adapt-variance V] [--adapt-lr LR]
+[--adapt-keep evaluation|performance]]
 [--json [OUT]]``
 
 For each policy (a ``MimicGait-v0`` policy; the ablations are trained with
@@ -37,7 +38,7 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.adaptation import AdaptConfig, adapt_policy
+from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
 from agents.clean import CleanConfig, clean_motion, or_none, sr90_target
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy, load_policy
@@ -46,6 +47,7 @@ from envs.config import FOOT_MODELS, GAIT_ABLATIONS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.cli import positive_float
 from reference_motion.library import expand_clips, load_motion
+from reference_motion.motion import Motion
 
 CLIPS = tuple(f"library:data/library#dataset-1_walk_{style}_{take:03d}" for style in ("giant", "old", "tired")
               for take in (1, 2))
@@ -56,20 +58,20 @@ PARAMETERS = ("stance", "swing", "single_support", "double_support")
 
 def score(policy_dir: str, clips: list[str], seconds: float, episodes: int, adapt_budget_s: float = 0.0,
           adapt_target: float | None = AdaptConfig.target_sr90, adapt_variance: float | None = None,
-          ablation: str | None = None, adapt_lr: float | None = None) -> dict:
+          ablation: str | None = None, adapt_lr: float | None = None, adapt_keep: str = AdaptConfig.keep) -> dict:
     """Per-clip metrics of one policy (adapted to each clip first when ``adapt_budget_s`` > 0, up
     to SR90 ``adapt_target``, with exploration noise ``adapt_variance`` and learning rate
-    ``adapt_lr``, ``None``: the policy's own; under a gait ``ablation`` of its task when one is
+    ``adapt_lr``, ``None``: the policy's own, keeping the chunk ``adapt_keep`` ranks best; under a gait ``ablation`` of its task when one is
     named) and their means."""
     judge = load_policy(policy_dir)
     generalist = judge.ablated(ablation) if ablation else judge
     with tempfile.TemporaryDirectory() as cache:  # adapted policies: a fresh cache, nothing reused
         adapt = (AdaptConfig(budget_s=adapt_budget_s, target_sr90=adapt_target, action_variance=adapt_variance,
-                             learning_rate=adapt_lr,
+                             learning_rate=adapt_lr, keep=adapt_keep,
                              cache_dir=Path(cache)) if adapt_budget_s > 0 else None)
         rows = [score_clip(generalist, clip, seconds, episodes, adapt, judge) for clip in clips]
     return {"policy": policy_dir, "ablation": ablation, "adapt_budget_s": adapt_budget_s, "adapt_target": adapt_target,
-            "adapt_variance": adapt_variance, "adapt_lr": adapt_lr, "clips": rows,
+            "adapt_variance": adapt_variance, "adapt_lr": adapt_lr, "adapt_keep": adapt_keep, "clips": rows,
             "mean": means(rows)}
 
 
@@ -83,9 +85,8 @@ def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int
     targets, toe_targets, gait_reference = gait_targets(judge or generalist, reference)
     policy, adaptation = generalist, {}
     if adapt is not None:
-        def quality(current: MimicPolicy) -> dict:  # the clip re-performed by the policy as trained so far
-            m = reconstruction_metrics(clean_motion(current, reference, CleanConfig(), progress=False),
-                                       gait_reference, targets, toe_targets)
+        def quality(current: MimicPolicy, performed: Motion) -> dict:  # the clip as the policy now performs it
+            m = reconstruction_metrics(performed, gait_reference, targets, toe_targets)
             return {"joint_rmse_deg": m["joint_rmse_deg"], "contact_f1": m["contact_f1"]}
 
         adapted = adapt_policy(generalist, reference, adapt, progress=False, on_chunk=quality)
@@ -144,10 +145,13 @@ def main() -> None:
                    help="exploration noise σ² (rad²) while adapting ('none', the default: the policy's own)")
     p.add_argument("--adapt-lr", type=or_none(positive_float), default=None,
                    help="PPO learning rate while adapting ('none', the default: the policy's own)")
+    p.add_argument("--adapt-keep", choices=KEEP_RULES, default=AdaptConfig.keep,
+                   help="which chunk an adaptation keeps (agents.adaptation.AdaptConfig.keep)")
     p.add_argument("--json", nargs="?", const="-", default=None, help="write the results as JSON (to OUT, or print)")
     args = p.parse_args()
-    if (args.adapt_variance is not None or args.adapt_lr is not None) and not args.adapt_budget_s > 0:
-        p.error("--adapt-variance and --adapt-lr set how a policy is adapted; they need --adapt-budget-s")
+    adapting = args.adapt_variance is not None or args.adapt_lr is not None or args.adapt_keep != AdaptConfig.keep
+    if adapting and not args.adapt_budget_s > 0:
+        p.error("--adapt-variance, --adapt-lr and --adapt-keep set how a policy is adapted; they need --adapt-budget-s")
     if set(args.ablations) - {"none"} and not args.adapt_budget_s > 0:
         p.error("--ablations needs --adapt-budget-s: an ablation changes what a policy is trained on (no_fc: the "
                 "reward alone), so the same weights zero-shot score as the policy itself")
@@ -159,7 +163,7 @@ def main() -> None:
             row = name if ablation is None else f"{name}-{ablation}"
             print(f"{row} ({directory}{'' if ablation is None else f' under {ablation}'})", flush=True)
             results[row] = score(directory, clips, args.seconds, args.episodes, args.adapt_budget_s,
-                                 args.adapt_target, args.adapt_variance, ablation, args.adapt_lr)
+                                 args.adapt_target, args.adapt_variance, ablation, args.adapt_lr, args.adapt_keep)
     print(f"\n{'policy':<22}{'RMSE deg':>9}{'F1':>7}{'disp err':>9}{'toe peak':>9}{'target':>8}{'timing ms':>10}"
           f"{'reanch':>7}{'ELR':>6}{'SR90':>6}")
     for name, r in results.items():
@@ -174,7 +178,8 @@ def main() -> None:
               + f"{first[f'{k}_targets']:>12.3f}")
     emit_json({"clips": clips, "seconds": args.seconds, "episodes": args.episodes, "ablations": args.ablations,
                "adapt_budget_s": args.adapt_budget_s, "adapt_target": args.adapt_target,
-               "adapt_variance": args.adapt_variance, "adapt_lr": args.adapt_lr, "results": results}, args.json)
+               "adapt_variance": args.adapt_variance, "adapt_lr": args.adapt_lr, "adapt_keep": args.adapt_keep,
+               "results": results}, args.json)
 
 
 if __name__ == "__main__":

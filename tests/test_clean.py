@@ -12,7 +12,7 @@ import pytest
 from stable_baselines3 import PPO
 
 from agents import clean
-from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key, chunk_rank
+from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key, chunk_rank, performance_rank
 from agents.clean import CleanConfig, StateRing, clean_motion, reanchor_marks
 from agents.policy import MimicPolicy, load_policy
 from agents.rollout import FAILURES, run_episode
@@ -56,6 +56,12 @@ def test_a_good_policy_performs_the_whole_clip_in_one_simulation(walk_policy, wa
     assert episode.ended_by == "time_limit"
     np.testing.assert_allclose(cleaned.qpos[:100], episode.qpos[:100], atol=1e-9)
     assert not np.allclose(cleaned.qpos, walk.qpos, atol=1e-3)
+    # its reward ratio: each simulated frame counts the reward of the control step that simulated it;
+    # frames 1..300 are that rollout's (one ratio of at most 1 more: the last frame, a second stretch)
+    per_frame = np.repeat(episode.rewards, walk_policy.record.env.mimic_config().frames_per_control)[:300]
+    ratio = per_frame / env.unwrapped.max_step_reward
+    assert walk.n_frames == 302 and 0.3 < ratio.mean() < 1
+    assert cleaned.source["reward_ratio"] * 301 == pytest.approx(ratio.sum(), abs=1.0)
 
 
 def test_a_failure_is_retried_from_before_it(walk_policy, walk):
@@ -117,7 +123,10 @@ def test_adaptation_writes_the_cache_and_reuses_it(walk_policy, tmp_path):
     first = adapt_policy(walk_policy, turn, config, progress=False)
     assert not first.cached and first.stopped_by in ("max_steps", "target", "budget")
     assert first.steps >= 1024 and first.wall_s < 20 and len(first.chunks) == 1
-    assert first.path == tmp_path / adaptation_key(turn, walk_policy)
+    assert first.path == tmp_path / adaptation_key(turn, walk_policy, config)
+    # its settings are not the defaults (2 envs): kept apart from a run made with the defaults
+    assert adaptation_key(turn, walk_policy, config) != adaptation_key(turn, walk_policy)
+    assert adaptation_key(turn, walk_policy, AdaptConfig(budget_s=5)) == adaptation_key(turn, walk_policy)
     assert (first.sr90_after, first.elr_after) >= (first.sr90_before, first.elr_before)  # the best chunk is kept
     sidecar = json.loads((first.path / "sidecar.json").read_text())
     assert sidecar["adaptation"]["steps"] == first.steps and sidecar["training"]["init_from"] == str(WALK_POLICY)
@@ -138,9 +147,10 @@ def test_adaptation_without_a_target_trains_to_its_limit_and_reports_each_chunk(
     walk = load_motion("deepmimic:walk", min_frames=300)
     seen = []
 
-    def hook(policy: MimicPolicy) -> dict:
+    def hook(policy: MimicPolicy, performed: Motion) -> dict:
         seen.append(policy.model.num_timesteps)
-        return {"calls": len(seen)}
+        assert performed.n_frames == walk.n_frames and performed.source["cleaned_by"] == str(policy.path)
+        return {"calls": len(seen), "reanchors": -1}  # a figure of the performance's own is not overridden
 
     config = AdaptConfig(budget_s=60, max_steps=2048, chunk_steps=1024, n_envs=2, n_steps=512, eval_episodes=1,
                          target_sr90=None, action_variance=0.01, cache_dir=tmp_path)
@@ -149,7 +159,7 @@ def test_adaptation_without_a_target_trains_to_its_limit_and_reports_each_chunk(
     assert result.stopped_by == "max_steps" and result.steps == 2048
     assert [c["calls"] for c in result.chunks] == [2, 3] and result.before["calls"] == 1
     assert seen[1] - seen[0] == 1024 and seen[2] - seen[1] == 1024
-    assert all(0 < c["MRR_mean"] <= 1 for c in result.chunks)
+    assert all(0 < c["MRR_mean"] <= 1 and c["reanchors"] >= 0 and 0 < c["reward_ratio"] <= 1 for c in result.chunks)
     assert result.kept_steps in (0, 1024, 2048)
     log_std = PPO.load(result.path / "model.zip", device="cpu").policy.log_std.detach().numpy()
     own = walk_policy.model.policy.log_std.detach().numpy()
@@ -182,6 +192,33 @@ def test_adaptation_trains_at_the_learning_rate_asked_for(walk_policy, tmp_path)
     assert not adapt_policy(walk_policy, walk, replace(config, n_steps=256), progress=False).cached
     with pytest.raises(ValueError, match="learning_rate must be positive or None, got 0"):
         AdaptConfig(learning_rate=0)
+
+
+def test_adaptation_can_keep_the_chunk_that_performs_the_clip_best(walk_policy, tmp_path):
+    """keep="performance": each chunk (and the policy as given) performs the clip whole; the chunk
+    kept is the one ranked best by its performance, recorded with it; the rule is in the cache key."""
+    turn = load_motion("deepmimic:walker/turn_right0", min_frames=300)
+    config = AdaptConfig(budget_s=60, max_steps=2048, chunk_steps=1024, n_envs=2, n_steps=512, eval_episodes=1,
+                         target_sr90=None, keep="performance", cache_dir=tmp_path)
+    result = adapt_policy(walk_policy, turn, config, progress=False)
+    figures = [result.before] + result.chunks
+    assert all({"reanchors", "recoveries", "reward_ratio"} <= set(f) for f in figures)
+    best = max(range(len(figures)), key=lambda i: performance_rank(figures[i]))
+    assert result.kept_steps == (0 if best == 0 else result.chunks[best - 1]["steps"])
+    kept = clean_motion(result.policy, turn, progress=False).source
+    assert (len(kept["reanchors"]), len(kept["recoveries"])) == (figures[best]["reanchors"], figures[best]["recoveries"])
+    assert adaptation_key(turn, walk_policy, config) != adaptation_key(turn, walk_policy, replace(config, keep="evaluation"))
+    with pytest.raises(ValueError, match="keep must be one of"):
+        AdaptConfig(keep="best")
+
+
+def test_performances_rank_by_reanchors_then_recoveries_then_reward():
+    def rank(reanchors: int, recoveries: int, ratio: float) -> tuple:
+        return performance_rank({"reanchors": reanchors, "recoveries": recoveries, "reward_ratio": ratio})
+
+    assert rank(0, 3, 0.1) > rank(1, 0, 0.9)
+    assert rank(0, 1, 0.1) < rank(0, 0, 0.05)
+    assert rank(0, 0, 0.5) > rank(0, 0, 0.4) > rank(0, 0, float("nan"))
 
 
 def test_chunks_rank_by_survival_then_length_then_reward():
