@@ -2,14 +2,15 @@
 
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
-[--adapt-target-kl KL] [--json [OUT]]``
+[--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance] [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
 the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
 whole: the library's takes are not cyclic) and IMU-corrupted at ``--strength`` with
 seed ``--seed + i`` (seeds no training run uses: training variants come from the run's seed), the
 policy is adapted to the corrupted take (:mod:`agents.adaptation`, per-take budget
-``--adapt-budget-s``, a fresh cache so nothing is reused) and cleans it (:func:`agents.clean.clean_motion`).
+``--adapt-budget-s``, stopping at SR90 ``--adapt-target`` and keeping the chunk ``--adapt-keep``
+ranks best; a fresh cache so nothing is reused) and cleans it (:func:`agents.clean.clean_motion`).
 Reported per take and summarised: whether the whole take was simulated without a re-anchor
 (goal: ≥ 9 of 10), ELR of the adapted policy on the take (ADAPT's protocol; goal ≥ 0.97), foot
 skate, floating and penetration of the cleaned take against the corrupted input (goal: each
@@ -26,8 +27,8 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.adaptation import AdaptConfig, adapt_policy
-from agents.clean import CleanConfig, clean_motion
+from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
+from agents.clean import CleanConfig, clean_motion, sr90_target
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -73,6 +74,10 @@ def main() -> None:
     p.add_argument("--adapt-steps", type=int, default=None, help="also stop each adaptation after this many steps")
     p.add_argument("--adapt-target-kl", type=float, default=None,
                    help="adapt with the KL-following learning rate (AdaptConfig.target_kl)")
+    p.add_argument("--adapt-target", type=sr90_target, default=AdaptConfig.target_sr90,
+                   help="stop adapting once SR90 reaches this; 'none': train to the budget")
+    p.add_argument("--adapt-keep", choices=KEEP_RULES, default=AdaptConfig.keep,
+                   help="which chunk an adaptation keeps (agents.adaptation.AdaptConfig.keep)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     frames = int(round(args.seconds * 60)) + 1
@@ -83,7 +88,8 @@ def main() -> None:
                 clip, foot, args.seconds, args.strength, args.seed + i)])
             looped = reference.n_frames >= frames
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
-                                 target_kl=args.adapt_target_kl, cache_dir=Path(cache))
+                                 target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
+                                 keep=args.adapt_keep, cache_dir=Path(cache))
             adapted = adapt_policy(policy, reference, config, progress=False)
             start = time.perf_counter()
             cleaned = clean_motion(adapted.policy, reference, CleanConfig(), progress=False)
@@ -112,7 +118,8 @@ def main() -> None:
           + " (goal >= 80% each)")
     emit_json({"policy": args.policy, "seconds": args.seconds, "strength": args.strength,
                "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
-               "adapt_target_kl": args.adapt_target_kl, "summary": summary, "takes": rows}, args.json)
+               "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
+               "adapt_keep": args.adapt_keep, "summary": summary, "takes": rows}, args.json)
 
 
 if __name__ == "__main__":

@@ -81,13 +81,15 @@ def test_gait_reconstruction_adapts_per_sequence_by_default_and_clean_does_not()
     from agents.clean import build_parser as clean_parser
     from agents.reconstruct_gait import GAIT_ADAPTATION, build_parser
     gait = build_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_gait", "--out", "o.npz"])
-    assert (gait.adapt_target, gait.adapt_budget_s, gait.adapt_variance, gait.adapt_lr) == (None, 600.0, 0.03, None)
+    assert (gait.adapt_target, gait.adapt_budget_s, gait.adapt_variance, gait.adapt_lr, gait.adapt_keep) == (
+        None, 1200.0, 0.03, None, "performance")
     assert GAIT_ADAPTATION.target_sr90 is None
     told = build_parser().parse_args(["deepmimic:walk", "--policy", "p", "--out", "o.npz", "--adapt-target", "0.9",
                                       "--adapt-budget-s", "60"])
     assert (told.adapt_target, told.adapt_budget_s) == (0.9, 60.0)
     clean = clean_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_walk", "--out", "o.npz"])
-    assert (clean.adapt_target, clean.adapt_budget_s, clean.adapt_variance) == (0.9, 300.0, None)
+    assert (clean.adapt_target, clean.adapt_budget_s, clean.adapt_variance, clean.adapt_keep) == (
+        0.9, 300.0, None, "evaluation")
 
 
 def test_a_gait_policy_under_an_ablation_adapts_in_the_ablated_task(tmp_path):
