@@ -6,17 +6,20 @@ builds ``AdaptConfig.n_envs`` environments of the policy's id and foot model on 
 (corrupted or not; ``artefacts=None``, episodes start where the policy fails more often), wraps
 them in the policy's observation statistics, loads its PPO weights and learns in chunks of
 ``chunk_steps``; after each chunk the deterministic policy is evaluated on the clip
-(:func:`agents.evaluation.evaluate`, ``eval_episodes`` start frames spread over the clip). It stops
-when SR90 reaches ``target_sr90``, when ``budget_s`` of wall time (evaluations included) or
-``max_steps`` run out, and keeps the best chunk (SR90, then ELR, then the mean reward ratio MRR;
-the policy as given when no chunk beats it). With ``target_sr90=None`` it does not stop at
-survival but trains on to the budget: once the clip is performed whole, the reward (how closely
-it is tracked, and for ``MimicGait-v0`` its contacts) decides which chunk is kept. With
-``keep="performance"`` the chunks rank instead by the clip performed whole as :mod:`agents.clean`
-performs it (fewest re-anchors, then fewest recoveries, then the highest reward ratio over the
-whole performance): the evaluations restart each rollout from a reference state, so one start
-frame that no chunk survives pins SR90 and leaves the choice to noise in ELR (seen on a held-out
-walk: the chunk kept after 82k of 695k steps), while the performance is what the user gets.
+(:func:`agents.evaluation.evaluate`, ``eval_episodes`` start frames spread over the clip) and
+performs the clip whole as :mod:`agents.clean` performs it. It stops when SR90 reaches
+``target_sr90`` and the whole performance has no re-anchor, or when ``budget_s`` of wall time
+(evaluations included) or ``max_steps`` run out, and keeps the chunk whose performance is best
+(fewest re-anchors, then fewest failures recovered by a retry, then the highest reward ratio
+over the whole performance; the policy as given when no chunk beats it). With
+``target_sr90=None`` it does not stop at survival but trains on to the budget: once the clip is
+performed whole, the reward (how closely it is tracked, and for ``MimicGait-v0`` its contacts)
+decides which chunk is kept. The evaluations alone (``keep="evaluation"``, the rule before:
+SR90, then ELR, then the mean reward ratio MRR, stopping at the target SR90) restart each rollout
+from a reference state, so one start frame that no chunk survives pins SR90 and leaves the choice
+to noise in ELR (seen on a held-out walk: the chunk kept after 82k of 695k steps), and a clip
+whose evaluations pass can still re-anchor when performed whole (a validation take stopped after
+42 s with one re-anchor; judged by its performance it trained on to 103 s and none).
 
 The observation statistics stay frozen (``VecNormalize.training = False``, unless
 ``update_normalizer``): the policy's layers were trained on inputs normalised by them, so moving
@@ -78,13 +81,15 @@ class AdaptConfig:
         budget_s: wall-time budget (s) of the whole adaptation, evaluations included (300).
         target_sr90: stop once an evaluation reaches this SR90 (0.9); ``None``: never stop early,
             train to ``budget_s`` / ``max_steps`` and keep the chunk ranked best by ``keep``.
-        keep: which chunk is kept (one of :data:`KEEP_RULES`): ``"evaluation"`` (the default) ranks
-            the chunks by their evaluation (SR90, then ELR, then MRR: :func:`chunk_rank`);
-            ``"performance"`` by the clip performed whole as :mod:`agents.clean` does it (fewest
+        keep: which chunk is kept (one of :data:`KEEP_RULES`): ``"performance"`` (the default)
+            ranks the chunks by the clip performed whole as :mod:`agents.clean` does it (fewest
             re-anchors, then fewest recoveries, then the highest reward ratio:
             :func:`performance_rank`): what the user is given, where the evaluations start each
             rollout from a reference state and can rank on one start frame the whole clip never
-            fails at.
+            fails at; a target SR90 then ends the adaptation only once the clip is also performed
+            whole with no re-anchor (:meth:`reached`). ``"evaluation"`` (the rule before; cached
+            entries made before this option were made with it) ranks them by their evaluation
+            (SR90, then ELR, then MRR: :func:`chunk_rank`) and stops at the target SR90 alone.
         chunk_steps: environment (control) steps between evaluations (20 000).
         max_steps: most environment steps in all (``None``: only the budget limits).
         n_envs: environments stepped together (4; a DummyVecEnv, one process).
@@ -108,7 +113,7 @@ class AdaptConfig:
 
     budget_s: float = 300.0
     target_sr90: float | None = 0.9
-    keep: str = "evaluation"
+    keep: str = "performance"
     chunk_steps: int = 20_000
     max_steps: int | None = None
     n_envs: int = 4
@@ -136,16 +141,21 @@ class AdaptConfig:
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
 
-    def reached(self, sr90: float) -> bool:
-        """Whether an SR90 of ``sr90`` ends the adaptation (never when ``target_sr90`` is ``None``)."""
-        return self.target_sr90 is not None and sr90 >= self.target_sr90
+    def reached(self, summary: dict) -> bool:
+        """Whether a chunk judged ``summary`` (its ``SR90``; with ``keep="performance"`` also its
+        performance's ``reanchors``) ends the adaptation: SR90 at least ``target_sr90`` and, when
+        the chunks rank by their performance, the clip performed whole with no re-anchor (never
+        when ``target_sr90`` is ``None``)."""
+        if self.target_sr90 is None or summary["SR90"] < self.target_sr90:
+            return False
+        return self.keep != "performance" or summary.get("reanchors") == 0
 
     def training_settings(self) -> tuple:
         """What shapes the adapted policy (how it trains and which chunk it keeps, not how long it
         runs): a cached adaptation stands in for another only with the same settings."""
         settings = (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
                     self.learning_rate)
-        return settings if self.keep == "evaluation" else (*settings, self.keep)  # the default: earlier entries
+        return settings if self.keep == "evaluation" else (*settings, self.keep)  # "evaluation": as earlier entries
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
@@ -168,7 +178,7 @@ class AdaptResult:
         elr_before, elr_after: the same for ELR.
         steps: environment steps trained.
         wall_s: wall time of the adaptation (s; of the run that made it, when cached).
-        stopped_by: ``"target"`` (SR90 reached ``target_sr90``), ``"already_good"`` (it had before
+        stopped_by: ``"target"`` (SR90 reached ``target_sr90``; :meth:`AdaptConfig.reached`), ``"already_good"`` (it had before
             any training), ``"budget"`` or ``"max_steps"``.
         chunks: one record per evaluated chunk: ``steps``, ``wall_s``, ``SR90``, ``ELR_mean``,
             ``MRR_mean`` and what ``on_chunk`` returned for it (entries made before ``MRR_mean``
@@ -294,10 +304,11 @@ def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
         return None
     try:
         record = json.loads(sidecar.read_text())["adaptation"]
-        made_with = AdaptConfig(**{**record["config"], "cache_dir": config.cache_dir})
+        made_with = AdaptConfig(**{"keep": "evaluation", **record["config"], "cache_dir": config.cache_dir})
     except (ValueError, KeyError, TypeError):
         return None  # an older or damaged entry: adapt again
-    enough = config.reached(record["SR90_after"]) or made_with.covers(config)
+    enough = config.reached({"SR90": record["SR90_after"], "reanchors": record.get("reanchors_after")}) \
+        or made_with.covers(config)
     if made_with.training_settings() != config.training_settings() or not enough:
         return None
     return _result(path, record, cached=True)
@@ -309,8 +320,8 @@ def adapt_policy(policy: MimicPolicy, reference: Motion, config: AdaptConfig = A
     the policy's model, 60 Hz), or the cached result of an earlier call (see the module's
     documentation). ``on_chunk(policy, performed)`` is called with the policy as trained so far
     and the clip performed whole by it after each chunk's evaluation (and once before training);
-    what it returns (JSON-native values; keys of the evaluation's own are overridden by it) is
-    added to that chunk's record (``AdaptResult.chunks``; the call before training to
+    what it returns (JSON-native values; where a key is also one of the evaluation's or of the
+    performance's figures, theirs is kept) is added to that chunk's record (``AdaptResult.chunks``; the call before training to
     ``AdaptResult.before``); its time counts against the budget."""
     if reference.n_frames < MIN_ADAPT_FRAMES:
         raise ValueError(f"{reference.name}: {reference.n_frames} frames; adaptation needs at least "
@@ -359,7 +370,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     if config.action_variance is not None:  # from here on, and in every chunk kept
         set_action_variance(model, config.action_variance)
     first_step, chunks = model.num_timesteps, []
-    stopped_by = "already_good" if config.reached(before["SR90"]) else ""
+    stopped_by = "already_good" if config.reached(before) else ""
     bar = tqdm(total=int(np.ceil(config.budget_s)), desc=f"adapting to {reference.name}", unit="s",
                disable=not progress)
     bar.set_postfix(SR90=f"{before['SR90']:.2f}", steps=0)
@@ -381,7 +392,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
         if rank(summary) > rank(best):
             best, best_state, kept_steps = summary, snapshot(), trained
-        if config.reached(summary["SR90"]):
+        if config.reached(summary):
             stopped_by = "target"
         elif config.max_steps is not None and trained >= config.max_steps:
             stopped_by = "max_steps"
@@ -393,6 +404,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     wall_s = time.monotonic() - started
     record = {"key": key, "base_policy": str(policy.path), "clip": reference.name, "SR90_before": before["SR90"],
               "SR90_after": best["SR90"], "ELR_before": before["ELR_mean"], "ELR_after": best["ELR_mean"],
+              "reanchors_after": best.get("reanchors"),
               "steps": model.num_timesteps - first_step, "wall_s": wall_s, "stopped_by": stopped_by, "chunks": chunks,
               "before": before, "kept_steps": kept_steps,
               "config": {k: v for k, v in asdict(config).items() if k != "cache_dir"}}

@@ -382,7 +382,8 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--adapt-keep", choices=KEEP_RULES, default=AdaptConfig.keep,
                    help="which chunk is kept: the best evaluation (SR90, ELR, reward ratio over rollouts from "
                         "reference states), or the best performance of the whole clip (fewest re-anchors, "
-                        "then fewest recoveries, then the highest reward ratio)")
+                        "then fewest recoveries, then the highest reward ratio; --adapt-target then also needs "
+                        "the clip performed with no re-anchor)")
     g.add_argument("--adapt-chunk", type=positive_int, default=AdaptConfig.chunk_steps,
                    help="environment steps between evaluations")
     g.add_argument("--adapt-cache", type=output_dir, default=None,

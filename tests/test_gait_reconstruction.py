@@ -89,7 +89,7 @@ def test_gait_reconstruction_adapts_per_sequence_by_default_and_clean_does_not()
     assert (told.adapt_target, told.adapt_budget_s) == (0.9, 60.0)
     clean = clean_parser().parse_args(["deepmimic:walk", "--policy", "models/mimic_walk", "--out", "o.npz"])
     assert (clean.adapt_target, clean.adapt_budget_s, clean.adapt_variance, clean.adapt_keep) == (
-        0.9, 300.0, None, "evaluation")
+        0.9, 300.0, None, "performance")
 
 
 def test_a_gait_policy_under_an_ablation_adapts_in_the_ablated_task(tmp_path):
