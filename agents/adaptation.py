@@ -29,7 +29,8 @@ of steps they already count a few thousand more would move them by well under 1%
 The adapted policy is a policy directory like any other (``model.zip``,
 ``model_vecnormalize.pkl``, ``sidecar.json`` with an ``adaptation`` record), cached under
 ``cache_dir/<key>/`` where ``key`` (:func:`adaptation_key`) hashes the clip's content, rate and
-model with the policy's path, weights and gait ablation, so cleaning the same clip again skips the training.
+model with the policy's path, weights and gait ablation and the adaptation's training settings
+(the chunk-keeping rule included), so cleaning the same clip again skips the training.
 """
 
 from __future__ import annotations
@@ -181,8 +182,9 @@ class AdaptResult:
         stopped_by: ``"target"`` (SR90 reached ``target_sr90``; :meth:`AdaptConfig.reached`), ``"already_good"`` (it had before
             any training), ``"budget"`` or ``"max_steps"``.
         chunks: one record per evaluated chunk: ``steps``, ``wall_s``, ``SR90``, ``ELR_mean``,
-            ``MRR_mean`` and what ``on_chunk`` returned for it (entries made before ``MRR_mean``
-            was recorded lack it).
+            ``MRR_mean``, with ``keep="performance"`` or a hook the whole performance's
+            ``reanchors``, ``recoveries`` and ``reward_ratio``, and what ``on_chunk`` returned for
+            it (entries made before ``MRR_mean`` was recorded lack it).
         before: the evaluation of the policy as given (``SR90``, ``ELR_mean``, ``MRR_mean``, ...)
             and what ``on_chunk`` returned for it (empty for older cache entries).
         kept_steps: the steps of the chunk kept (0: none beat the policy as given, which is kept
@@ -212,12 +214,14 @@ class AdaptResult:
                 "before": self.before, "kept_steps": self.kept_steps}
 
 
-def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig | None = None) -> str:
+def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig = AdaptConfig()) -> str:
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
     resolved path, the bytes of its ``model.zip`` and, for the same weights in a gait-ablated task
     (:meth:`MimicPolicy.ablated`), the ablation: it adapts to another policy), and of ``config``'s
-    training settings where they differ from the defaults (:meth:`AdaptConfig.training_settings`:
-    runs made otherwise live beside each other instead of replacing each other)."""
+    training settings (:meth:`AdaptConfig.training_settings`, the chunk-keeping rule included)
+    where they differ from those every entry was made with before they counted
+    (:data:`_EARLIER_SETTINGS`: those entries keep their keys), so runs made otherwise live beside
+    each other instead of replacing each other."""
     h = hashlib.sha1()
     h.update(np.ascontiguousarray(reference.qpos, dtype=np.float64).tobytes())
     h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
@@ -225,14 +229,17 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig |
     ablation = policy.record.extra.get("ablation")
     if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
         h.update(f"|ablation={ablation}".encode())
-    settings = None if config is None else config.training_settings()
-    if settings is not None and settings != AdaptConfig().training_settings():  # defaults: the keys of earlier versions
+    settings = config.training_settings()
+    if settings != _EARLIER_SETTINGS:
         h.update(f"|training={settings!r}".encode())
     return h.hexdigest()
 
 
-_EVALUATION_DETAIL = ("rollouts", "ELR_std", "RDE_mean", "RDE_std", "MRR_std")
-"""Evaluation figures left out of the chunk records (kept in ``before``)."""
+_EARLIER_SETTINGS = AdaptConfig(keep="evaluation").training_settings()
+"""The training settings of every cached adaptation made before the settings entered the key."""
+
+_CHUNK_EVALUATION = ("SR90", "ELR_mean", "MRR_mean")
+"""The evaluation figures each chunk's record keeps (``before`` keeps them all)."""
 
 ChunkHook = Callable[[MimicPolicy, Motion], dict]
 """Called with the policy being adapted after each chunk and the clip performed whole by it
@@ -247,20 +254,23 @@ def chunk_rank(summary: dict) -> tuple[float, float, float]:
 def performance_rank(summary: dict) -> tuple[int, int, float]:
     """How a chunk's whole performance of the clip ranks (``summary`` holds its ``reanchors``,
     ``recoveries`` and ``reward_ratio``): fewest re-anchors, then fewest failures recovered by a
-    retry, then the highest reward ratio (NaN ranks last)."""
+    retry, then the highest reward ratio (``None``, nothing simulated, ranks last)."""
     ratio = summary["reward_ratio"]
-    return -summary["reanchors"], -summary["recoveries"], ratio if np.isfinite(ratio) else -np.inf
+    return -summary["reanchors"], -summary["recoveries"], -np.inf if ratio is None else ratio
 
 
 def _performance(policy: MimicPolicy, reference: Motion) -> tuple[Motion, dict]:
-    """``reference`` performed whole by ``policy`` as :mod:`agents.clean` does it, and the
-    performance's ``reanchors``, ``recoveries`` (counts) and ``reward_ratio``."""
+    """``reference`` performed whole by ``policy`` as :mod:`agents.clean` does it with its default
+    :class:`~agents.clean.CleanConfig` (0.5-s rewind, 4 retries; a clip cleaned with other
+    ``--rewind-s`` / ``--retries`` was still judged with these), and the performance's
+    ``reanchors``, ``recoveries`` (counts) and ``reward_ratio`` (``None`` when nothing was simulated)."""
     from agents.clean import CleanConfig, clean_motion  # agents.clean imports this module
 
     performed = clean_motion(policy, reference, CleanConfig(), progress=False)
     source = performed.source
+    ratio = source["reward_ratio"]
     return performed, {"reanchors": len(source["reanchors"]), "recoveries": len(source["recoveries"]),
-                       "reward_ratio": source["reward_ratio"]}
+                       "reward_ratio": float(ratio) if np.isfinite(ratio) else None}
 
 
 class _Budget(BaseCallback):
@@ -355,16 +365,19 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     by_performance = config.keep == "performance"
     rank = performance_rank if by_performance else chunk_rank
 
-    def judge() -> dict:
-        """The current policy's evaluation, its whole performance when needed, and the hook's figures."""
-        summary = _evaluate(eval_env, adapted, config.eval_episodes)
+    def judge() -> tuple[dict, dict]:
+        """The current policy's evaluation, and the figures of its whole performance and the hook's
+        (empty when neither is needed)."""
+        evaluation = _evaluate(eval_env, adapted, config.eval_episodes)
         if not (by_performance or on_chunk):
-            return summary
+            return evaluation, {}
         performed, figures = _performance(adapted, reference)
-        return {**(on_chunk(adapted, performed) if on_chunk else {}), **summary, **figures}
+        hooked = {k: v for k, v in (on_chunk(adapted, performed) if on_chunk else {}).items() if k not in evaluation}
+        return evaluation, {**hooked, **figures}
 
     t0 = time.monotonic()
-    best = before = judge()
+    evaluation, figures = judge()
+    best = before = {**figures, **evaluation}
     eval_s = time.monotonic() - t0
     best_state, kept_steps = snapshot(), 0  # the policy as given, its own noise included
     if config.action_variance is not None:  # from here on, and in every chunk kept
@@ -384,15 +397,17 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         callbacks = CallbackList([_Budget(deadline, started, bar), *kl_following(config.target_kl)])
         model.learn(chunk, callback=callbacks, reset_num_timesteps=False, progress_bar=False)
         t0 = time.monotonic()
-        summary = judge()
+        evaluation, figures = judge()
+        summary = {**figures, **evaluation}
         trained = model.num_timesteps - first_step
-        chunks.append({k: v for k, v in summary.items() if k not in _EVALUATION_DETAIL}
-                      | {"steps": trained, "wall_s": time.monotonic() - started})
+        chunks.append({**figures, **{k: evaluation[k] for k in _CHUNK_EVALUATION},
+                       "steps": trained, "wall_s": time.monotonic() - started})
         eval_s = time.monotonic() - t0
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
-        if rank(summary) > rank(best):
+        reached = config.reached(summary)
+        if reached or rank(summary) > rank(best):  # the chunk that reaches the target ends it and is kept
             best, best_state, kept_steps = summary, snapshot(), trained
-        if config.reached(summary):
+        if reached:
             stopped_by = "target"
         elif config.max_steps is not None and trained >= config.max_steps:
             stopped_by = "max_steps"

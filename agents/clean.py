@@ -219,8 +219,8 @@ class _Performance:
 
     def reward_ratio(self) -> float:
         """The mean over the committed frames simulated by a control step of that step's reward,
-        over the most a step can earn: ADAPT's MRR of the whole performance (NaN when no frame
-        was simulated)."""
+        over the most a step can earn (like ADAPT's MRR, but over the frames simulated, not the
+        reference's length; NaN when no frame was simulated)."""
         simulated = self.rewards[np.isfinite(self.rewards)]
         return float(simulated.mean() / self.max_step_reward) if simulated.size else float("nan")
 
