@@ -214,6 +214,32 @@ def test_adaptation_can_keep_the_chunk_that_performs_the_clip_best(walk_policy, 
         AdaptConfig(keep="best")
 
 
+def test_the_chunk_that_reaches_the_target_ends_the_adaptation_and_is_kept(walk_policy, tmp_path, monkeypatch):
+    """Scripted judgements: chunk 1 performs best (no recovery, the higher reward) but its SR90 is
+    short of the target; chunk 2 reaches it with no re-anchor: the adaptation stops there and keeps
+    chunk 2, so what it reports (SR90 after, steps kept) is the chunk that ended it."""
+    from agents import adaptation
+    script = iter([(0.0, 2, 0, 0.3), (0.8, 0, 0, 0.8), (0.9, 0, 1, 0.5)])  # SR90, re-anchors, recoveries, ratio
+    judged = []
+
+    def evaluate(env, policy, episodes):
+        sr90, *performance = next(script)
+        judged[:] = performance  # what the performance that follows this evaluation reports
+        return {"SR90": sr90, "ELR_mean": sr90, "MRR_mean": 0.5, "rollouts": 1}
+
+    def perform(policy, reference):
+        reanchors, recoveries, ratio = judged
+        return reference, {"reanchors": reanchors, "recoveries": recoveries, "reward_ratio": ratio}
+
+    monkeypatch.setattr(adaptation, "_evaluate", evaluate)
+    monkeypatch.setattr(adaptation, "_performance", perform)
+    walk = load_motion("deepmimic:walk", min_frames=300)
+    config = AdaptConfig(budget_s=60, max_steps=4096, chunk_steps=1024, n_envs=2, n_steps=512, cache_dir=tmp_path)
+    result = adapt_policy(walk_policy, walk, config, progress=False)
+    assert result.stopped_by == "target" and len(result.chunks) == 2
+    assert result.kept_steps == result.chunks[1]["steps"] == 2048 and result.sr90_after == 0.9
+
+
 def test_performances_rank_by_reanchors_then_recoveries_then_reward():
     def rank(reanchors: int, recoveries: int, ratio: float | None) -> tuple:
         return performance_rank({"reanchors": reanchors, "recoveries": recoveries, "reward_ratio": ratio})
