@@ -154,9 +154,8 @@ class AdaptConfig:
     def training_settings(self) -> tuple:
         """What shapes the adapted policy (how it trains and which chunk it keeps, not how long it
         runs): a cached adaptation stands in for another only with the same settings."""
-        settings = (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
-                    self.learning_rate)
-        return settings if self.keep == "evaluation" else (*settings, self.keep)  # "evaluation": as earlier entries
+        return (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
+                self.learning_rate, self.keep)
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
@@ -366,18 +365,18 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     rank = performance_rank if by_performance else chunk_rank
 
     def judge() -> tuple[dict, dict]:
-        """The current policy's evaluation, and the figures of its whole performance and the hook's
-        (empty when neither is needed)."""
+        """The current policy's judgement (its evaluation, and where needed the figures of its whole
+        performance and the hook's), and those figures alone (empty when neither is needed)."""
         evaluation = _evaluate(eval_env, adapted, config.eval_episodes)
         if not (by_performance or on_chunk):
             return evaluation, {}
         performed, figures = _performance(adapted, reference)
         hooked = {k: v for k, v in (on_chunk(adapted, performed) if on_chunk else {}).items() if k not in evaluation}
-        return evaluation, {**hooked, **figures}
+        figures = {**hooked, **figures}
+        return {**figures, **evaluation}, figures
 
     t0 = time.monotonic()
-    evaluation, figures = judge()
-    best = before = {**figures, **evaluation}
+    best = before = judge()[0]
     eval_s = time.monotonic() - t0
     best_state, kept_steps = snapshot(), 0  # the policy as given, its own noise included
     if config.action_variance is not None:  # from here on, and in every chunk kept
@@ -397,10 +396,9 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         callbacks = CallbackList([_Budget(deadline, started, bar), *kl_following(config.target_kl)])
         model.learn(chunk, callback=callbacks, reset_num_timesteps=False, progress_bar=False)
         t0 = time.monotonic()
-        evaluation, figures = judge()
-        summary = {**figures, **evaluation}
+        summary, figures = judge()
         trained = model.num_timesteps - first_step
-        chunks.append({**figures, **{k: evaluation[k] for k in _CHUNK_EVALUATION},
+        chunks.append({**figures, **{k: summary[k] for k in _CHUNK_EVALUATION},
                        "steps": trained, "wall_s": time.monotonic() - started})
         eval_s = time.monotonic() - t0
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
