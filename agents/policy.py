@@ -150,19 +150,23 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
     """Write the policy directory ``path`` whole: ``model``, the observation ``statistics`` (a
     ``VecNormalize`` wrapping environments, or a policy's statistics file to copy: a policy's
     loaded statistics wrap none and cannot be saved again) and ``sidecar``; into a temporary
-    folder beside it, then renamed over it, so an interrupted write leaves no half policy."""
+    folder beside it, then renamed over it, so an interrupted write leaves no half policy (and a
+    write that raises, no temporary folder)."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     shutil.rmtree(tmp, ignore_errors=True)
     tmp.mkdir()
-    model.save(tmp / MODEL_FILE)
-    if isinstance(statistics, VecNormalize):
-        statistics.save(str(tmp / STATS_FILE))
-    else:
-        shutil.copy2(statistics, tmp / STATS_FILE)
-    sidecar.save(tmp / SIDECAR_FILE)
-    shutil.rmtree(path, ignore_errors=True)
-    os.replace(tmp, path)
+    try:
+        model.save(tmp / MODEL_FILE)
+        if isinstance(statistics, VecNormalize):
+            statistics.save(str(tmp / STATS_FILE))
+        else:
+            shutil.copy2(statistics, tmp / STATS_FILE)
+        sidecar.save(tmp / SIDECAR_FILE)
+        shutil.rmtree(path, ignore_errors=True)
+        os.replace(tmp, path)
+    finally:  # a write that raised leaves nothing behind
+        shutil.rmtree(tmp, ignore_errors=True)
 
 
 def load_policy(path: str | Path) -> MimicPolicy:

@@ -1,10 +1,11 @@
 """agents/policy.py: a loaded policy's deterministic action, computed in NumPy, is what
 stable-baselines3's predict returns, follows weights changed in place, and falls back to predict
-for an actor the shortcut does not cover."""
+for an actor the shortcut does not cover; a policy write that fails leaves nothing behind."""
 
 from pathlib import Path
 
 import numpy as np
+import pytest
 import torch
 
 from agents.policy import load_policy, mlp_mean_action
@@ -42,3 +43,20 @@ def test_an_actor_the_shortcut_does_not_cover_falls_back_to_predict():
     assert mlp_mean_action(policy.model.policy, obs) is None
     expected, _ = policy.model.predict(policy.normalizer.normalize_obs(obs), deterministic=True)
     np.testing.assert_allclose(policy(obs), expected, atol=1e-7)
+
+
+def test_a_policy_write_that_raises_leaves_no_folder_behind(tmp_path, monkeypatch):
+    """save_policy writes into a temporary folder renamed over the target: when a write raises,
+    neither the target nor the temporary folder is left."""
+    from agents import policy as policy_module
+    from agents.sidecar import PolicySidecar
+
+    walk = load_policy(MODELS / "mimic_walk")
+
+    def broken(self, path):
+        raise OSError("disk full")
+
+    monkeypatch.setattr(PolicySidecar, "save", broken)
+    with pytest.raises(OSError, match="disk full"):
+        policy_module.save_policy(tmp_path / "out", walk.model, walk.path / policy_module.STATS_FILE, walk.record)
+    assert list(tmp_path.iterdir()) == []

@@ -1,0 +1,72 @@
+"""reference_motion/touch_up.py: a simulated clip lifted out of the floor and its planted feet
+pinned, stretch by stretch, with what moved reported; clean.py --touch-up."""
+
+import json
+
+import numpy as np
+import pytest
+
+from agents import clean
+from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.cli import UsageError
+from reference_motion.humanoid.model import load_model
+from reference_motion.library import load_motion
+from reference_motion.motion import Motion
+from reference_motion.quality import motion_quality
+from reference_motion.touch_up import floor_lift, touch_up
+
+
+def test_floor_lift_is_the_depth_or_a_smooth_bound_above_it():
+    lowest = np.array([0.01, -0.02, -0.01, 0.005])
+    np.testing.assert_allclose(floor_lift(lowest, window=0), [0.0, 0.02, 0.01, 0.0])
+    # running max over 3 frames [0.02, 0.02, 0.02, 0.01], then their mean over 3 frames
+    np.testing.assert_allclose(floor_lift(lowest, window=1), [0.02, 0.02, 0.05 / 3, 0.04 / 3])
+    assert np.all(floor_lift(lowest, 1) >= floor_lift(lowest, 0))
+    with pytest.raises(ValueError, match="window must be >= 0 frames, got -1"):
+        floor_lift(lowest, -1)
+
+
+def test_a_sunk_skating_clip_comes_out_on_the_floor_with_planted_feet(walk):
+    """DeepMimic's walk sunk 2 cm into the floor with IMU-like stance skate: after the touch-up
+    nothing is below the floor, foot skate falls by more than half, and the bodies moved about
+    the sinking plus a few millimetres."""
+    sunk = corrupt(walk, ArtefactRecipe.named("skate", 1.0), seed=3)
+    qpos = sunk.qpos.copy()
+    qpos[:, 2] -= 0.02
+    sunk = sunk.with_qpos(qpos)
+    before = motion_quality(sunk)
+    touched, report = touch_up(sunk)
+    after = motion_quality(touched)
+    assert before.penetration_max_m > 0.015 and after.penetration_max_m < 1e-9
+    assert after.foot_skate_mps < 0.5 * before.foot_skate_mps
+    assert 0.015 < report.lift_max_m < 0.05 and report.lift_mean_m > 0.01
+    assert report.lift_mean_m <= report.body_shift_mean_m < 0.04
+    assert touched.source["touch_up"] == report.as_dict() and touched.n_frames == sunk.n_frames
+
+
+def test_no_contact_window_spans_a_break(walk):
+    """A clip that jumps 0.5 m sideways at frame 150 (a re-anchor): touched up with the break, no
+    body moves more than a few centimetres; without it, the feet planted across the jump are
+    pinned half-way between, tens of centimetres off."""
+    qpos = walk.qpos.copy()
+    qpos[150:, 1] += 0.5
+    jumped = walk.with_qpos(qpos)
+    _, split = touch_up(jumped, breaks=[150])
+    _, whole = touch_up(jumped)
+    assert split.body_shift_max_m < 0.1 < whole.body_shift_max_m
+
+
+def test_clean_cli_touches_up_on_request(tmp_path):
+    common = ["deepmimic:walk", "--policy", "models/mimic_walk", "--min-frames", "200", "--no-adapt"]
+    result = clean.main([*common, "--touch-up", "--out", str(tmp_path / "t.npz"), "--json", str(tmp_path / "t.json")])
+    record = json.loads((tmp_path / "t.json").read_text())
+    assert record["touch_up"]["body_shift_mean_m"] > 0 and "foot_skate_mps" in record["touch_up"]["simulated"]
+    touched = Motion.load(tmp_path / "t.npz")
+    assert result["cleaned"]["penetration_max_m"] < 1e-9 < record["touch_up"]["simulated"]["penetration_max_m"]
+    kin = load_model(touched.model).forward_kinematics(touched.qpos)
+    assert kin.lowest.min() > -1e-9
+    plain = clean.main([*common, "--out", str(tmp_path / "p.npz")])
+    assert plain["touch_up"] is None and plain["cleaned"]["penetration_max_m"] > 0.005
+    from agents import reconstruct_gait  # it reports the simulation itself: no touch-up there
+    with pytest.raises(UsageError, match="unrecognized arguments: --touch-up"):
+        reconstruct_gait.build_parser().parse_args(["deepmimic:walk", "--policy", "p", "--out", "o.npz", "--touch-up"])
