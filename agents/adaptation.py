@@ -21,11 +21,6 @@ to noise in ELR (seen on a held-out walk: the chunk kept after 82k of 695k steps
 whose evaluations pass can still re-anchor when performed whole (a validation take stopped after
 42 s with one re-anchor; judged by its performance it trained on to 103 s and none).
 
-With ``performed_starts`` a share of the training episodes start from the simulated states the
-latest chunk's whole performance reached in the ``performed_window_s`` before each place it
-failed (:mod:`agents.performed_starts`): the reference starts never show the policy the drift that
-builds up over a continuous performance, which is where it fails.
-
 The observation statistics stay frozen (``VecNormalize.training = False``, unless
 ``update_normalizer``): the policy's layers were trained on inputs normalised by them, so moving
 them on one clip would shift every input of the pre-trained network at once, and with the millions
@@ -47,7 +42,7 @@ import os
 import time
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
-from typing import TYPE_CHECKING, Callable
+from typing import Callable
 
 import gymnasium as gym
 import numpy as np
@@ -60,15 +55,11 @@ from tqdm import tqdm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.performed_starts import PerformedStarts, performed_start_frames
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy, set_action_variance
 from agents.rollout import torch_threads
 from agents.sidecar import PolicySidecar
 from envs.config import MimicConfig
 from reference_motion.motion import Motion
-
-if TYPE_CHECKING:
-    from agents.clean import ClipPerformance
 
 
 def default_cache_dir() -> Path:
@@ -118,16 +109,6 @@ class AdaptConfig:
         torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
             and where other processes use the cores, more threads wait on each other: 2 threads
             took 69 s for what 1 does in 3 s beside a training run on 2 cores).
-        performed_starts: share of the training episodes that start from a simulated state of the
-            latest chunk's whole performance of the clip (:mod:`agents.performed_starts`: the
-            ``performed_window_s`` before each place it failed, or anywhere when it failed nowhere);
-            0 (the default): every episode starts from a reference state.
-        performed_window_s: how long before each failure (s) those starts are taken (1.0).
-        alternates: with ``keep="performance"``, how many more chunks to keep beside the one kept,
-            the next best by their performance (2): :mod:`agents.clean` tries them from the last
-            good state where the kept policy fails, before its stochastic retries (chunks of one
-            adaptation fail in different places: on a validation walk-back the kept chunk fell at
-            frame 350 only, another at 208 and 322).
         cache_dir: where adapted policies are kept (:func:`default_cache_dir`).
     """
 
@@ -145,9 +126,6 @@ class AdaptConfig:
     action_variance: float | None = None
     learning_rate: float | None = None
     torch_threads: int = 1
-    performed_starts: float = 0.0
-    performed_window_s: float = 1.0
-    alternates: int = 2
     cache_dir: Path = field(default_factory=default_cache_dir)
 
     def __post_init__(self) -> None:
@@ -163,12 +141,6 @@ class AdaptConfig:
             raise ValueError(f"keep must be one of {KEEP_RULES}, got {self.keep!r}")
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
-        if not 0 <= self.performed_starts <= 1:
-            raise ValueError(f"performed_starts must be in [0, 1], got {self.performed_starts}")
-        if self.alternates < 0:
-            raise ValueError(f"alternates must be >= 0, got {self.alternates}")
-        if not self.performed_window_s > 0:
-            raise ValueError(f"performed_window_s must be positive, got {self.performed_window_s}")
 
     def reached(self, summary: dict) -> bool:
         """Whether a chunk judged ``summary`` (its ``SR90``; with ``keep="performance"`` also its
@@ -183,8 +155,7 @@ class AdaptConfig:
         """What shapes the adapted policy (how it trains and which chunk it keeps, not how long it
         runs): a cached adaptation stands in for another only with the same settings."""
         return (self.n_envs, self.n_steps, self.seed, self.update_normalizer, self.target_kl, self.action_variance,
-                self.learning_rate, self.keep, self.performed_starts, self.performed_window_s,
-                self.alternates if self.keep == "performance" else 0)
+                self.learning_rate, self.keep)
 
     def covers(self, other: AdaptConfig) -> bool:
         """Whether a run made with these limits tried at least as hard as one with ``other``'s."""
@@ -215,8 +186,6 @@ class AdaptResult:
             it (entries made before ``MRR_mean`` was recorded lack it).
         before: the evaluation of the policy as given (``SR90``, ``ELR_mean``, ``MRR_mean``, ...)
             and what ``on_chunk`` returned for it (empty for older cache entries).
-        alternates: the next best chunks (``AdaptConfig.alternates``), best first, loaded from
-            ``path/alternates/<i>/`` (empty for entries made without).
         kept_steps: the steps of the chunk kept (0: none beat the policy as given, which is kept
             with its own exploration noise; ``None`` for older cache entries).
     """
@@ -235,15 +204,13 @@ class AdaptResult:
     chunks: list[dict]
     before: dict = field(default_factory=dict)
     kept_steps: int | None = None
-    alternates: tuple[MimicPolicy, ...] = ()
 
     def as_dict(self) -> dict:
         """JSON-ready record (without the policy object)."""
         return {"path": str(self.path), "key": self.key, "cached": self.cached, "SR90_before": self.sr90_before,
                 "SR90_after": self.sr90_after, "ELR_before": self.elr_before, "ELR_after": self.elr_after,
                 "steps": self.steps, "wall_s": self.wall_s, "stopped_by": self.stopped_by, "chunks": self.chunks,
-                "before": self.before, "kept_steps": self.kept_steps,
-                "alternates": [str(a.path) for a in self.alternates]}
+                "before": self.before, "kept_steps": self.kept_steps}
 
 
 def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig = AdaptConfig()) -> str:
@@ -267,11 +234,8 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig =
     return h.hexdigest()
 
 
-_EARLIER_SETTINGS = AdaptConfig(keep="evaluation", performed_starts=0.0, alternates=0).training_settings()
+_EARLIER_SETTINGS = AdaptConfig(keep="evaluation").training_settings()
 """The training settings of every cached adaptation made before the settings entered the key."""
-
-ALTERNATES_DIR = "alternates"
-"""Subdirectory of an adapted policy holding its alternates (``1``, ``2``, ...: policy directories)."""
 
 _CHUNK_EVALUATION = ("SR90", "ELR_mean", "MRR_mean")
 """The evaluation figures each chunk's record keeps (``before`` keeps them all)."""
@@ -294,28 +258,18 @@ def performance_rank(summary: dict) -> tuple[int, int, float]:
     return -summary["reanchors"], -summary["recoveries"], -np.inf if ratio is None else ratio
 
 
-def _performance(policy: MimicPolicy, reference: Motion) -> tuple[ClipPerformance, dict]:
+def _performance(policy: MimicPolicy, reference: Motion) -> tuple[Motion, dict]:
     """``reference`` performed whole by ``policy`` as :mod:`agents.clean` does it with its default
     :class:`~agents.clean.CleanConfig` (0.5-s rewind, 4 retries; a clip cleaned with other
     ``--rewind-s`` / ``--retries`` was still judged with these), and the performance's
     ``reanchors``, ``recoveries`` (counts) and ``reward_ratio`` (``None`` when nothing was simulated)."""
-    from agents.clean import CleanConfig, perform_clip  # agents.clean imports this module
+    from agents.clean import CleanConfig, clean_motion  # agents.clean imports this module
 
-    performance = perform_clip(policy, reference, CleanConfig(), progress=False)
-    ratio = performance.reward_ratio()
-    return performance, {"reanchors": len(performance.reanchors), "recoveries": len(performance.recoveries),
-                         "reward_ratio": float(ratio) if np.isfinite(ratio) else None}
-
-
-def _start_states(performance: ClipPerformance, window_s: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """The frames, ``qpos`` and ``qvel`` of ``performance`` that adaptation episodes start from
-    (:func:`agents.performed_starts.performed_start_frames`, ``window_s`` before each failure)."""
-    failures = [r.best_reached for r in performance.reanchors] + [r.failed_at for r in performance.recoveries]
-    anchors = [0] + [r.frame for r in performance.reanchors]
-    n_frames = performance.reference.n_frames
-    frames = performed_start_frames(failures, anchors, n_frames, max(1, round(window_s * performance.reference.fps)),
-                                    latest=n_frames - 1 - performance.frames_per_control)
-    return frames, performance.qpos[frames], performance.qvel[frames]
+    performed = clean_motion(policy, reference, CleanConfig(), progress=False)
+    source = performed.source
+    ratio = source["reward_ratio"]
+    return performed, {"reanchors": len(source["reanchors"]), "recoveries": len(source["recoveries"]),
+                       "reward_ratio": float(ratio) if np.isfinite(ratio) else None}
 
 
 class _Budget(BaseCallback):
@@ -347,9 +301,7 @@ def _result(path: Path, record: dict, cached: bool) -> AdaptResult:
                        sr90_before=record["SR90_before"], sr90_after=record["SR90_after"],
                        elr_before=record["ELR_before"], elr_after=record["ELR_after"], steps=record["steps"],
                        wall_s=record["wall_s"], stopped_by=record["stopped_by"], chunks=record["chunks"],
-                       before=record.get("before", {}), kept_steps=record.get("kept_steps"),
-                       alternates=tuple(load_policy(path / ALTERNATES_DIR / str(i))
-                                        for i in range(1, len(record.get("alternate_steps", [])) + 1)))
+                       before=record.get("before", {}), kept_steps=record.get("kept_steps"))
 
 
 def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
@@ -361,8 +313,7 @@ def _load_cached(path: Path, config: AdaptConfig) -> AdaptResult | None:
         return None
     try:
         record = json.loads(sidecar.read_text())["adaptation"]
-        made_with = AdaptConfig(**{"keep": "evaluation", "performed_starts": 0.0, "alternates": 0, **record["config"],
-                                   "cache_dir": config.cache_dir})
+        made_with = AdaptConfig(**{"keep": "evaluation", **record["config"], "cache_dir": config.cache_dir})
     except (ValueError, KeyError, TypeError):
         return None  # an older or damaged entry: adapt again
     enough = config.reached({"SR90": record["SR90_after"], "reanchors": record.get("reanchors_after")}) \
@@ -396,11 +347,9 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     started = time.monotonic()
     eval_env = policy.make_env([reference], artefacts=None)  # the policy's own task, on this clip as given
     eval_env.reset(seed=config.seed)
-    starts = {} if not config.performed_starts else {"wrapper_class": PerformedStarts,
-                                                     "wrapper_kwargs": {"fraction": config.performed_starts}}
     venv = VecNormalize.load(str(Path(policy.path) / STATS_FILE),
                              make_vec_env(lambda: policy.make_env([reference], artefacts=None), n_envs=config.n_envs,
-                                          seed=config.seed, **starts))
+                                          seed=config.seed))
     venv.training = config.update_normalizer
     batch_size = min(policy.model.batch_size, config.n_steps * config.n_envs)
     rate = {} if config.learning_rate is None else {"learning_rate": config.learning_rate}
@@ -417,16 +366,12 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
 
     def judge() -> tuple[dict, dict]:
         """The current policy's judgement (its evaluation, and where needed the figures of its whole
-        performance and the hook's), and those figures alone (empty when neither is needed). With
-        ``performed_starts`` the next chunk's episodes start from this performance's states."""
+        performance and the hook's), and those figures alone (empty when neither is needed)."""
         evaluation = _evaluate(eval_env, adapted, config.eval_episodes)
-        if not (by_performance or on_chunk or config.performed_starts):
+        if not (by_performance or on_chunk):
             return evaluation, {}
-        performance, figures = _performance(adapted, reference)
-        if config.performed_starts:
-            venv.env_method("set_states", *_start_states(performance, config.performed_window_s))
-        hooked = ({k: v for k, v in on_chunk(adapted, performance.motion()).items() if k not in evaluation}
-                  if on_chunk else {})
+        performed, figures = _performance(adapted, reference)
+        hooked = {k: v for k, v in (on_chunk(adapted, performed) if on_chunk else {}).items() if k not in evaluation}
         figures = {**hooked, **figures}
         return {**figures, **evaluation}, figures
 
@@ -434,7 +379,6 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     best = before = judge()[0]
     eval_s = time.monotonic() - t0
     best_state, kept_steps = snapshot(), 0  # the policy as given, its own noise included
-    judged = [(rank(before), 0, best_state)]  # every chunk: its rank, steps and weights (alternates)
     if config.action_variance is not None:  # from here on, and in every chunk kept
         set_action_variance(model, config.action_variance)
     first_step, chunks = model.num_timesteps, []
@@ -459,11 +403,8 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         eval_s = time.monotonic() - t0
         bar.set_postfix(SR90=f"{summary['SR90']:.2f}", steps=trained)
         reached = config.reached(summary)
-        state = snapshot() if by_performance and config.alternates else None
         if reached or rank(summary) > rank(best):  # the chunk that reaches the target ends it and is kept
-            best, best_state, kept_steps = summary, state or snapshot(), trained
-        if state is not None:
-            judged.append((rank(summary), trained, state))
+            best, best_state, kept_steps = summary, snapshot(), trained
         if reached:
             stopped_by = "target"
         elif config.max_steps is not None and trained >= config.max_steps:
@@ -471,21 +412,16 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
         elif time.monotonic() >= started + config.budget_s - eval_s:
             stopped_by = "budget"
     bar.close()
-    alternates = [(steps, state) for _, steps, state in sorted(judged, key=lambda j: j[0], reverse=True)
-                  if steps != kept_steps][:config.alternates if by_performance else 0]
+    model.policy.load_state_dict(best_state[0])
+    venv.obs_rms = best_state[1]
     wall_s = time.monotonic() - started
     record = {"key": key, "base_policy": str(policy.path), "clip": reference.name, "SR90_before": before["SR90"],
               "SR90_after": best["SR90"], "ELR_before": before["ELR_mean"], "ELR_after": best["ELR_mean"],
               "reanchors_after": best.get("reanchors"),
               "steps": model.num_timesteps - first_step, "wall_s": wall_s, "stopped_by": stopped_by, "chunks": chunks,
-              "before": before, "kept_steps": kept_steps, "alternate_steps": [steps for steps, _ in alternates],
+              "before": before, "kept_steps": kept_steps,
               "config": {k: v for k, v in asdict(config).items() if k != "cache_dir"}}
-    sidecar = _sidecar(policy, reference, record, best)
-    for directory, (weights, statistics) in [(path, best_state)] + [
-            (path / ALTERNATES_DIR / str(i), state) for i, (_, state) in enumerate(alternates, start=1)]:
-        model.policy.load_state_dict(weights)
-        venv.obs_rms = statistics
-        save_policy(directory, model, venv, sidecar)  # the kept policy first: it replaces the whole entry
+    save_policy(path, model, venv, _sidecar(policy, reference, record, best))
     venv.close()
     eval_env.close()
     return _result(path, record, cached=False)

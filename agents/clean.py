@@ -33,7 +33,7 @@ import sys
 from collections import deque
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Callable, Sequence
+from typing import Callable
 
 if __package__ in (None, ""):  # `python agents/clean.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -120,19 +120,17 @@ class Reanchor:
 
 @dataclass(frozen=True)
 class Recovery:
-    """A failure a retry got past.
+    """A failure a stochastic retry got past.
 
     Attributes:
         frame: the frame rewound to; failed_at: where the policy had failed; reason: how.
-        retries: stochastic retries it took (the last one succeeded; 0: an alternate got past).
-        alternate: the alternate policy (1-based) that got past it deterministically, else ``None``.
+        retries: retries it took (the last one succeeded).
     """
 
     frame: int
     failed_at: int
     reason: str
     retries: int
-    alternate: int | None = None
 
 
 class StateRing:
@@ -161,15 +159,12 @@ class StateRing:
         raise KeyError(f"frame {frame} is not in the state ring")
 
 
-class ClipPerformance:
-    """One re-performance of ``reference`` by ``policy`` (:func:`perform_clip`): the committed
-    simulated frames and their states, the ring of their recent states, the re-anchors and the
-    recoveries."""
+class _Performance:
+    """One re-performance of ``reference`` by ``policy`` (:func:`clean_motion`): the committed
+    simulated frames, the ring of their recent states, the re-anchors and the recoveries."""
 
-    def __init__(self, policy: MimicPolicy, reference: Motion, config: CleanConfig,
-                 alternates: Sequence[MimicPolicy] = ()):
+    def __init__(self, policy: MimicPolicy, reference: Motion, config: CleanConfig):
         task = policy.record.env.mimic_config()
-        self.policy, self.reference = policy, reference
         self.episode_frames = config.episode_frames or task.episode_frames
         self.config = config
         self.last = reference.n_frames - 1
@@ -177,16 +172,11 @@ class ClipPerformance:
         hold = np.repeat(reference.qpos[-1:], self.episode_frames + 2, axis=0)
         padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
         self.env = policy.make_env([padded], artefacts=None, episode_frames=self.episode_frames)
-        for alternate in alternates:  # trained on the same task, or refused here
-            alternate.check_env(self.env)
-        self.alternates: list[Policy] = list(alternates)
         self.act: Policy = policy
         self.sample: Policy = sampling_policy(policy)
         self.rewind = config.rewind_frames(reference.fps, task.frames_per_control, self.episode_frames)
         self.qpos = np.full_like(reference.qpos, np.nan)
         """``(T, nq)`` the committed simulated frames."""
-        self.qvel = np.full((reference.n_frames, self.env.unwrapped.model.nv), np.nan)
-        """``(T, nv)`` their generalised velocities."""
         self.frames_per_control = task.frames_per_control
         self.rewards = np.full(reference.n_frames, np.nan)
         """``(T,)`` the reward of the control step that simulated each committed frame (NaN: a frame
@@ -209,7 +199,7 @@ class ClipPerformance:
         self.ring.drop_after(first - 1)
         for f in range(first, last + 1):
             qpos, qvel = episode.state(f)
-            self.qpos[f], self.qvel[f] = qpos, qvel
+            self.qpos[f] = qpos
             self.ring.push(f, qpos, qvel)
             if f > episode.start_frame:  # the start state keeps the reward of the step that reached it
                 self.rewards[f] = episode.rewards[(f - episode.start_frame - 1) // self.frames_per_control]
@@ -264,15 +254,6 @@ class ClipPerformance:
         self._commit(failed, failed.start_frame, rewound)  # the good part, when it reaches that far
         goal = min(fail + self.rewind, self.last)
         best = failed
-        for i, alternate in enumerate(self.alternates, start=1):  # deterministic, before the noise
-            attempt = self._run(rewound, goal, alternate)
-            if self._survived(attempt, goal):
-                end = min(attempt.end_frame, goal)
-                self._commit(attempt, rewound, end)
-                self.recoveries.append(Recovery(frame=rewound, failed_at=fail, reason=reason, retries=0, alternate=i))
-                return end
-            if attempt.end_frame > best.end_frame:
-                best = attempt
         for k in range(1, self.config.retries + 1):
             with seeded(self.config.seed + self.tries):
                 attempt = self._run(rewound, goal, self.sample)
@@ -303,36 +284,8 @@ class ClipPerformance:
         return frame
 
 
-    def motion(self) -> Motion:
-        """The performance as a clip (see :func:`clean_motion`)."""
-        source = {**self.reference.source, "cleaned_by": str(self.policy.path),
-                  "reanchors": [asdict(r) for r in self.reanchors],
-                  "recoveries": [asdict(r) for r in self.recoveries],
-                  "simulated_fraction": 1.0 - len(self.reanchors) / self.last,
-                  "reward_ratio": self.reward_ratio()}
-        return self.reference.with_qpos(self.qpos, name=f"{self.reference.name} (cleaned)", loop=False, source=source)
-
-
-def perform_clip(policy: MimicPolicy, reference: Motion, config: CleanConfig = CleanConfig(),
-                 progress: bool = True, alternates: Sequence[MimicPolicy] = ()) -> ClipPerformance:
-    """``reference`` (60 Hz, at least :data:`MIN_FRAMES`) re-performed by ``policy`` (see the
-    module's documentation): every frame committed with its simulated state. Where ``policy``
-    fails, each of ``alternates`` (policies of the same task, e.g. an adaptation's next best chunks:
-    :attr:`agents.adaptation.AdaptResult.alternates`) first tries the stretch deterministically
-    from the rewound state; the stochastic retries follow if none gets past."""
-    require_frames(reference, MIN_FRAMES, reference.name, "cleaning")
-    performance = ClipPerformance(policy, reference, config, alternates)
-    with torch_threads(1):  # one observation at a time: more threads only wait on each other
-        performance.perform(progress)
-    missing = ~np.isfinite(performance.qpos).all(axis=1)
-    if missing.any():  # every frame is committed from a finite simulated state
-        raise RuntimeError(f"cleaning {reference.name}: frames {np.flatnonzero(missing)} were left without a "
-                           "simulated state")
-    return performance
-
-
 def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = CleanConfig(),
-                 progress: bool = True, alternates: Sequence[MimicPolicy] = ()) -> Motion:
+                 progress: bool = True) -> Motion:
     """The simulated re-performance of ``reference`` (60 Hz, same length, at least
     :data:`MIN_FRAMES`) by ``policy`` (see the module's documentation).
 
@@ -343,7 +296,20 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     ``reward_ratio``: the policy's task reward over the whole performance, as a share of the most a
     control step can earn (each simulated frame counts the reward of the step that simulated it).
     """
-    return perform_clip(policy, reference, config, progress, alternates).motion()
+    require_frames(reference, MIN_FRAMES, reference.name, "cleaning")
+    performance = _Performance(policy, reference, config)
+    with torch_threads(1):  # one observation at a time: more threads only wait on each other
+        performance.perform(progress)
+    out = performance.qpos
+    if not np.isfinite(out).all():  # every frame is committed from a finite simulated state
+        raise RuntimeError(f"cleaning {reference.name}: frames {np.flatnonzero(~np.isfinite(out).all(axis=1))} "
+                           "were left without a simulated state")
+    source = {**reference.source, "cleaned_by": str(policy.path),
+              "reanchors": [asdict(r) for r in performance.reanchors],
+              "recoveries": [asdict(r) for r in performance.recoveries],
+              "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last,
+              "reward_ratio": performance.reward_ratio()}
+    return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
 
 def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndarray:
@@ -426,9 +392,6 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                         "reference states), or the best performance of the whole clip (fewest re-anchors, "
                         "then fewest recoveries, then the highest reward ratio; --adapt-target then also needs "
                         "the clip performed with no re-anchor)")
-    g.add_argument("--adapt-performed-starts", type=fraction, default=AdaptConfig.performed_starts,
-                   help="share of the adaptation's episodes that start from the states its latest whole "
-                        "performance of the clip reached in the second before each failure (0: from reference states)")
     g.add_argument("--adapt-chunk", type=positive_int, default=AdaptConfig.chunk_steps,
                    help="environment steps between evaluations")
     g.add_argument("--adapt-cache", type=output_dir, default=None,
@@ -451,8 +414,7 @@ def print_performance(cleaned: Motion, out: Path) -> None:
     recoveries and every re-anchor."""
     source = cleaned.source
     print(f"wrote {out} ({cleaned.n_frames} frames, all simulated; simulated fraction "
-          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by a retry "
-          f"({sum(r.get('alternate') is not None for r in source['recoveries'])} of them by an alternate), "
+          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by a retry, "
           f"{len(source['reanchors'])} re-anchored to the reference)")
     for r in source["reanchors"]:
         jump = f", root jumped {r['jump_m']:.2f} m" if r["jump_m"] is not None else ""
@@ -477,8 +439,7 @@ def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespa
         return None
     config = AdaptConfig(budget_s=args.adapt_budget_s, target_sr90=args.adapt_target, max_steps=args.adapt_steps,
                          chunk_steps=args.adapt_chunk, action_variance=args.adapt_variance, learning_rate=args.adapt_lr,
-                         keep=args.adapt_keep, performed_starts=args.adapt_performed_starts,
-                         cache_dir=args.adapt_cache or default_cache_dir())
+                         keep=args.adapt_keep, cache_dir=args.adapt_cache or default_cache_dir())
     result = adapt_policy(policy, reference, config)
     how = "reused from the cache" if result.cached else f"stopped by {result.stopped_by}"
     print(f"adapted {policy.path} to the clip: SR90 {result.sr90_before:.2f} -> {result.sr90_after:.2f}, "
@@ -502,8 +463,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         config = clean_config(policy, reference, args)
         adaptation = adapt_to_clip(policy, reference, args)
         performer = adaptation.policy if adaptation else policy
-        alternates = adaptation.alternates if adaptation else ()
-        cleaned = clean_motion(performer, reference, config, alternates=alternates)
+        cleaned = clean_motion(performer, reference, config)
     touch = None
     if args.touch_up:
         simulated_quality = motion_quality(cleaned).as_dict()

@@ -250,8 +250,7 @@ def clean_motions(cycle: DynamicCycle, references: Sequence[Motion], config: Dif
 PPO_ONLY_OPTIONS = {"no_adapt": "--no-adapt", "rewind_s": "--rewind-s", "retries": "--retries",
                     "adapt_budget_s": "--adapt-budget-s", "adapt_target": "--adapt-target",
                     "adapt_steps": "--adapt-steps", "adapt_chunk": "--adapt-chunk", "adapt_cache": "--adapt-cache",
-                    "adapt_variance": "--adapt-variance", "adapt_lr": "--adapt-lr", "adapt_keep": "--adapt-keep",
-                    "adapt_performed_starts": "--adapt-performed-starts"}
+                    "adapt_variance": "--adapt-variance", "adapt_lr": "--adapt-lr", "adapt_keep": "--adapt-keep"}
 """``agents/clean.py`` options (argparse dest → flag) that only the PPO path uses."""
 
 

@@ -2,8 +2,7 @@
 
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
-[--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
-[--adapt-performed-starts FRACTION] [--adapt-alternates N] [--json [OUT]]``
+[--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance] [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
 the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
@@ -86,11 +85,6 @@ def main() -> None:
                    help="stop adapting once SR90 reaches this; 'none': train to the budget")
     p.add_argument("--adapt-keep", choices=KEEP_RULES, default=AdaptConfig.keep,
                    help="which chunk an adaptation keeps (agents.adaptation.AdaptConfig.keep)")
-    p.add_argument("--adapt-performed-starts", type=float, default=AdaptConfig.performed_starts,
-                   help="share of the adaptation's episodes started from its latest performance's states before "
-                        "each failure (AdaptConfig.performed_starts)")
-    p.add_argument("--adapt-alternates", type=int, default=AdaptConfig.alternates,
-                   help="next best chunks kept to retry failures with (AdaptConfig.alternates)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     frames = int(round(args.seconds * 60)) + 1
@@ -102,21 +96,15 @@ def main() -> None:
             looped = reference.n_frames >= frames
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
-                                 keep=args.adapt_keep, performed_starts=args.adapt_performed_starts,
-                                 alternates=args.adapt_alternates,
-                                 cache_dir=Path(cache))
+                                 keep=args.adapt_keep, cache_dir=Path(cache))
             adapted = adapt_policy(policy, reference, config, progress=False)
             start = time.perf_counter()
-            cleaned = clean_motion(adapted.policy, reference, CleanConfig(), progress=False,
-                                   alternates=adapted.alternates)
+            cleaned = clean_motion(adapted.policy, reference, CleanConfig(), progress=False)
             touched, touch = touch_up(cleaned, [r["frame"] for r in cleaned.source["reanchors"]])
             before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
             touched_after = motion_quality(touched).as_dict()
             row = {"clip": clip, "frames": reference.n_frames, "full_length": looped, "seed": args.seed + i,
                    "reanchors": len(cleaned.source["reanchors"]), "recoveries": len(cleaned.source["recoveries"]),
-                   "alternate_recoveries": sum(r["alternate"] is not None for r in cleaned.source["recoveries"]),
-                   "reanchors_without_alternates": len(clean_motion(adapted.policy, reference, CleanConfig(),
-                                                                    progress=False).source["reanchors"]),
                    "ELR_before": adapted.elr_before, "ELR": adapted.elr_after, "SR90": adapted.sr90_after,
                    "adapt_s": adapted.wall_s, "adapt_steps": adapted.steps, "clean_s": time.perf_counter() - start,
                    **{f"{k}_input": before[k] for k in ARTEFACTS}, **{f"{k}_output": after[k] for k in ARTEFACTS},
@@ -125,7 +113,7 @@ def main() -> None:
                    **{f"{k}_touched_reduction": reduction_of(before[k], touched_after[k]) for k in ARTEFACTS},
                    "touch_up": touch.as_dict()}
             rows.append(row)
-            print(f"{clip.split('#')[-1]:<34} re-anchors {row['reanchors']:2d} (without alternates {row['reanchors_without_alternates']})  ELR {row['ELR_before']:.2f} -> "
+            print(f"{clip.split('#')[-1]:<34} re-anchors {row['reanchors']:2d}  ELR {row['ELR_before']:.2f} -> "
                   f"{row['ELR']:.2f}  skate {reduction(row['foot_skate_mps_reduction'])}  float "
                   f"{reduction(row['floating_m_reduction'])}  pen {reduction(row['penetration_max_m_reduction'])}  "
                   f"adapt {row['adapt_s']:.0f} s; touched up: skate {reduction(row['foot_skate_mps_touched_reduction'])}  "
@@ -133,24 +121,21 @@ def main() -> None:
                   f"pen {reduction(row['penetration_max_m_touched_reduction'])}", flush=True)
     adapt_s = [r["adapt_s"] for r in rows]
     summary = {"takes": len(rows), "no_reanchor": sum(r["reanchors"] == 0 for r in rows),
-               "no_reanchor_without_alternates": sum(r["reanchors_without_alternates"] == 0 for r in rows),
                "ELR_mean": float(np.mean([r["ELR"] for r in rows])),
                "adapt_s_median": float(np.median(adapt_s)), "adapt_s_max": float(np.max(adapt_s)),
-               **{f"{k}_reduction_median": float(np.nanmedian([r[f"{k}_reduction"] for r in rows])) for k in ARTEFACTS},
-               **{f"{k}_touched_reduction_median": float(np.nanmedian([r[f"{k}_touched_reduction"] for r in rows]))
-                  for k in ARTEFACTS}}
+               **{f"{k}_{kind}_median": float(np.nanmedian([r[f"{k}_{kind}"] for r in rows]))
+                  for k in ARTEFACTS for kind in ("reduction", "touched_reduction")}}
     print(f"\nno re-anchor on {summary['no_reanchor']} of {summary['takes']} takes (goal >= 9 of 10); ELR "
           f"{summary['ELR_mean']:.3f} (goal >= 0.97); adaptation median {summary['adapt_s_median']:.0f} s, max "
           f"{summary['adapt_s_max']:.0f} s (goal <= 300 s)")
     print("median reductions: " + ", ".join(f"{k} {summary[f'{k}_reduction_median']:.0%}" for k in ARTEFACTS)
           + " (goal >= 80% each)")
-    print("touched up (--touch-up): " + ", ".join(f"{k} {summary[f'{k}_touched_reduction_median']:.0%}"
-                                                  for k in ARTEFACTS))
+    print("touched up (clean.py --touch-up): " + ", ".join(f"{k} {summary[f'{k}_touched_reduction_median']:.0%}"
+                                                           for k in ARTEFACTS))
     emit_json({"policy": args.policy, "seconds": args.seconds, "strength": args.strength,
                "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
                "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
-               "adapt_keep": args.adapt_keep, "adapt_performed_starts": args.adapt_performed_starts,
-               "adapt_alternates": args.adapt_alternates, "summary": summary, "takes": rows}, args.json)
+               "adapt_keep": args.adapt_keep, "summary": summary, "takes": rows}, args.json)
 
 
 if __name__ == "__main__":

@@ -67,9 +67,7 @@ class MimicEnv(gym.Env):
 
     ``reset(options=...)`` accepts ``clip`` (index or name), ``start_frame`` and ``corrupted``
     (bool) to pin down an episode, e.g. for evaluation, and ``state`` = ``(qpos, qvel)`` to start
-    from a given simulated state instead of the reference state (to continue a long clip); such an
-    episode may start up to one control step before the clip's end (from the reference state, one
-    full episode before it) and does not count for the failure-proportional sampler.
+    from a given simulated state instead of the reference state (to continue a long clip).
 
     ``info``: ``r_local``, ``r_p``, ``r_v``, ``e_discount``, ``reward``; ``contacts`` (4 bools,
     order LT, RT, LH, RH: a sole region touching the floor); ``frame`` (reference frame index)
@@ -161,8 +159,6 @@ class MimicEnv(gym.Env):
         self.substep_hook: Callable[[mujoco.MjData], None] | None = None
         """Called after every physics substep (to average contact forces over a frame)."""
         self._track: ReferenceTrack | None = None
-        self._from_reference = True
-        """Whether the running episode started from the reference state (else from a given one)."""
         self._action = np.zeros(n_act)
         self._sim_contacts = np.zeros(4, dtype=bool)
         """The simulated contacts (LT, RT, LH, RH) at the current frame."""
@@ -259,21 +255,17 @@ class MimicEnv(gym.Env):
             raise ValueError("reset(options={'corrupted': True}) needs an env made with artefacts=ArtefactMix(...)")
         variant = int(self.np_random.integers(self.artefacts.variants_per_clip)) if corrupted else -1
         track = self.track(clip, variant)
-        state = options.pop("state", None)
-        # from the reference state an episode starts at least one full episode before the clip's end;
-        # a simulated state continues wherever one control step is left
-        last_start = (self._last_start_frame(track.n_frames) if state is None
-                      else track.n_frames - 1 - self.config.frames_per_control)
+        last_start = self._last_start_frame(track.n_frames)
         start = options.pop("start_frame", None)
         start = self._sampler.start_frame(clip, last_start, self.np_random) if start is None else int(start)
         if not 0 <= start <= last_start:
             raise ValueError(f"start_frame {start} out of range for clip {self.clips[clip].name!r}: 0..{last_start}")
+        state = options.pop("state", None)
         if options:
             raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted, state")
 
         self._track, self._clip, self._variant = track, clip, variant
         self._start = self._frame = start
-        self._from_reference = state is None
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
         qpos, qvel = (track.motion.qpos[start], track.qvel[start]) if state is None else state
@@ -340,7 +332,7 @@ class MimicEnv(gym.Env):
         if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc or unstable(d.qvel, cfg.max_joint_speed):
             info.update(dict.fromkeys(self.reward_info_keys, 0.0), reward=0.0,
                         contacts=np.zeros(4, bool), unstable=True, ended_by="unstable")
-            self._record_start(failed=True)
+            self._sampler.record(self._clip, self._start, failed=True)
             return self._obs, 0.0, True, False, info
 
         update_kinematics(m, d)
@@ -352,17 +344,11 @@ class MimicEnv(gym.Env):
                     else "fallen" if fallen(self._spinal_contacts(touching), cfg.fall_contacts) else "")
         truncated = not ended_by and f >= self.episode_end
         if ended_by or truncated:
-            self._record_start(failed=bool(ended_by))
+            self._sampler.record(self._clip, self._start, failed=bool(ended_by))
         self._obs = self._observe(state)
         info.update(terms, reward=reward, contacts=self._sim_contacts.copy(), unstable=False,
                     ended_by=ended_by or ("time_limit" if truncated else ""))
         return self._obs, reward, bool(ended_by), truncated, info
-
-    def _record_start(self, failed: bool) -> None:
-        """Tell the start sampler how the episode ended (episodes from a given simulated state are
-        not its starts and are not counted)."""
-        if self._from_reference:
-            self._sampler.record(self._clip, self._start, failed=failed)
 
     max_step_reward: float = MAX_STEP_REWARD
     """The most one step's reward can be (ADAPT: 3; the MRR metric divides by it)."""

@@ -14,7 +14,7 @@ from stable_baselines3 import PPO
 from agents import clean
 from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key, chunk_rank, performance_rank
 from agents.clean import CleanConfig, StateRing, clean_motion, reanchor_marks
-from agents.policy import MimicPolicy, PolicyError, load_policy
+from agents.policy import MimicPolicy, load_policy
 from agents.rollout import FAILURES, run_episode
 from reference_motion.cli import UsageError
 from reference_motion.library import load_motion
@@ -91,23 +91,6 @@ def test_when_every_retry_fails_it_reanchors_and_says_where_and_why(walk_policy,
     np.testing.assert_allclose(cleaned.qpos[f, 3:], walk.qpos[f, 3:], atol=1e-9)
     marks = reanchor_marks(cleaned)
     assert marks[f:f + 30].all() and not marks[:f].any()
-
-
-def test_an_alternate_gets_past_a_failure_before_any_stochastic_retry(walk_policy, walk, monkeypatch):
-    """The policy flails from its 60th call on and its stochastic retries flail too; the walk policy
-    as an alternate takes over each failed stretch deterministically: no re-anchor, every failure
-    recovered by it. Without it the same performance re-anchors; a policy of another task is refused."""
-    monkeypatch.setattr(clean, "sampling_policy", lambda policy: policy)
-    flailing = Flailing(walk_policy, first=60)
-    cleaned = clean_motion(flailing, walk, CleanConfig(retries=1), progress=False, alternates=[walk_policy])
-    recoveries = cleaned.source["recoveries"]
-    assert cleaned.source["reanchors"] == [] and recoveries
-    assert all(r["alternate"] == 1 and r["retries"] == 0 for r in recoveries)
-    alone = clean_motion(Flailing(walk_policy, first=60), walk, CleanConfig(retries=1), progress=False)
-    assert alone.source["reanchors"] and all(r["alternate"] is None for r in alone.source["recoveries"])
-    gait = load_policy(Path(__file__).parents[1] / "models" / "mimic_gait")
-    with pytest.raises(PolicyError, match="the policy expects observations"):
-        clean_motion(walk_policy, walk, progress=False, alternates=[gait])
 
 
 def test_state_ring_keeps_the_last_frames_only():
@@ -226,17 +209,6 @@ def test_adaptation_can_keep_the_chunk_that_performs_the_clip_best(walk_policy, 
     assert result.kept_steps == (0 if best == 0 else result.chunks[best - 1]["steps"])
     kept = clean_motion(result.policy, turn, progress=False).source
     assert (len(kept["reanchors"]), len(kept["recoveries"])) == (figures[best]["reanchors"], figures[best]["recoveries"])
-    # the next two chunks by the same rank are kept as alternates, best first, and come back from the cache
-    steps = [0] + [c["steps"] for c in result.chunks]
-    ranked = sorted(range(len(figures)), key=lambda i: performance_rank(figures[i]), reverse=True)
-    expected = [steps[i] for i in ranked if steps[i] != result.kept_steps][:2]
-    assert result.policy.record.extra["adaptation"]["alternate_steps"] == expected and len(result.alternates) == 2
-    assert [a.path for a in result.alternates] == [result.path / "alternates" / "1", result.path / "alternates" / "2"]
-    second = expected[0]
-    if second:  # a chunk's weights (not the policy as given): it performs as that chunk did
-        performed = clean_motion(result.alternates[0], turn, progress=False).source
-        assert len(performed["reanchors"]) == figures[steps.index(second)]["reanchors"]
-    assert len(adapt_policy(walk_policy, turn, config, progress=False).alternates) == 2
     assert adaptation_key(turn, walk_policy, config) != adaptation_key(turn, walk_policy, replace(config, keep="evaluation"))
     with pytest.raises(ValueError, match="keep must be one of"):
         AdaptConfig(keep="best")
