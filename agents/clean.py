@@ -57,7 +57,7 @@ from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
-from reference_motion.touch_up import touch_up
+from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3
 """Frames a clip needs to be cleaned (a first frame to start from and two to simulate)."""
@@ -312,6 +312,13 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
 
+def touched_up(cleaned: Motion) -> tuple[Motion, TouchUpReport]:
+    """``cleaned`` (a :func:`clean_motion` result) with the contact touch-up
+    (:func:`reference_motion.touch_up.touch_up`), each stretch between its re-anchors on its own,
+    and the report of what moved."""
+    return touch_up(cleaned, [r["frame"] for r in cleaned.source.get("reanchors", [])])
+
+
 def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndarray:
     """``(T,)`` bool: the frames of ``cleaned`` within ``seconds`` after a re-anchor (for the video)."""
     marked = np.zeros(cleaned.n_frames, dtype=bool)
@@ -350,7 +357,9 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     if method:
         p.add_argument("--touch-up", action="store_true",
                        help="after the simulation, lift the body out of the floor where soft contacts let it sink "
-                            "and pin planted feet with leg IK (reference_motion.touch_up; what moved is reported)")
+                            "and pin planted feet with leg IK (reference_motion.touch_up); the output and the "
+                            "'cleaned' metrics are then the touched-up clip, the simulation's own metrics and how "
+                            "far the bodies moved are reported beside them")
     add_performance_options(p)
     return p
 
@@ -467,7 +476,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     touch = None
     if args.touch_up:
         simulated_quality = motion_quality(cleaned).as_dict()
-        cleaned, report = touch_up(cleaned, [r["frame"] for r in cleaned.source.get("reanchors", [])])
+        cleaned, report = touched_up(cleaned)
         touch = {**report.as_dict(), "simulated": simulated_quality}
     cleaned.save(args.out)
     before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
@@ -476,7 +485,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         print(f"{k:<24}{before[k]:>12.4f}{after[k]:>12.4f}")
     print_performance(cleaned, args.out)
     if touch:
-        print(f"touched up: root lifted up to {touch['lift_max_m'] * 100:.1f} cm (mean {touch['lift_mean_m'] * 100:.2f}), "
+        print(f"touched up: root lifted up to {touch['lift_max_m'] * 100:.1f} cm (mean {touch['lift_mean_m'] * 100:.2f} cm), "
               f"bodies moved {touch['body_shift_mean_m'] * 100:.2f} cm on average, at most "
               f"{touch['body_shift_max_m'] * 100:.1f} cm (simulated: foot skate {touch['simulated']['foot_skate_mps']:.4f} "
               f"m/s, penetration max {touch['simulated']['penetration_max_m']:.4f} m)")

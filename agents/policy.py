@@ -150,8 +150,9 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
     """Write the policy directory ``path`` whole: ``model``, the observation ``statistics`` (a
     ``VecNormalize`` wrapping environments, or a policy's statistics file to copy: a policy's
     loaded statistics wrap none and cannot be saved again) and ``sidecar``; into a temporary
-    folder beside it, then renamed over it, so an interrupted write leaves no half policy (and a
-    write that raises, no temporary folder)."""
+    folder beside it, then renamed in place of the old one (set aside until then), so an
+    interrupted write leaves no half policy, and a write that raises leaves no temporary folder and
+    the old policy as it was."""
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
     shutil.rmtree(tmp, ignore_errors=True)
@@ -163,10 +164,20 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
         else:
             shutil.copy2(statistics, tmp / STATS_FILE)
         sidecar.save(tmp / SIDECAR_FILE)
-        shutil.rmtree(path, ignore_errors=True)
-        os.replace(tmp, path)
-    finally:  # a write that raised leaves nothing behind
+    except BaseException:  # a write that raised leaves nothing behind, and the old policy in place
         shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    old = path.with_name(f".{path.name}.{os.getpid()}.old")
+    shutil.rmtree(old, ignore_errors=True)
+    if path.exists():
+        os.replace(path, old)  # set aside, not deleted, until the new policy is in place
+    try:
+        os.replace(tmp, path)
+    except BaseException:
+        if old.exists():
+            os.replace(old, path)
+        raise
+    shutil.rmtree(old, ignore_errors=True)
 
 
 def load_policy(path: str | Path) -> MimicPolicy:

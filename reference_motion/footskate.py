@@ -35,11 +35,14 @@ class PinningConfig:
         max_speed: a run of such frames whose median horizontal speed (m/s) exceeds this is a
             swinging foot skimming the floor, not a contact, and is left alone.
         fade_s: duration (s) over which a window's correction fades out into the swing frames.
+        max_correction_m: a window whose pinning would move the foot further than this (m) is a
+            foot dragged or stumbling, not a planted one, and is left alone (``None``: no limit).
     """
 
     contact_height: float = 0.03
     max_speed: float = 1.0
     fade_s: float = 0.2
+    max_correction_m: float | None = None
 
 
 def contact_windows(planted: np.ndarray) -> list[tuple[int, int]]:
@@ -60,7 +63,7 @@ def drop_fast_windows(low: np.ndarray, speed: np.ndarray, max_speed: float) -> n
     return planted
 
 
-def pin_corrections(points_xy: np.ndarray, planted: np.ndarray) -> np.ndarray:
+def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: float = np.inf) -> np.ndarray:
     """Horizontal correction ``(T, 2)`` (m) of one foot that keeps its planted points still.
 
     Args:
@@ -70,7 +73,8 @@ def pin_corrections(points_xy: np.ndarray, planted: np.ndarray) -> np.ndarray:
     Within each window where any point is planted, the correction cancels the mean frame-to-frame
     motion of the points planted in both frames (``δ_t = δ_{t-1} − mean Δp``), so a heel-strike,
     flat-foot, toe-off roll is pinned through the switch of support point. Each window's
-    correction is centred (zero mean), halving the largest offset. Zero outside the windows.
+    correction is centred (zero mean), halving the largest offset. Zero outside the windows, and in
+    a window whose correction would exceed ``max_correction`` (m) anywhere.
     """
     step = np.diff(points_xy, axis=0)  # (T-1, P, 2)
     held = (planted[1:] & planted[:-1])[..., None]
@@ -79,7 +83,9 @@ def pin_corrections(points_xy: np.ndarray, planted: np.ndarray) -> np.ndarray:
     correction = np.zeros((points_xy.shape[0], 2))
     for start, stop in contact_windows(planted.any(axis=1)):
         delta = -np.concatenate([[[0.0, 0.0]], np.cumsum(mean_step[start:stop - 1], axis=0)])
-        correction[start:stop] = delta - delta.mean(axis=0)
+        delta -= delta.mean(axis=0)
+        if np.linalg.norm(delta, axis=-1).max() <= max_correction:
+            correction[start:stop] = delta
     return correction
 
 
@@ -184,7 +190,8 @@ def pin_contacts(motion: Motion, config: PinningConfig = PinningConfig()) -> Mot
     for side in ("left", "right"):
         channels = [i for i, c in enumerate(CONTACT_CHANNELS) if c.startswith(side)]
         foot_planted = planted[:, channels]
-        delta = pin_corrections(kin.foot_points[:, channels, :2], foot_planted)
+        limit = np.inf if config.max_correction_m is None else config.max_correction_m
+        delta = pin_corrections(kin.foot_points[:, channels, :2], foot_planted, limit)
         delta = fade_between_windows(delta, foot_planted.any(axis=1), fade)
         moving = np.linalg.norm(delta, axis=-1) > 1e-6
         if not moving.any():

@@ -29,6 +29,9 @@ def test_pin_corrections_cancel_a_steady_slide_and_follow_a_heel_to_toe_roll():
     # the correction is the centred cumulative slide: -(0, 1, 2, 3, 4) cm + 2 cm
     assert np.allclose(delta[:, 0], [0.02, 0.01, 0.0, -0.01, -0.02])
     assert np.allclose(delta[:, 1], 0.0)
+    # a window whose correction would exceed the limit (2 cm here) is left alone; at the limit it is pinned
+    assert np.allclose(pin_corrections(points, planted, max_correction=0.019), 0.0)
+    assert np.allclose(pin_corrections(points, planted, max_correction=0.0201), delta)
 
 
 def test_fast_low_windows_are_swing_not_contact():

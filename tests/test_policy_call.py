@@ -46,8 +46,8 @@ def test_an_actor_the_shortcut_does_not_cover_falls_back_to_predict():
 
 
 def test_a_policy_write_that_raises_leaves_no_folder_behind(tmp_path, monkeypatch):
-    """save_policy writes into a temporary folder renamed over the target: when a write raises,
-    neither the target nor the temporary folder is left."""
+    """save_policy writes into a temporary folder renamed in place of the target: when a write
+    raises, no temporary folder is left, and an existing policy there stays as it was."""
     from agents import policy as policy_module
     from agents.sidecar import PolicySidecar
 
@@ -56,7 +56,14 @@ def test_a_policy_write_that_raises_leaves_no_folder_behind(tmp_path, monkeypatc
     def broken(self, path):
         raise OSError("disk full")
 
+    stats = walk.path / policy_module.STATS_FILE
+    policy_module.save_policy(tmp_path / "out", walk.model, stats, walk.record)
+    written = sorted(p.name for p in (tmp_path / "out").iterdir())
     monkeypatch.setattr(PolicySidecar, "save", broken)
     with pytest.raises(OSError, match="disk full"):
-        policy_module.save_policy(tmp_path / "out", walk.model, walk.path / policy_module.STATS_FILE, walk.record)
-    assert list(tmp_path.iterdir()) == []
+        policy_module.save_policy(tmp_path / "new", walk.model, stats, walk.record)
+    with pytest.raises(OSError, match="disk full"):  # over an existing policy: that one stays whole
+        policy_module.save_policy(tmp_path / "out", walk.model, stats, walk.record)
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == written
+    assert load_policy(tmp_path / "out").record.env.env_id == walk.record.env.env_id

@@ -13,6 +13,7 @@ from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
+from reference_motion.footskate import PinningConfig
 from reference_motion.touch_up import floor_lift, touch_up
 
 
@@ -51,9 +52,43 @@ def test_no_contact_window_spans_a_break(walk):
     qpos = walk.qpos.copy()
     qpos[150:, 1] += 0.5
     jumped = walk.with_qpos(qpos)
-    _, split = touch_up(jumped, breaks=[150])
-    _, whole = touch_up(jumped)
+    unlimited = PinningConfig()  # retargeting's pinning: no limit on how far a foot is moved
+    _, split = touch_up(jumped, breaks=[150], pinning=unlimited)
+    _, whole = touch_up(jumped, pinning=unlimited)
     assert split.body_shift_max_m < 0.1 < whole.body_shift_max_m
+    # the touch-up's own limit leaves a window that would move a foot more than 10 cm alone
+    _, limited = touch_up(jumped)
+    assert limited.body_shift_max_m < 0.1
+
+
+def test_a_performance_is_touched_up_between_its_reanchors(walk):
+    """clean.touched_up reads the breaks from the performance's re-anchors."""
+    qpos = walk.qpos.copy()
+    qpos[150:, 1] += 0.5
+    performed = walk.with_qpos(qpos, source={"reanchors": [{"frame": 150}]})
+    touched, _ = clean.touched_up(performed)
+    np.testing.assert_array_equal(touched.qpos, touch_up(performed, breaks=[150])[0].qpos)
+    assert not np.allclose(touched.qpos, touch_up(performed)[0].qpos)
+
+
+def test_a_smoothed_lift_stays_above_the_floor_and_bad_settings_are_refused(walk):
+    qpos = walk.qpos.copy()
+    qpos[:, 2] -= 0.02
+    sunk = walk.with_qpos(qpos)
+    touched, smooth = touch_up(sunk, smooth_s=0.1)
+    _, exact = touch_up(sunk)
+    lowest = load_model(walk.model).forward_kinematics(touched.qpos).lowest
+    assert lowest.min() > -1e-9 and smooth.lift_mean_m >= exact.lift_mean_m
+    # a stretch shorter than MIN_PINNED_FRAMES is lifted, not pinned
+    short, _ = touch_up(sunk, breaks=[2])
+    np.testing.assert_allclose(short.qpos[:2, 3:], sunk.qpos[:2, 3:])
+    assert np.all(short.qpos[:2, 2] >= sunk.qpos[:2, 2])
+    with pytest.raises(ValueError, match="smooth_s must be a finite number of seconds >= 0, got -1"):
+        touch_up(sunk, smooth_s=-1)
+    with pytest.raises(ValueError, match="smooth_s must be a finite number of seconds >= 0, got inf"):
+        touch_up(sunk, smooth_s=float("inf"))
+    with pytest.raises(ValueError, match=r"breaks must be whole frame indices in 0\.\.302, got \[400, 2\.5\]"):
+        touch_up(sunk, breaks=[10, 400, 2.5])
 
 
 def test_clean_cli_touches_up_on_request(tmp_path):
