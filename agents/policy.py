@@ -169,13 +169,14 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
         raise
     old = path.with_name(f".{path.name}.{os.getpid()}.old")
     shutil.rmtree(old, ignore_errors=True)
-    if path.exists():
-        os.replace(path, old)  # set aside, not deleted, until the new policy is in place
     try:
+        if path.exists():
+            os.replace(path, old)  # set aside, not deleted, until the new policy is in place
         os.replace(tmp, path)
     except BaseException:
-        if old.exists():
+        if old.exists() and not path.exists():
             os.replace(old, path)
+        shutil.rmtree(tmp, ignore_errors=True)
         raise
     shutil.rmtree(old, ignore_errors=True)
 

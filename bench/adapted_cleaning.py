@@ -15,7 +15,7 @@ ranks best; a fresh cache so nothing is reused) and cleans it (:func:`agents.cle
 Reported per take and summarised: whether the whole take was simulated without a re-anchor
 (goal: ≥ 9 of 10), ELR of the adapted policy on the take (ADAPT's protocol; goal ≥ 0.97), foot
 skate, floating and penetration of the cleaned take against the corrupted input (goal: each
-≥ 80% lower), the same after the contact touch-up (``clean.py --touch-up``,
+≥ 80% lower; jitter too), the same after the contact touch-up (``clean.py --touch-up``,
 :mod:`reference_motion.touch_up`), and the adaptation wall time (median and max; goal ≤ 5 min for 10 s).
 """
 

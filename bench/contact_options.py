@@ -7,8 +7,9 @@ For each variant of the ``humanoid_1seg`` contact settings (``base``: the MJCF's
 impedance 0.9–0.99 instead of 0.9–0.95, stiffer at depth; ``elliptic``: elliptic friction cones
 with ``impratio`` 10, which MuJoCo recommends against slip), performed as :mod:`agents.clean`
 performs a clip: ``mimic_walk`` on DeepMimic's walk (10 s) and the generalist on the first four
-validation takes (clean), zero-shot. Reported: foot skate and penetration (max) of each
-performance and the generalist's ELR on the validation split (3 rollouts a take).
+validation takes (clean), zero-shot. Reported: foot skate and penetration (max) of the walk's
+performance and their means over the four takes' performances, and the generalist's ELR on the
+validation split (3 rollouts a take).
 """
 
 from __future__ import annotations
@@ -59,8 +60,12 @@ def main() -> None:
     if args.variant:
         print(json.dumps(measure(args.variant)))
         return
-    rows = [json.loads(subprocess.run([sys.executable, __file__, "--variant", v], check=True, capture_output=True,
-                                      text=True).stdout.strip().splitlines()[-1]) for v in VARIANTS]
+    rows = []
+    for v in VARIANTS:
+        child = subprocess.run([sys.executable, __file__, "--variant", v], capture_output=True, text=True)
+        if child.returncode:
+            sys.exit(f"variant {v} failed:\n{child.stderr}")
+        rows.append(json.loads(child.stdout.strip().splitlines()[-1]))
     for r in rows:
         print(f"{r['variant']:<9} walk: skate {r['walk_skate_mps']:.3f} m/s, penetration max {r['walk_penetration_max_m'] * 100:.1f} cm;"
               f" validation: skate {r['val_skate_mps']:.3f} m/s, penetration max {r['val_penetration_max_m'] * 100:.1f} cm, "

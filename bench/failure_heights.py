@@ -7,7 +7,7 @@ Performs, zero-shot as :mod:`agents.clean` does (no adaptation), the seven valid
 10 s, IMU strength 1, seed 1000), and for every failure of the deterministic policy (before any
 retry) records how it ended (``lagging``: the head more than 0.91 m from the reference's;
 ``fallen``), the simulated pelvis height against the reference's at that frame, and the root's
-horizontal distance from the reference's path. A failure with the pelvis more than 15 cm below
+horizontal distance from the reference's root at that frame. A failure with the pelvis more than 15 cm below
 the reference's counts as a fall in progress.
 """
 

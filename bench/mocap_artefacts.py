@@ -4,9 +4,10 @@ original motion would score on the artefact goals.
 Usage: ``python bench/mocap_artefacts.py --clips TAKE ... [--seed 5000] [--seconds 10] [--json [OUT]]``
 
 Each take ``i`` is cut to ``--seconds`` and corrupted at IMU strength 1 with seed ``--seed + i``
-exactly as ``bench/adapted_cleaning.py`` does; the clean take is cut the same way. Reported per
-take and as medians: foot skate, floating and penetration (max, mean) of both, and how far below
-the corrupted copy the clean one lies.
+exactly as ``bench/adapted_cleaning.py`` does for a policy of the one-segment foot
+(``humanoid_1seg``, as ``mimic_general``); the clean take is cut the same way. Reported per take
+and as medians: foot skate, floating, penetration (max, mean) and jitter of both, and how far below
+the corrupted copy the clean one lies (``n/a`` where the corrupted copy has none).
 """
 
 from __future__ import annotations
@@ -15,7 +16,7 @@ import argparse
 
 import numpy as np
 
-from adapted_cleaning import ARTEFACTS, corrupted_take, cut_take, reduction_of  # bench/: the scripts run from there
+from adapted_cleaning import ARTEFACTS, corrupted_take, cut_take, reduction, reduction_of  # bench/: the scripts run from there
 from json_report import emit_json
 from reference_motion.library import expand_clips
 from reference_motion.quality import motion_quality
@@ -36,7 +37,8 @@ def main() -> None:
         rows.append({"clip": clip, "seed": args.seed + i, **{f"{k}_corrupted": before[k] for k in ARTEFACTS},
                      **{f"{k}_clean": after[k] for k in ARTEFACTS},
                      **{f"{k}_reduction": reduction_of(before[k], after[k]) for k in ARTEFACTS}})
-        print(f"{clip.split('#')[-1]:<32} " + "  ".join(f"{k} {rows[-1][f'{k}_reduction']:.0%}" for k in ARTEFACTS))
+        print(f"{clip.split('#')[-1]:<32} " + "  ".join(f"{k} {reduction(rows[-1][f'{k}_reduction'])}"
+                                                          for k in ARTEFACTS))
     summary = {k: float(np.nanmedian([r[f"{k}_reduction"] for r in rows])) for k in ARTEFACTS}
     print("median: " + "  ".join(f"{k} {v:.0%}" for k, v in summary.items()))
     emit_json({"seed": args.seed, "seconds": args.seconds, "summary": summary, "takes": rows}, args.json)

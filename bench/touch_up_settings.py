@@ -1,12 +1,12 @@
 """How the contact touch-up's lift window trades floor penetration for floating and root jerk.
 
-Usage: ``python bench/touch_up_settings.py [--clips library:data/library/val] [--smooth 0 0.05]
-[--pin-limit none 0.05] [--json [OUT]]``
+Usage: ``python bench/touch_up_settings.py [--policy models/mimic_general] [--clips library:data/library/val]
+[--seed 6000] [--smooth 0 0.05] [--pin-limit none 0.05] [--json [OUT]]``
 
 Each take (the validation split by default: settings are chosen there), cut to 10 s and
 IMU-corrupted at strength 1 (seed 6000 + i), is performed zero-shot by ``--policy`` as
-:func:`agents.clean.clean_motion` does it, then touched up (:func:`agents.clean.touched_up`)
-with each lift window ``--smooth`` (s either side) and each limit ``--pin-limit`` on how far pinning
+:func:`agents.clean.clean_motion` does it, then touched up between its re-anchors
+(:func:`reference_motion.touch_up.touch_up`) with each lift window ``--smooth`` (s either side) and each limit ``--pin-limit`` on how far pinning
 may move a foot (:attr:`reference_motion.footskate.PinningConfig.max_correction_m`). Reported per
 variant, as medians over the takes:
 foot skate, floating, penetration (max, mean) and jitter of the input, of the simulation and of

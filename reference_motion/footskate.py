@@ -44,6 +44,10 @@ class PinningConfig:
     fade_s: float = 0.2
     max_correction_m: float | None = None
 
+    def __post_init__(self) -> None:
+        if self.max_correction_m is not None and not self.max_correction_m > 0:
+            raise ValueError(f"PinningConfig.max_correction_m must be positive or None, got {self.max_correction_m}")
+
 
 def contact_windows(planted: np.ndarray) -> list[tuple[int, int]]:
     """Runs of consecutive ``True`` in ``planted (T,)`` as half-open ``(start, stop)`` frame ranges."""
@@ -63,7 +67,7 @@ def drop_fast_windows(low: np.ndarray, speed: np.ndarray, max_speed: float) -> n
     return planted
 
 
-def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: float = np.inf) -> np.ndarray:
+def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: float | None = None) -> np.ndarray:
     """Horizontal correction ``(T, 2)`` (m) of one foot that keeps its planted points still.
 
     Args:
@@ -74,8 +78,9 @@ def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: 
     motion of the points planted in both frames (``δ_t = δ_{t-1} − mean Δp``), so a heel-strike,
     flat-foot, toe-off roll is pinned through the switch of support point. Each window's
     correction is centred (zero mean), halving the largest offset. Zero outside the windows, and in
-    a window whose correction would exceed ``max_correction`` (m) anywhere.
+    a window whose correction would exceed ``max_correction`` (m) anywhere (``None``: no limit).
     """
+    limit = np.inf if max_correction is None else max_correction
     step = np.diff(points_xy, axis=0)  # (T-1, P, 2)
     held = (planted[1:] & planted[:-1])[..., None]
     count = held.sum(axis=1)
@@ -84,7 +89,7 @@ def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: 
     for start, stop in contact_windows(planted.any(axis=1)):
         delta = -np.concatenate([[[0.0, 0.0]], np.cumsum(mean_step[start:stop - 1], axis=0)])
         delta -= delta.mean(axis=0)
-        if np.linalg.norm(delta, axis=-1).max() <= max_correction:
+        if np.linalg.norm(delta, axis=-1).max() <= limit:
             correction[start:stop] = delta
     return correction
 
@@ -190,8 +195,7 @@ def pin_contacts(motion: Motion, config: PinningConfig = PinningConfig()) -> Mot
     for side in ("left", "right"):
         channels = [i for i, c in enumerate(CONTACT_CHANNELS) if c.startswith(side)]
         foot_planted = planted[:, channels]
-        limit = np.inf if config.max_correction_m is None else config.max_correction_m
-        delta = pin_corrections(kin.foot_points[:, channels, :2], foot_planted, limit)
+        delta = pin_corrections(kin.foot_points[:, channels, :2], foot_planted, config.max_correction_m)
         delta = fade_between_windows(delta, foot_planted.any(axis=1), fade)
         moving = np.linalg.norm(delta, axis=-1) > 1e-6
         if not moving.any():

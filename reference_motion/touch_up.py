@@ -8,7 +8,7 @@ the simulated heel and toe points creep and roll while in contact (0.25 m/s on h
 friction slip). :func:`touch_up` removes both kinematically, by about a centimetre on average:
 
 1. the root is raised in each frame by how far the body's lowest point is below z = 0
-   (:func:`floor_lift`; optionally spread over neighbouring frames);
+   (:func:`floor_lift`; by default spread over ±0.05 s, :data:`TOUCH_UP_SMOOTH_S`);
 2. planted foot points are pinned with two-bone leg IK (:func:`reference_motion.footskate.pin_contacts`),
 
 each continuous stretch of the performance on its own (a re-anchor is a jump no contact spans).

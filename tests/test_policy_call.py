@@ -67,3 +67,24 @@ def test_a_policy_write_that_raises_leaves_no_folder_behind(tmp_path, monkeypatc
     assert [p.name for p in tmp_path.iterdir()] == ["out"]
     assert sorted(p.name for p in (tmp_path / "out").iterdir()) == written
     assert load_policy(tmp_path / "out").record.env.env_id == walk.record.env.env_id
+
+
+def test_a_failed_rename_puts_the_old_policy_back_and_leaves_no_folder(tmp_path, monkeypatch):
+    from agents import policy as policy_module
+
+    walk = load_policy(MODELS / "mimic_walk")
+    stats = walk.path / policy_module.STATS_FILE
+    policy_module.save_policy(tmp_path / "out", walk.model, stats, walk.record)
+    written = sorted(p.name for p in (tmp_path / "out").iterdir())
+    replace = policy_module.os.replace
+
+    def failing(src, dst):  # setting the old policy aside works, putting the new one in place fails
+        if str(src).endswith(".tmp"):
+            raise OSError("rename failed")
+        replace(src, dst)
+
+    monkeypatch.setattr(policy_module.os, "replace", failing)
+    with pytest.raises(OSError, match="rename failed"):
+        policy_module.save_policy(tmp_path / "out", walk.model, stats, walk.record)
+    assert [p.name for p in tmp_path.iterdir()] == ["out"]
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == written
