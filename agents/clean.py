@@ -312,19 +312,24 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
 
-def touched_up(cleaned: Motion) -> tuple[Motion, TouchUpReport]:
+def reanchor_frames(cleaned: Motion) -> list[int]:
+    """The frames of ``cleaned`` (a :func:`clean_motion` result) restarted from the reference state."""
+    return [r["frame"] for r in cleaned.source.get("reanchors", [])]
+
+
+def touched_up(cleaned: Motion, **settings) -> tuple[Motion, TouchUpReport]:
     """``cleaned`` (a :func:`clean_motion` result) with the contact touch-up
-    (:func:`reference_motion.touch_up.touch_up`), each stretch between its re-anchors on its own,
-    and the report of what moved."""
-    return touch_up(cleaned, [r["frame"] for r in cleaned.source.get("reanchors", [])])
+    (:func:`reference_motion.touch_up.touch_up`, its ``smooth_s`` / ``pinning`` in ``settings``),
+    each stretch between its re-anchors on its own, and the report of what moved."""
+    return touch_up(cleaned, reanchor_frames(cleaned), **settings)
 
 
 def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndarray:
     """``(T,)`` bool: the frames of ``cleaned`` within ``seconds`` after a re-anchor (for the video)."""
     marked = np.zeros(cleaned.n_frames, dtype=bool)
     span = max(1, int(round(seconds * cleaned.fps)))
-    for r in cleaned.source.get("reanchors", []):
-        marked[r["frame"]:r["frame"] + span] = True
+    for frame in reanchor_frames(cleaned):
+        marked[frame:frame + span] = True
     return marked
 
 

@@ -6,7 +6,7 @@ Usage: ``python bench/touch_up_settings.py [--policy models/mimic_general] [--cl
 Each take (the validation split by default: settings are chosen there), cut to 10 s and
 IMU-corrupted at strength 1 (seed 6000 + i), is performed zero-shot by ``--policy`` as
 :func:`agents.clean.clean_motion` does it, then touched up between its re-anchors
-(:func:`reference_motion.touch_up.touch_up`) with each lift window ``--smooth`` (s either side) and each limit ``--pin-limit`` on how far pinning
+(:func:`agents.clean.touched_up`) with each lift window ``--smooth`` (s either side) and each limit ``--pin-limit`` on how far pinning
 may move a foot (:attr:`reference_motion.footskate.PinningConfig.max_correction_m`). Reported per
 variant, as medians over the takes:
 foot skate, floating, penetration (max, mean) and jitter of the input, of the simulation and of
@@ -23,24 +23,24 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the scripts run from bench/
-from agents.clean import clean_motion, or_none
+from agents.clean import clean_motion, or_none, reanchor_frames, touched_up
 from agents.policy import load_policy
 from json_report import emit_json
 from reference_motion.library import expand_clips
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 from reference_motion.cli import positive_float
-from reference_motion.touch_up import TOUCH_UP_PINNING, touch_up
+from reference_motion.touch_up import TOUCH_UP_PINNING
 
 METRICS = ("foot_skate_mps", "floating_m", "penetration_max_m", "penetration_mean_m", "jitter")
 
 
-def root_vertical_acceleration(motion: Motion, breaks: list[int]) -> float:
+def root_vertical_acceleration(motion: Motion) -> float:
     """99th percentile of the root's vertical acceleration magnitude (m/s², second differences)
-    over the frames whose difference does not straddle a break (a re-anchor's jump)."""
+    over the frames whose difference does not straddle one of ``motion``'s re-anchors (a jump)."""
     acc = np.abs(np.diff(motion.qpos[:, 2], n=2)) * motion.fps**2  # acc[t] spans frames t..t+2
     keep = np.ones(len(acc), dtype=bool)
-    for b in breaks:
+    for b in reanchor_frames(motion):
         keep[max(0, b - 2):b] = False
     return float(np.percentile(acc[keep], 99))
 
@@ -65,15 +65,14 @@ def main() -> None:
     for i, clip in enumerate(expand_clips(args.clips)):
         reference = corrupted_take(clip, policy.foot, 10.0, 1.0, args.seed + i)
         simulated = clean_motion(policy, reference, progress=False)
-        breaks = [r["frame"] for r in simulated.source["reanchors"]]
         row = {"clip": clip, "input": motion_quality(reference).as_dict(),
-               "simulated": {**motion_quality(simulated).as_dict(), "root_acc_p99": root_vertical_acceleration(simulated, breaks)}}
+               "simulated": {**motion_quality(simulated).as_dict(), "root_acc_p99": root_vertical_acceleration(simulated)}}
         for smooth in args.smooth:
             for limit in args.pin_limit:
                 pinning = replace(TOUCH_UP_PINNING, max_correction_m=limit)
-                touched, report = touch_up(simulated, breaks, smooth_s=smooth, pinning=pinning)
+                touched, report = touched_up(simulated, smooth_s=smooth, pinning=pinning)
                 row[variant(smooth, limit)] = {**motion_quality(touched).as_dict(), **report.as_dict(),
-                                               "root_acc_p99": root_vertical_acceleration(touched, breaks)}
+                                               "root_acc_p99": root_vertical_acceleration(touched)}
         rows.append(row)
     summary = {}
     for key in ["input", "simulated"] + [variant(s, m) for s in args.smooth for m in args.pin_limit]:
