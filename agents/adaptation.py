@@ -49,16 +49,18 @@ import numpy as np
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
 from stable_baselines3.common.env_util import make_vec_env
-from stable_baselines3.common.vec_env import VecNormalize
+from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
+from agents.batched_vec_env import BatchedMimicVecEnv
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy, set_action_variance
 from agents.rollout import torch_threads
 from agents.sidecar import PolicySidecar
 from envs.config import MimicConfig
+from envs.mimic import MimicEnv
 from reference_motion.motion import Motion
 
 
@@ -109,6 +111,11 @@ class AdaptConfig:
         torch_threads: torch threads while adapting (1: a 256×256 network gains nothing from more,
             and where other processes use the cores, more threads wait on each other: 2 threads
             took 69 s for what 1 does in 3 s beside a training run on 2 cores).
+        physics_threads: threads stepping the environments' physics (``None``: one per core, at most
+            one per environment). A ``MimicEnv`` policy's environments are stepped as one batch
+            (:class:`agents.batched_vec_env.BatchedMimicVecEnv`: the same transitions as one at a
+            time, so the adapted policy does not depend on this); others one at a time in this
+            process. Give 1 where other processes use the cores.
         cache_dir: where adapted policies are kept (:func:`default_cache_dir`).
     """
 
@@ -126,6 +133,7 @@ class AdaptConfig:
     action_variance: float | None = None
     learning_rate: float | None = None
     torch_threads: int = 1
+    physics_threads: int | None = None
     cache_dir: Path = field(default_factory=default_cache_dir)
 
     def __post_init__(self) -> None:
@@ -141,6 +149,8 @@ class AdaptConfig:
             raise ValueError(f"keep must be one of {KEEP_RULES}, got {self.keep!r}")
         if self.max_steps is not None and self.max_steps < 1:
             raise ValueError(f"max_steps must be >= 1 or None, got {self.max_steps}")
+        if self.physics_threads is not None and self.physics_threads < 1:
+            raise ValueError(f"physics_threads must be >= 1 or None, got {self.physics_threads}")
 
     def reached(self, summary: dict) -> bool:
         """Whether a chunk judged ``summary`` (its ``SR90``; with ``keep="performance"`` also its
@@ -347,9 +357,11 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     started = time.monotonic()
     eval_env = policy.make_env([reference], artefacts=None)  # the policy's own task, on this clip as given
     eval_env.reset(seed=config.seed)
+    batched = type(eval_env.unwrapped) is MimicEnv
     venv = VecNormalize.load(str(Path(policy.path) / STATS_FILE),
                              make_vec_env(lambda: policy.make_env([reference], artefacts=None), n_envs=config.n_envs,
-                                          seed=config.seed))
+                                          seed=config.seed, vec_env_cls=BatchedMimicVecEnv if batched else DummyVecEnv,
+                                          vec_env_kwargs={"n_threads": config.physics_threads} if batched else None))
     venv.training = config.update_normalizer
     batch_size = min(policy.model.batch_size, config.n_steps * config.n_envs)
     rate = {} if config.learning_rate is None else {"learning_rate": config.learning_rate}

@@ -43,6 +43,7 @@ from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
 from agents.policy import MimicPolicy, load_policy, set_action_variance
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
+from agents.batched_vec_env import BatchedMimicVecEnv
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
@@ -102,13 +103,17 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
-    g.add_argument("--n-envs", type=positive_int, default=8, help="environments stepped together (one policy batch)")
-    g.add_argument("--vec", choices=VEC_KINDS, default="sharded",
-                   help="sharded: the envs split over --workers shards, this process and worker processes, "
-                        "stepped in parallel (agents/vec_env.py; fastest on 2 cores, see README); dummy: all "
-                        "envs in this process; subproc: one process per env")
+    g.add_argument("--n-envs", type=positive_int, default=32,
+                   help="environments stepped together (one policy batch; 32 batched: the fastest on 2 cores, README)")
+    g.add_argument("--vec", choices=VEC_KINDS, default=None,
+                   help="batched: the envs stepped as one batch in this process, their physics on --workers "
+                        "threads (agents/batched_vec_env.py; fastest on 2 cores, see README; MimicIMU-v0 and its "
+                        "ablations); sharded: the envs split over --workers shards, this process and worker "
+                        "processes (agents/vec_env.py); dummy: all envs in this process, one at a time; subproc: "
+                        "one process per env (default: batched, sharded for MimicGait-v0)")
     g.add_argument("--workers", type=positive_int, default=None,
-                   help="--vec sharded: shards, this process included (default: the cores, at most --n-envs)")
+                   help="--vec batched: physics threads; --vec sharded: shards, this process included (default: "
+                        "the cores, at most --n-envs)")
     g.add_argument("--net", default="256,256", help="hidden layer sizes of actor and critic (tanh)")
     g.add_argument("--device", default="cpu", choices=["cpu", "cuda", "auto"],
                    help="where the networks learn: cpu (fastest for small networks on a few cores), "
@@ -118,7 +123,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="follow this approximate KL per PPO update by adapting the learning rate after each "
                         "update (agents/lr_schedule.py; --lr is the starting rate; rsl_rl: 0.01); default: "
                         "the fixed --lr of ADAPT")
-    g.add_argument("--n-steps", type=positive_int, default=1024, help="rollout length per environment")
+    g.add_argument("--n-steps", type=positive_int, default=None,
+                   help="rollout length per environment (default: 8192 / --n-envs, 8192 steps per PPO update)")
     g.add_argument("--batch-size", type=positive_int, default=512, help="minibatch size")
     g.add_argument("--epochs", type=positive_int, default=6, help="optimisation epochs per rollout (ADAPT: 6)")
     g.add_argument("--gamma", type=fraction, default=0.99)
@@ -128,8 +134,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="fixed σ² of the Gaussian policy (with --init-from too: the source's is replaced)")
     g.add_argument("--seed", type=int, default=0)
     g.add_argument("--torch-threads", type=positive_int, default=None,
-                   help="torch threads in the learner process (default: 2 with --vec dummy, else 1: the "
-                        "workers need the other cores)")
+                   help="torch threads in the learner process (default: 2 with --vec dummy; with --vec batched 1 "
+                        "while collecting rollouts and one per core while updating; else 1: the workers need "
+                        "the other cores)")
     g = p.add_argument_group("run")
     g.add_argument("--run-dir", type=output_dir, required=True)
     g.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --run-dir")
@@ -166,12 +173,45 @@ def variant_seed(args: argparse.Namespace) -> int | None:
     return None if args.vec == "subproc" else args.seed
 
 
-def vec_env_settings(args: argparse.Namespace) -> tuple[type, dict, int]:
-    """The run's vectorized-env class, its keyword arguments and the learner's torch threads."""
-    threads = args.torch_threads or (2 if args.vec == "dummy" else 1)
-    if args.vec == "sharded":
-        return ShardedVecEnv, {"n_workers": shard_count(args.workers, args.n_envs)}, threads
-    return (SubprocVecEnv if args.vec == "subproc" else DummyVecEnv), {}, threads
+def vec_kind(args: argparse.Namespace) -> str:
+    """How the run's envs are stepped: ``--vec``, by default batched (sharded for ``MimicGait-v0``,
+    whose reward :class:`BatchedMimicVecEnv` does not batch)."""
+    if args.vec == "batched" and args.env_id == GAIT_ENV_ID:
+        raise ValueError(f"--vec batched steps MimicEnv's own reward; {GAIT_ENV_ID} needs --vec sharded, dummy or subproc")
+    return args.vec or ("sharded" if args.env_id == GAIT_ENV_ID else "batched")
+
+
+def vec_env_settings(args: argparse.Namespace) -> tuple[type, dict, int, int]:
+    """The run's vectorized-env class, its keyword arguments, and the learner's torch threads while
+    collecting rollouts and while updating."""
+    kind = vec_kind(args)
+    if kind == "batched":
+        collect, update = args.torch_threads or 1, args.torch_threads or shard_count(None, args.n_envs)
+        return BatchedMimicVecEnv, {"n_threads": shard_count(args.workers, args.n_envs)}, collect, update
+    threads = args.torch_threads or (2 if kind == "dummy" else 1)
+    if kind == "sharded":
+        return ShardedVecEnv, {"n_workers": shard_count(args.workers, args.n_envs)}, threads, threads
+    return (SubprocVecEnv if kind == "subproc" else DummyVecEnv), {}, threads, threads
+
+
+class UpdateThreads(BaseCallback):
+    """Give the learner ``update`` torch threads while PPO updates and ``collect`` while it collects
+    rollouts: with the envs stepped in this process (``--vec batched``) the cores are free during
+    updates, and more torch threads during the small forward passes of a rollout only wait on the
+    physics threads."""
+
+    def __init__(self, collect: int, update: int):
+        super().__init__()
+        self.collect, self.update = collect, update
+
+    def _on_rollout_start(self) -> None:
+        torch.set_num_threads(self.collect)
+
+    def _on_rollout_end(self) -> None:
+        torch.set_num_threads(self.update)
+
+    def _on_step(self) -> bool:
+        return True
 
 
 def foot(args: argparse.Namespace) -> str:
@@ -179,7 +219,9 @@ def foot(args: argparse.Namespace) -> str:
     return args.foot or ("two" if args.env_id == GAIT_ENV_ID else "one")
 
 
-VEC_KINDS = ("sharded", "dummy", "subproc")
+VEC_KINDS = ("batched", "sharded", "dummy", "subproc")
+STEPS_PER_UPDATE = 8192
+"""Environment steps per PPO update by default (``--n-steps`` is this over ``--n-envs``)."""
 """``--vec`` choices: how the training envs are stepped (``agents/vec_env.py``, stable-baselines3)."""
 
 def gait_config(args: argparse.Namespace) -> GaitConfig:
@@ -406,10 +448,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"{run_dir}: already holds a run; pass --resume to continue it or pick a new --run-dir")
     else:
         history = []
+    if args.n_steps is None:  # the default: 8192 steps per update, however many envs
+        args.n_steps = max(1, STEPS_PER_UPDATE // args.n_envs)
     if args.gait_ablation is not None and args.env_id != GAIT_ENV_ID:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
-    vec_cls, vec_kwargs, threads = vec_env_settings(args)
-    torch.set_num_threads(threads)
+    vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
+    torch.set_num_threads(collect_threads)
     clips = training_motions(args)
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
                         env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
@@ -456,7 +500,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}  # restored when training ends
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
-        model.learn(remaining, callback=CallbackList([callback, *kl_following(args.target_kl)]),
+        model.learn(remaining, callback=CallbackList([callback, UpdateThreads(collect_threads, update_threads),
+                                                      *kl_following(args.target_kl)]),
                     reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume

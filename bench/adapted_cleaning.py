@@ -2,7 +2,8 @@
 
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
-[--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance] [--out-dir DIR]
+[--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
+[--physics-threads N] [--out-dir DIR]
 [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
@@ -91,6 +92,9 @@ def main() -> None:
                    help="stop adapting once SR90 reaches this; 'none': train to the budget")
     p.add_argument("--adapt-keep", choices=KEEP_RULES, default=AdaptConfig.keep,
                    help="which chunk an adaptation keeps (agents.adaptation.AdaptConfig.keep)")
+    p.add_argument("--physics-threads", type=int, default=1,
+                   help="threads stepping each adaptation's physics (AdaptConfig.physics_threads; 1: the "
+                        "protocol runs two of these processes at once, one per core)")
     p.add_argument("--out-dir", type=Path, default=None,
                    help="also write each take's input, simulated and touched-up clips here (.npz)")
     p.add_argument("--json", nargs="?", const="-", default=None)
@@ -104,7 +108,7 @@ def main() -> None:
             looped = reference.n_frames >= frames
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
-                                 keep=args.adapt_keep, cache_dir=Path(cache))
+                                 keep=args.adapt_keep, physics_threads=args.physics_threads, cache_dir=Path(cache))
             adapted = adapt_policy(policy, reference, config, progress=False)
             start = time.perf_counter()
             cleaned = clean_motion(adapted.policy, reference, CleanConfig(), progress=False)

@@ -12,7 +12,10 @@ reported; the machine is noisy):
   process (``--vec dummy``, 2 torch threads);
 * [256, 256] with 8 envs, one subprocess each (``--vec subproc``, 1 torch thread);
 * [256, 256] with 8 or 16 envs in one shard per core (2 on the project's machines: this process
-  and one worker; ``--vec sharded``, the default, 1 torch thread: ``agents/vec_env.py``).
+  and one worker; ``--vec sharded``, 1 torch thread: ``agents/vec_env.py``);
+* [256, 256] with 16 or 32 envs stepped as one batch in the learner's process, their physics on one
+  thread per core (``--vec batched``, the default: ``agents/batched_vec_env.py``), the learner on 1
+  torch thread while collecting and one per core while updating (``train_ppo.UpdateThreads``).
 
 A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
 The physics floor is the rate at which the cores would produce those frames doing nothing but
@@ -37,6 +40,8 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
 import envs  # noqa: F401  (registers the ids)
+from agents.batched_vec_env import BatchedMimicVecEnv
+from agents.train_ppo import UpdateThreads
 from agents.vec_env import ShardedVecEnv, shard_count
 from envs import ArtefactMix
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -57,23 +62,37 @@ class Setting:
     torch_threads: int
     workers: int | None = None
     device: str = "cpu"
+    update_threads: int | None = None
 
     @property
     def label(self) -> str:
         workers = f" on {self.workers} processes" if self.workers else ""
-        return f"{self.net} / {self.n_envs} {self.vec}{workers} / {self.torch_threads} thread(s) / {self.device}"
+        return f"{self.net} / {self.n_envs} {self.vec}{workers} / {self.threads_label} thread(s) / {self.device}"
+
+    @property
+    def threads_label(self) -> str:
+        """The learner's torch threads: ``"1"``, or ``"1+2"`` (collecting + updating) where they differ."""
+        update = self.update_threads or self.torch_threads
+        return str(self.torch_threads) if update == self.torch_threads else f"{self.torch_threads}+{update}"
+
+    def callbacks(self) -> list:
+        """``train_ppo.py``'s thread switch between rollouts and updates, where the setting has one."""
+        return [UpdateThreads(self.torch_threads, self.update_threads)] if self.update_threads else []
 
 
 SETTINGS = [Setting("1024,1024,512", 8, "dummy", 2), Setting("256,256", 8, "dummy", 2),
             Setting("128,128", 8, "dummy", 2), Setting("256,256", 8, "subproc", 1),
-            Setting("256,256", 8, "sharded", 1), Setting("256,256", 16, "sharded", 1)]
-VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv}
+            Setting("256,256", 8, "sharded", 1), Setting("256,256", 16, "sharded", 1),
+            Setting("256,256", 16, "batched", 1, update_threads=CORES),
+            Setting("256,256", 32, "batched", 1, update_threads=CORES)]
+VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv, "batched": BatchedMimicVecEnv}
 
 
 def build(setting: Setting) -> PPO:
     """A fresh PPO learner of ``setting`` (train_ppo.py's settings, seed 0)."""
     torch.set_num_threads(setting.torch_threads)
-    vec_kwargs = {"n_workers": shard_count(setting.workers, setting.n_envs)} if setting.vec == "sharded" else {}
+    vec_kwargs = ({"n_workers": shard_count(setting.workers, setting.n_envs)} if setting.vec == "sharded"
+                  else {"n_threads": shard_count(setting.workers, setting.n_envs)} if setting.vec == "batched" else {})
     venv = VecNormalize(make_vec_env("MimicIMU-v0", n_envs=setting.n_envs, seed=0,
                                      vec_env_cls=VEC_CLASSES[setting.vec], vec_env_kwargs=vec_kwargs,
                                      env_kwargs={"clips": CLIPS, "artefacts": ArtefactMix(seed=0)}), norm_reward=False)
@@ -81,7 +100,7 @@ def build(setting: Setting) -> PPO:
     model = PPO("MlpPolicy", venv, n_steps=8192 // setting.n_envs, batch_size=512, n_epochs=6, learning_rate=5e-5,
                 device=setting.device, seed=0, policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
                                                      "log_std_init": 0.5 * math.log(0.03)})
-    model.learn(8192)  # warm-up: one rollout and update
+    model.learn(8192, callback=setting.callbacks())  # warm-up: one rollout and update
     return model
 
 
@@ -89,7 +108,7 @@ def rate(setting: Setting, steps: int) -> float:
     """Control steps/s of PPO training in ``setting``."""
     model = build(setting)
     start = time.perf_counter()
-    model.learn(steps, reset_num_timesteps=False)
+    model.learn(steps, reset_num_timesteps=False, callback=setting.callbacks())
     elapsed = time.perf_counter() - start
     model.get_env().close()
     return steps / elapsed
@@ -138,7 +157,7 @@ def main() -> None:
     for setting in SETTINGS:
         steps_per_s = statistics.median(measured[setting.label])
         rows.append({"net": setting.net, "n_envs": setting.n_envs, "vec": setting.vec,
-                     "torch_threads": setting.torch_threads,
+                     "torch_threads": setting.threads_label,
                      "parameters": parameters([int(n) for n in setting.net.split(",")]),
                      "frames_per_s": round(2 * steps_per_s), "rounds_frames_per_s": [round(2 * r) for r in
                                                                                      measured[setting.label]],

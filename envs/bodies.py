@@ -21,7 +21,8 @@ from reference_motion import rotations as rot
 
 @dataclass(frozen=True)
 class BodyState:
-    """Kinematic state of all ``B`` bodies (world frame, SI).
+    """Kinematic state of all ``B`` bodies (world frame, SI); a batch of states has a leading
+    axis (one per environment) on every array.
 
     Attributes:
         pos: ``(B, 3)`` body origins (m).
@@ -52,20 +53,33 @@ def update_kinematics(model: mujoco.MjModel, data: mujoco.MjData) -> None:
 
 
 def read_body_state(model: mujoco.MjModel, data: mujoco.MjData) -> BodyState:
-    """:class:`BodyState` of every body but the world, from an up-to-date ``data``.
+    """:class:`BodyState` of every body but the world, from an up-to-date ``data``."""
+    return body_state(data.xpos[1:].copy(), data.xquat[1:].copy(), data.xmat[1:].copy(), data.cvel[1:].copy(),
+                      data.subtree_com[1].copy(), data.subtree_linvel[1].copy())
+
+
+def body_state(xpos: np.ndarray, xquat: np.ndarray, xmat: np.ndarray, cvel: np.ndarray, com: np.ndarray,
+               com_vel: np.ndarray) -> BodyState:
+    """:class:`BodyState` from MuJoCo's arrays of the bodies but the world (optionally with leading
+    axes, e.g. one per environment; the arrays are kept, not copied).
+
+    Args:
+        xpos: ``(..., B, 3)`` body origins (``data.xpos[1:]``).
+        xquat: ``(..., B, 4)`` orientations (``data.xquat[1:]``).
+        xmat: ``(..., B, 9)`` rotation matrices, row-major (``data.xmat[1:]``).
+        cvel: ``(..., B, 6)`` spatial velocities about the tree's CoM (``data.cvel[1:]``).
+        com, com_vel: ``(..., 3)`` the pelvis subtree's CoM and its velocity (``data.subtree_com[1]``,
+            ``data.subtree_linvel[1]``).
 
     MuJoCo's ``cvel`` is each body's spatial velocity (angular; linear of the point at the
     tree's CoM ``c``), so the velocity of a point ``p`` on the body is ``v_c + ω × (p − c)``. The
     humanoid is one kinematic tree rooted at the pelvis, so ``c`` (``subtree_com`` of the pelvis)
     is the whole-body CoM and the pelvis ``subtree_linvel`` its velocity.
     """
-    com = data.subtree_com[1].copy()
-    omega = data.cvel[1:, :3].copy()
-    pos = data.xpos[1:].copy()
-    linvel = data.cvel[1:, 3:] + rot.cross(omega, pos - com)
-    n = pos.shape[0]
-    return BodyState(pos=pos, quat=data.xquat[1:].copy(), axes=data.xmat[1:].reshape(n, 3, 3).transpose(0, 2, 1).copy(),
-                     linvel=linvel, angvel=omega, com=com, com_vel=data.subtree_linvel[1].copy())
+    omega = cvel[..., :3]
+    linvel = cvel[..., 3:] + rot.cross(omega, xpos - com[..., None, :])
+    axes = np.swapaxes(xmat.reshape(*xmat.shape[:-1], 3, 3), -1, -2)
+    return BodyState(pos=xpos, quat=xquat, axes=axes, linvel=linvel, angvel=omega, com=com, com_vel=com_vel)
 
 
 def floor_contact_geoms(data: mujoco.MjData, floor: int) -> np.ndarray:

@@ -24,7 +24,7 @@ from envs.bodies import floor_contact_geoms, read_body_state, region_contacts, u
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig)
 from envs.observations import heading_rotation, mimic_observation, observation_slices
-from envs.reference import ReferenceTrack, pd_targets
+from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
 from envs.rewards import (MAX_STEP_REWARD, RewardTerms, cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
@@ -300,24 +300,18 @@ class MimicEnv(gym.Env):
             raise ValueError(f"clip index {clip} out of range 0..{len(self.clips) - 1}")
         return int(clip)
 
-    def _pd_targets(self, track: ReferenceTrack, frame: int) -> np.ndarray:
-        """The open-loop PD targets ``(nu,)`` (rad) of reference frame ``frame`` (ADAPT's PD: the
-        reference angles, without gathering the velocities the lead would need)."""
+    def _pd_targets(self, track: ReferenceTrack, frames: int | slice) -> np.ndarray:
+        """The open-loop PD targets (rad) of reference frame ``frames``, ``(nu,)``, or of a slice of
+        frames, ``(n, nu)`` (ADAPT's PD: the reference angles, without gathering the velocities the
+        lead would need)."""
         if self.pd_lead_s is None:
-            return track.ctrl[frame]
-        return pd_targets(track.ctrl[frame], track.qvel[frame, self.actuator_dof], self.pd_lead_s)
+            return track.ctrl[frames]
+        return pd_targets(track.ctrl[frames], track.qvel[frames][..., self.actuator_dof], self.pd_lead_s)
 
     def step(self, action: np.ndarray):
-        if self._track is None:
-            raise RuntimeError("call reset() before step()")
-        cfg, m, d, track = self.config, self.model, self.data, self._track
-        lim = cfg.action_limit_rad
-        raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
-        self._action = cfg.action_smoothing * raw + (1.0 - cfg.action_smoothing) * self._action
-        for _ in range(cfg.frames_per_control):
-            self._frame += 1
-            d.ctrl[:] = self._pd_targets(track, self._frame)
-            d.ctrl[self.driven] += self._action
+        m, d = self.model, self.data
+        for ctrl in self._begin_step(action):
+            d.ctrl[:] = ctrl
             if self.substep_hook is None:
                 mujoco.mj_step(m, d, nstep=self.substeps)
             else:
@@ -326,29 +320,68 @@ class MimicEnv(gym.Env):
                     self.substep_hook(d)
             if self.frame_hook is not None:
                 self.frame_hook(d)
-        f = self._frame
-        info = {"frame": f, "episode_frame": f - self._start, "clip": self.clips[self._clip].name,
-                "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}
-        if d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc or unstable(d.qvel, cfg.max_joint_speed):
-            info.update(dict.fromkeys(self.reward_info_keys, 0.0), reward=0.0,
-                        contacts=np.zeros(4, bool), unstable=True, ended_by="unstable")
-            self._sampler.record(self._clip, self._start, failed=True)
-            return self._obs, 0.0, True, False, info
-
+        if self._blew_up():
+            return self._unstable_step()
         update_kinematics(m, d)
         state = read_body_state(m, d)
         touching = floor_contact_geoms(d, self._floor)
         self._sim_contacts = region_contacts(touching, self.humanoid.geom_contact_channel)
         reward, terms = self._reward(state)
+        return self._end_step(reward, terms, self._observe(state), self._spinal_contacts(touching))
+
+    # The stages of a step, apart so that :class:`agents.batched_vec_env.BatchedMimicVecEnv` can run the
+    # physics of many environments at once between them and compute their rewards and observations
+    # as one batch (:meth:`_tracking_terms`, :meth:`_tracking_observation`).
+    def _begin_step(self, action: np.ndarray) -> np.ndarray:
+        """Take the policy's ``action``: clip and smooth it, advance the reference by one control
+        step and return the PD targets ``(frames_per_control, nu)`` (rad) of its frames."""
+        if self._track is None:
+            raise RuntimeError("call reset() before step()")
+        cfg, track = self.config, self._track
+        lim = cfg.action_limit_rad
+        raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
+        self._action = cfg.action_smoothing * raw + (1.0 - cfg.action_smoothing) * self._action
+        start = self._frame + 1
+        self._frame += cfg.frames_per_control
+        ctrl = np.array(self._pd_targets(track, slice(start, self._frame + 1)))  # a copy: the track is read-only
+        ctrl[:, self.driven] += self._action
+        return ctrl
+
+    def _blew_up(self) -> bool:
+        """Whether the simulation went unstable in this step (MuJoCo's bad-acceleration warning, or a
+        joint speed beyond ``config.max_joint_speed``)."""
+        d = self.data
+        return (d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc
+                or unstable(d.qvel, self.config.max_joint_speed))
+
+    def _step_info(self) -> dict:
+        f = self._frame
+        return {"frame": f, "episode_frame": f - self._start, "clip": self.clips[self._clip].name,
+                "corrupted": self._variant >= 0, "artefact_seed": self._variant_seeds.get((self._clip, self._variant))}
+
+    def _unstable_step(self):
+        """The step's result when the simulation blew up: the episode ends (terminated, reward 0,
+        the last good observation), ``info["ended_by"] == "unstable"``."""
+        info = self._step_info()
+        info.update(dict.fromkeys(self.reward_info_keys, 0.0), reward=0.0,
+                    contacts=np.zeros(4, bool), unstable=True, ended_by="unstable")
+        self._sampler.record(self._clip, self._start, failed=True)
+        return self._obs.copy(), 0.0, True, False, info
+
+    def _end_step(self, reward: float, terms: dict[str, float], obs: np.ndarray, spinal_contacts: int):
+        """The step's result from its reward and terms (:meth:`_reward`), the new observation and the
+        number of spinal bodies on the floor: the terminations, the failure sampler's record, ``info``."""
+        cfg = self.config
         ended_by = ("lagging" if lagging(terms["e_discount"], cfg.discount_threshold)
-                    else "fallen" if fallen(self._spinal_contacts(touching), cfg.fall_contacts) else "")
-        truncated = not ended_by and f >= self.episode_end
+                    else "fallen" if fallen(spinal_contacts, cfg.fall_contacts) else "")
+        truncated = not ended_by and self._frame >= self.episode_end
         if ended_by or truncated:
             self._sampler.record(self._clip, self._start, failed=bool(ended_by))
-        self._obs = self._observe(state)
+        self._obs = obs
+        info = self._step_info()
         info.update(terms, reward=reward, contacts=self._sim_contacts.copy(), unstable=False,
                     ended_by=ended_by or ("time_limit" if truncated else ""))
-        return self._obs, reward, bool(ended_by), truncated, info
+        return obs, reward, bool(ended_by), truncated, info
 
     max_step_reward: float = MAX_STEP_REWARD
     """The most one step's reward can be (ADAPT: 3; the MRR metric divides by it)."""
@@ -361,13 +394,18 @@ class MimicEnv(gym.Env):
         """Reward of the current frame and its terms for ``info`` (keys :attr:`reward_info_keys`),
         from the simulated body state (:class:`envs.bodies.BodyState`, current) and the running
         track: ADAPT's r = e_discount·(r_local + r_p + r_v) (adapt eq. 10)."""
-        cfg, track, f = self.config, self._track, self._frame
-        terms = mimic_reward(
-            rot.relative_to_parent(state.quat, self.parent)[self.jointed], track.local[f],
-            cube_face_points(state.pos - state.pos[0], state.axes, cfg.cube_size_m), track.faces_rel_root[f],
-            cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), track.face_vel[f],
-            state.pos[self.head], track.pos[f, self.head], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
+        terms = self._tracking_terms(state, self._track.frame(self._frame))
         return terms.total, terms.as_dict()
+
+    def _tracking_terms(self, state, ref: ReferenceFrame) -> RewardTerms:
+        """ADAPT's reward terms of simulated body state(s) ``state`` against reference frame(s) ``ref``
+        (one, or a batch with a leading axis on both)."""
+        cfg = self.config
+        return mimic_reward(
+            rot.relative_to_parent(state.quat, self.parent)[..., self.jointed, :], ref.local,
+            cube_face_points(state.pos - state.pos[..., :1, :], state.axes, cfg.cube_size_m), ref.faces_rel_root,
+            cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), ref.face_vel,
+            state.pos[..., self.head, :], ref.pos[..., self.head, :], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
 
     @property
     def current_track(self) -> ReferenceTrack:
@@ -383,14 +421,19 @@ class MimicEnv(gym.Env):
         return observation_slices(n_bodies, n_action, com_offset=self.config.observes_com_offset)
 
     def _observe(self, state) -> np.ndarray:
-        f, obs, track = self._frame, self.observed, self._track
+        return self._tracking_observation(state, self._track.frame(self._frame), self._action)
+
+    def _tracking_observation(self, state, ref: ReferenceFrame, action: np.ndarray) -> np.ndarray:
+        """The mimic observation of body state(s) ``state`` against reference frame(s) ``ref`` with the
+        smoothed action(s) ``action`` (one, or a batch with a leading axis on each)."""
+        obs = self.observed
         heading = ref_com = None
         if self.config.obs_frame == "heading":
-            heading = heading_rotation(state.axes[0, 0])
+            heading = heading_rotation(state.axes[..., 0, 0, :])
         if self.config.observes_com_offset:
-            ref_com = track.pos[f, 0] - track.pos_rel_com[f, 0]
-        return mimic_observation(state.pos[obs], state.linvel[obs], state.com, state.com_vel,
-                                 track.pos_rel_com[f, obs], track.linvel[f, obs], track.com_vel[f], self._action,
+            ref_com = ref.pos[..., 0, :] - ref.pos_rel_com[..., 0, :]
+        return mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,
+                                 ref.pos_rel_com[..., obs, :], ref.linvel[..., obs, :], ref.com_vel, action,
                                  heading, ref_com)
 
     def _spinal_contacts(self, touching: np.ndarray) -> int:

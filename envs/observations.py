@@ -58,15 +58,26 @@ def observation_size(n_bodies: int, n_action: int, com_offset: bool = False) -> 
 
 
 def heading_rotation(root_x_axis: np.ndarray) -> np.ndarray:
-    """``(3, 3)`` rotation taking world vectors into the heading frame of a root whose x axis is
-    ``root_x_axis (3,)`` (world): a yaw about world z that turns that axis's ground projection
+    """``(..., 3, 3)`` rotation taking world vectors into the heading frame of a root whose x axis is
+    ``root_x_axis (..., 3)`` (world): a yaw about world z that turns that axis's ground projection
     onto +x. A root x axis pointing straight up or down (no heading) gives the identity."""
-    x, y = float(root_x_axis[0]), float(root_x_axis[1])
+    x, y = root_x_axis[..., 0], root_x_axis[..., 1]
     norm = np.hypot(x, y)
-    if norm < 1e-9:
-        return np.eye(3)
-    c, s = x / norm, y / norm
-    return np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
+    level = norm >= 1e-9
+    safe = np.where(level, norm, 1.0)
+    c, s = np.where(level, x / safe, 1.0), np.where(level, y / safe, 0.0)
+    zero, one = np.zeros_like(c), np.ones_like(c)
+    return np.stack([np.stack([c, s, zero], -1), np.stack([-s, c, zero], -1), np.stack([zero, zero, one], -1)], -2)
+
+
+def _in_frame(vectors: np.ndarray, rotation: np.ndarray | None, leading: int) -> np.ndarray:
+    """``vectors (..., [K,] 3)`` rotated by ``rotation (..., 3, 3)`` (``None``: unchanged); ``leading``
+    is the number of batch axes, so a ``(..., K, 3)`` array rotates each of its ``K`` rows."""
+    if rotation is None:
+        return vectors
+    if vectors.ndim == leading + 1:
+        return np.einsum("...ij,...j->...i", rotation, vectors)
+    return np.einsum("...ij,...kj->...ki", rotation, vectors)
 
 
 def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_vel: np.ndarray,
@@ -74,7 +85,8 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
                       prev_action: np.ndarray, heading: np.ndarray | None = None,
                       ref_com: np.ndarray | None = None) -> np.ndarray:
     """Observation vector ``(13 + 12·B + A,)`` float32 (world frame), ``(16 + 12·B + A,)`` with
-    ``dp_com`` when ``ref_com`` is given (in the heading frame when ``heading`` is given).
+    ``dp_com`` when ``ref_com`` is given (in the heading frame when ``heading`` is given). Every
+    argument may have leading batch axes (the same on all), which the result then has too.
 
     Args:
         pos, linvel: ``(B, 3)`` the character's observed body origins and their velocities (world, m, m/s).
@@ -88,21 +100,20 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
         ref_com: ``(3,)`` the reference's CoM (world): given, ``dp_com`` is observed (needed
             with ``heading``).
     """
-    p = pos - com
+    if heading is not None and ref_com is None:
+        raise ValueError("mimic_observation: the heading frame needs ref_com, for dp_com")
+    lead = np.ndim(com) - 1
+    p = pos - com[..., None, :]
     dv_com = com_vel - ref_com_vel
-    parts = [com_vel, ref_com_vel, dv_com]
-    offset = [] if ref_com is None else [com - ref_com]
-    if heading is not None:
-        if ref_com is None:
-            raise ValueError("mimic_observation: the heading frame needs ref_com, for dp_com")
-        parts = [v @ heading.T for v in parts]
-        p, linvel, ref_pos_rel, ref_linvel = (v @ heading.T for v in (p, linvel, ref_pos_rel, ref_linvel))
-        offset = [offset[0] @ heading.T]
-    com_vel, ref_com_vel, dv_com = parts
+    com_vel, ref_com_vel, dv_com = (_in_frame(v, heading, lead) for v in (com_vel, ref_com_vel, dv_com))
+    p, linvel, ref_pos_rel, ref_linvel = (_in_frame(v, heading, lead) for v in (p, linvel, ref_pos_rel, ref_linvel))
+    offset = [] if ref_com is None else [_in_frame(com - ref_com, heading, lead)]
+    flat = np.shape(com)[:-1] + (-1,)
     return np.concatenate([
-        com_vel, ref_com_vel, dv_com, ref_com_vel[:2], dv_com[:2], *offset,
-        p.ravel(), linvel.ravel(), (p - ref_pos_rel).ravel(), (linvel - ref_linvel).ravel(), prev_action,
-    ]).astype(np.float32)
+        com_vel, ref_com_vel, dv_com, ref_com_vel[..., :2], dv_com[..., :2], *offset,
+        p.reshape(flat), linvel.reshape(flat), (p - ref_pos_rel).reshape(flat), (linvel - ref_linvel).reshape(flat),
+        prev_action,
+    ], axis=-1).astype(np.float32)
 
 
 # --------------------------------------------------------------------------- MimicGait-v0

@@ -53,6 +53,11 @@ class ReferenceTrack:
     def n_frames(self) -> int:
         return self.motion.n_frames
 
+    def frame(self, f: int) -> "ReferenceFrame":
+        """The per-body quantities of frame ``f`` that the reward and observation compare against."""
+        return ReferenceFrame(self.pos[f], self.pos_rel_com[f], self.linvel[f], self.com_vel[f], self.local[f],
+                              self.faces_rel_root[f], self.face_vel[f])
+
     @classmethod
     def build(cls, motion: Motion, model: HumanoidModel, actuator_qpos: np.ndarray, jointed: np.ndarray,
               parent: np.ndarray, cube_size: float) -> "ReferenceTrack":
@@ -84,6 +89,25 @@ class ReferenceTrack:
                    pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32))
+
+
+@dataclass(frozen=True)
+class ReferenceFrame:
+    """One frame of a :class:`ReferenceTrack` (the fields of the same names, without the time axis),
+    or a batch of frames with a leading axis on every field (:meth:`stack`)."""
+
+    pos: np.ndarray
+    pos_rel_com: np.ndarray
+    linvel: np.ndarray
+    com_vel: np.ndarray
+    local: np.ndarray
+    faces_rel_root: np.ndarray
+    face_vel: np.ndarray
+
+    @classmethod
+    def stack(cls, frames: list["ReferenceFrame"]) -> "ReferenceFrame":
+        """``N`` frames as one batch: every field ``(N, ...)``."""
+        return cls(*(np.stack(values) for values in zip(*(vars(f).values() for f in frames))))
 
 
 def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:

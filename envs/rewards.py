@@ -40,37 +40,38 @@ def cube_face_velocities(linvel: np.ndarray, angvel: np.ndarray, axes: np.ndarra
     return linvel[..., None, :] + np.concatenate([spin, -spin], axis=-2)
 
 
-def local_pose_reward(local: np.ndarray, ref_local: np.ndarray, alpha: float) -> float:
+def local_pose_reward(local: np.ndarray, ref_local: np.ndarray, alpha: float) -> float | np.ndarray:
     """r_local = exp(−α · mean_j ∠(q_j⁻¹ q̄_j)) over the ``J`` joints of ``local``/``ref_local``
-    ``(J, 4)`` (adapt eq. 6; the angle in rad)."""
-    dot = np.abs(np.einsum("ij,ij->i", local, ref_local))
-    angle_sum = 2.0 * np.arccos(np.minimum(dot, 1.0)).sum()
-    return math.exp(-alpha * angle_sum / local.shape[0])
+    ``(..., J, 4)`` (adapt eq. 6; the angle in rad); one value per leading index."""
+    dot = np.abs(np.einsum("...i,...i->...", local, ref_local))
+    return np.exp(-alpha * 2.0 * np.arccos(np.minimum(dot, 1.0)).mean(axis=-1))
 
 
-def point_reward(points: np.ndarray, ref_points: np.ndarray, alpha: float) -> float:
-    """exp(−α · (1/B) Σ_j Σ_k ‖p_jk − p̄_jk‖) for face points or face velocities ``(B, 6, 3)``
-    (adapt eqs. 7 and 8)."""
+def point_reward(points: np.ndarray, ref_points: np.ndarray, alpha: float) -> float | np.ndarray:
+    """exp(−α · (1/B) Σ_j Σ_k ‖p_jk − p̄_jk‖) for face points or face velocities ``(..., B, 6, 3)``
+    (adapt eqs. 7 and 8); one value per leading index."""
     diff = points - ref_points
-    dist_sum = np.sqrt(np.einsum("ijk,ijk->ij", diff, diff)).sum()
-    return math.exp(-alpha * dist_sum / points.shape[0])
+    dist_sum = np.sqrt(np.einsum("...k,...k->...", diff, diff)).sum(axis=(-2, -1))
+    return np.exp(-alpha * dist_sum / points.shape[-3])
 
 
-def fall_discount(head: np.ndarray, ref_head: np.ndarray) -> float:
-    """e_discount = clamp(1.3 − 1.4 ‖p_head − p̄_head‖, 0, 1) (adapt eq. 9); positions in m."""
-    dx, dy, dz = (float(v) for v in head - ref_head)
-    return min(1.0, max(0.0, 1.3 - 1.4 * math.sqrt(dx * dx + dy * dy + dz * dz)))
+def fall_discount(head: np.ndarray, ref_head: np.ndarray) -> float | np.ndarray:
+    """e_discount = clamp(1.3 − 1.4 ‖p_head − p̄_head‖, 0, 1) (adapt eq. 9); positions ``(..., 3)``
+    in m, one value per leading index."""
+    diff = np.asarray(head, dtype=float) - ref_head
+    return np.clip(1.3 - 1.4 * np.sqrt(np.einsum("...k,...k->...", diff, diff)), 0.0, 1.0)
 
 
 @dataclass(frozen=True)
 class RewardTerms:
-    """The terms of r = e_discount · (r_local + r_p + r_v) (adapt eq. 10); ``total`` is r."""
+    """The terms of r = e_discount · (r_local + r_p + r_v) (adapt eq. 10); ``total`` is r. Each is
+    a float, or ``(N,)`` for a batch of ``N`` states."""
 
-    r_local: float
-    r_p: float
-    r_v: float
-    e_discount: float
-    total: float
+    r_local: float | np.ndarray
+    r_p: float | np.ndarray
+    r_v: float | np.ndarray
+    e_discount: float | np.ndarray
+    total: float | np.ndarray
 
     def as_dict(self) -> dict[str, float]:
         return dict(self.__dict__)
@@ -83,7 +84,8 @@ MAX_STEP_REWARD = 3.0
 def mimic_reward(local: np.ndarray, ref_local: np.ndarray, faces: np.ndarray, ref_faces: np.ndarray,
                  face_vel: np.ndarray, ref_face_vel: np.ndarray, head: np.ndarray, ref_head: np.ndarray,
                  alpha_local: float = 2.5, alpha_p: float = 1.0, alpha_v: float = 0.1) -> RewardTerms:
-    """All reward terms of one step.
+    """All reward terms of one step, or of a batch of ``N`` steps (every array with a leading
+    ``(N,)`` axis; each term then ``(N,)``).
 
     Args:
         local, ref_local: ``(J, 4)`` joint rotations relative to the parent (the root's in world).

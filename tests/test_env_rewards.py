@@ -265,3 +265,35 @@ def test_gait_observation_appends_targets_and_contacts():
     assert np.array_equal(obs[slices["ref_contacts"]], [1, 0, 0, 1, 1, 1, 0, 1, 0, 1, 0, 1])   # frame by frame
     assert np.allclose(obs[slices["ref_toe"]], [0, 0.1, 0, 0.2, 0, 0.3])
     assert np.array_equal(obs[slices["contacts"]], [1, 0, 0, 1])
+
+
+def test_a_batch_of_states_gets_the_rewards_and_observations_of_each_state_alone():
+    rng = np.random.default_rng(5)
+    poses = [_pose(n_bodies=4, seed=s) for s in range(3)]
+    refs = [_pose(n_bodies=4, seed=10 + s) for s in range(3)]
+    quat, ref_quat = np.stack([p[1] for p in poses]), np.stack([r[1] for r in refs])
+    faces = np.stack([cube_face_points(p[0] - p[0][0], p[2]) for p in poses])
+    ref_faces = np.stack([cube_face_points(r[0] - r[0][0], r[2]) for r in refs])
+    vel, ref_vel = rng.standard_normal(faces.shape), rng.standard_normal(faces.shape)
+    head, ref_head = rng.standard_normal((3, 3)), rng.standard_normal((3, 3)) * 0.3
+    batch = mimic_reward(quat, ref_quat, faces, ref_faces, vel, ref_vel, head, ref_head)
+    assert batch.total.shape == (3,)
+    for i in range(3):
+        alone = mimic_reward(quat[i], ref_quat[i], faces[i], ref_faces[i], vel[i], ref_vel[i], head[i], ref_head[i])
+        for name, value in alone.as_dict().items():
+            assert getattr(batch, name)[i] == pytest.approx(value, rel=1e-12), name
+
+    pos, linvel = rng.standard_normal((3, 5, 3)), rng.standard_normal((3, 5, 3))
+    com, com_vel, ref_com_vel, ref_com = (rng.standard_normal((3, 3)) for _ in range(4))
+    ref_rel, ref_linvel, action = rng.standard_normal((3, 5, 3)), rng.standard_normal((3, 5, 3)), rng.standard_normal((3, 2))
+    heading = heading_rotation(rng.standard_normal((3, 3)))
+    assert heading.shape == (3, 3, 3)
+    for frame, offset in ((None, None), (heading, ref_com)):
+        observed = mimic_observation(pos, linvel, com, com_vel, ref_rel, ref_linvel, ref_com_vel, action, frame, offset)
+        for i in range(3):
+            alone = mimic_observation(pos[i], linvel[i], com[i], com_vel[i], ref_rel[i], ref_linvel[i], ref_com_vel[i],
+                                      action[i], None if frame is None else frame[i], None if offset is None else offset[i])
+            np.testing.assert_allclose(observed[i], alone, rtol=1e-6, atol=1e-6)
+    level = heading_rotation(np.array([[0.0, 0.0, 1.0], [0.0, 2.0, 0.0]]))  # no heading, then facing +y
+    np.testing.assert_array_equal(level[0], np.eye(3))
+    np.testing.assert_allclose(level[1] @ [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], atol=1e-12)

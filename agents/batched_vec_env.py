@@ -1,0 +1,193 @@
+"""A vectorized mimic environment that steps all its environments as one batch, in one process.
+
+Per control step an :class:`envs.mimic.MimicEnv` spends about as long in Python (reading the bodies,
+the reward's face points, the observation, the terminations) as in ``mj_step``, and each piece is a
+handful of NumPy calls on arrays of 20 bodies: the calls' overhead, not the arithmetic, is the cost.
+:class:`BatchedMimicVecEnv` runs the stages of :meth:`MimicEnv.step` for ``N`` environments at once:
+
+1. every environment takes its action (``_begin_step``: smoothing, the frames' PD targets);
+2. the physics of all of them, split over threads (``mj_step`` releases the GIL, so the threads run
+   on separate cores), each thread also bringing its bodies' kinematics up to date and copying
+   them into ``(N, B, ...)`` arrays;
+3. the reward terms and the observations of all ``N`` in one batch of array operations
+   (``_tracking_terms``, ``_tracking_observation``: the same functions a single environment uses);
+4. every environment's terminations, failure-sampler record and ``info`` (``_end_step``).
+
+The environments themselves stay ordinary :class:`MimicEnv` objects (resets, clip sampling, the
+reference tracks, ``get_attr``/``env_method``), so a batch steps exactly as the same environments
+would one at a time (``tests/test_vec_env.py`` compares them). Only :class:`MimicEnv` itself is
+batched: a subclass with its own reward or observation (``MimicGait-v0``) is refused.
+"""
+
+from __future__ import annotations
+
+import os
+import time
+from collections.abc import Callable, Sequence
+from concurrent.futures import ThreadPoolExecutor
+from typing import Any
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices
+
+from envs.bodies import body_state, floor_contact_geoms, region_contacts, update_kinematics
+from envs.mimic import MimicEnv
+from envs.reference import ReferenceFrame
+
+
+class BatchedMimicVecEnv(VecEnv):
+    """``len(env_fns)`` :class:`MimicEnv` environments stepped as one batch in this process: the
+    physics on ``n_threads`` threads, the rewards and observations vectorised over environments.
+
+    Args:
+        env_fns: functions that each build one environment (as for ``DummyVecEnv``; pass this class
+            as ``make_vec_env(..., vec_env_cls=BatchedMimicVecEnv)``). Each must build a
+            :class:`MimicEnv` (``MimicIMU-v0`` and its ablations), possibly wrapped; the wrappers are
+            not stepped: ``info["episode"]`` (return ``r``, length ``l``, time ``t``) is filled at the
+            end of each episode as ``Monitor`` would.
+        n_threads: threads stepping the physics, this one included (default: one per core this
+            process may run on, at most one per environment).
+
+    Raises:
+        ValueError: an environment is not a :class:`MimicEnv`, or the environments differ in model,
+            configuration, observation or action layout.
+    """
+
+    def __init__(self, env_fns: list[Callable[[], gym.Env]], n_threads: int | None = None):
+        if not env_fns:
+            raise ValueError("BatchedMimicVecEnv needs at least one environment")
+        self.envs: list[MimicEnv] = [fn().unwrapped for fn in env_fns]
+        first = self.envs[0]
+        for i, env in enumerate(self.envs):
+            if type(env) is not MimicEnv:
+                raise ValueError(f"BatchedMimicVecEnv batches MimicEnv's own reward and observation; env {i} is a "
+                                 f"{type(env).__name__} (use agents.vec_env.ShardedVecEnv for it)")
+            if (env.humanoid.name, env.config, env.observation_space, env.action_space) != (
+                    first.humanoid.name, first.config, first.observation_space, first.action_space):
+                raise ValueError(f"env {i} differs from env 0 in model, config, observation or action space; "
+                                 "a batch needs them alike")
+        n = len(self.envs)
+        n_threads = min(n_threads or len(os.sched_getaffinity(0)), n)
+        if n_threads < 1:
+            raise ValueError(f"n_threads must be >= 1, got {n_threads}")
+        self.shards = [list(s) for s in np.array_split(np.arange(n), n_threads)]
+        self._pool = ThreadPoolExecutor(n_threads - 1) if n_threads > 1 else None
+        bodies = first.model.nbody - 1
+        self._xpos, self._xquat = np.zeros((n, bodies, 3)), np.zeros((n, bodies, 4))
+        self._xmat, self._cvel = np.zeros((n, bodies, 9)), np.zeros((n, bodies, 6))
+        self._com, self._com_vel = np.zeros((n, 3)), np.zeros((n, 3))
+        self._touching: list[np.ndarray] = [np.empty(0, int)] * n
+        self._unstable = np.zeros(n, dtype=bool)
+        self._controls: list[np.ndarray] = []
+        self._episode_return = np.zeros(n)
+        self._episode_length = np.zeros(n, dtype=int)
+        self._started = time.time()
+        super().__init__(n, first.observation_space, first.action_space)
+
+    # ------------------------------------------------------------------ stepping
+    def step_async(self, actions: np.ndarray) -> None:
+        self._controls = [env._begin_step(a) for env, a in zip(self.envs, actions)]
+
+    def _simulate(self, shard: Sequence[int]) -> None:
+        """Step the physics of the environments ``shard`` through the control step's frames and read
+        their bodies (run on one thread per shard)."""
+        for i in shard:
+            env = self.envs[i]
+            m, d = env.model, env.data
+            for ctrl in self._controls[i]:
+                d.ctrl[:] = ctrl
+                mujoco.mj_step(m, d, nstep=env.substeps)
+            self._unstable[i] = env._blew_up()
+            if self._unstable[i]:
+                continue
+            update_kinematics(m, d)
+            self._xpos[i], self._xquat[i], self._xmat[i] = d.xpos[1:], d.xquat[1:], d.xmat[1:]
+            self._cvel[i], self._com[i], self._com_vel[i] = d.cvel[1:], d.subtree_com[1], d.subtree_linvel[1]
+            self._touching[i] = floor_contact_geoms(d, env._floor)
+
+    def step_wait(self):
+        others = [self._pool.submit(self._simulate, shard) for shard in self.shards[1:]] if self._pool else []
+        self._simulate(self.shards[0])
+        for future in others:
+            future.result()
+        first = self.envs[0]
+        state = body_state(self._xpos, self._xquat, self._xmat, self._cvel, self._com, self._com_vel)
+        refs = ReferenceFrame.stack([env.current_track.frame(env._frame) for env in self.envs])
+        terms = first._tracking_terms(state, refs)
+        observations = first._tracking_observation(state, refs, np.stack([env._action for env in self.envs]))
+        names = first.reward_info_keys
+        term_values = np.stack([getattr(terms, k) for k in names], axis=1).tolist()
+        results = []
+        for i, env in enumerate(self.envs):
+            if self._unstable[i]:
+                results.append(env._unstable_step())
+                continue
+            touching = self._touching[i]
+            env._sim_contacts = region_contacts(touching, env.humanoid.geom_contact_channel)
+            step_terms = dict(zip(names, term_values[i]))
+            results.append(env._end_step(step_terms["total"], step_terms, observations[i],
+                                         env._spinal_contacts(touching)))
+        return self._finish(results)
+
+    def _finish(self, results: list[tuple]) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict]]:
+        """Stable-baselines3's step result from the environments' gymnasium results: a finished
+        episode is reset at once, its last observation kept in ``info["terminal_observation"]``, its
+        return, length and time in ``info["episode"]``."""
+        obs = np.empty((self.num_envs, *self.observation_space.shape), dtype=np.float32)
+        rewards = np.empty(self.num_envs, dtype=np.float32)
+        dones = np.empty(self.num_envs, dtype=bool)
+        infos = []
+        for i, (ob, reward, terminated, truncated, info) in enumerate(results):
+            self._episode_return[i] += reward
+            self._episode_length[i] += 1
+            done = terminated or truncated
+            info["TimeLimit.truncated"] = truncated and not terminated
+            if done:
+                info["terminal_observation"] = ob
+                info["episode"] = {"r": round(float(self._episode_return[i]), 6), "l": int(self._episode_length[i]),
+                                   "t": round(time.time() - self._started, 6)}
+                self._episode_return[i], self._episode_length[i] = 0.0, 0
+                ob, self.reset_infos[i] = self.envs[i].reset()
+            obs[i], rewards[i], dones[i] = ob, reward, done
+            infos.append(info)
+        return obs, rewards, dones, infos
+
+    def reset(self) -> np.ndarray:
+        obs = []
+        for i, env in enumerate(self.envs):
+            ob, self.reset_infos[i] = env.reset(seed=self._seeds[i], **({"options": self._options[i]}
+                                                                       if self._options[i] else {}))
+            obs.append(ob)
+        self._episode_return[:], self._episode_length[:] = 0.0, 0
+        self._reset_seeds()
+        self._reset_options()
+        return np.stack(obs)
+
+    # ------------------------------------------------------------------ VecEnv's other methods
+    def _targets(self, indices: VecEnvIndices) -> list[MimicEnv]:
+        return [self.envs[i] for i in self._get_indices(indices)]
+
+    def get_attr(self, attr_name: str, indices: VecEnvIndices = None) -> list[Any]:
+        return [getattr(env, attr_name) for env in self._targets(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices: VecEnvIndices = None) -> None:
+        for env in self._targets(indices):
+            setattr(env, attr_name, value)
+
+    def env_method(self, method_name: str, *method_args, indices: VecEnvIndices = None, **method_kwargs) -> list[Any]:
+        return [getattr(env, method_name)(*method_args, **method_kwargs) for env in self._targets(indices)]
+
+    def env_is_wrapped(self, wrapper_class: type[gym.Wrapper], indices: VecEnvIndices = None) -> list[bool]:
+        return [False for _ in self._targets(indices)]  # the environments are stepped unwrapped
+
+    def get_images(self) -> Sequence[np.ndarray | None]:
+        return [env.render() for env in self.envs]
+
+    def close(self) -> None:
+        if self._pool is not None:
+            self._pool.shutdown()
+            self._pool = None
+        for env in self.envs:
+            env.close()

@@ -1,0 +1,115 @@
+"""BatchedMimicVecEnv (agents/batched_vec_env.py): the same transitions as the same envs stepped one at
+a time (DummyVecEnv), through resets, unstable steps and every observation layout; bad batches refused."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+import torch
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.vec_env import DummyVecEnv
+
+import envs  # noqa: F401  (registers the ids)
+from agents.batched_vec_env import BatchedMimicVecEnv
+from agents.train_ppo import UpdateThreads, build_parser, vec_kind
+from envs import ArtefactMix, MimicConfig, MimicEnv
+
+CLIPS = ["deepmimic:walk", "deepmimic:run"]
+
+
+def make(vec_env_cls, config: MimicConfig = MimicConfig(), n_envs: int = 3, **vec_kwargs):
+    kwargs = {"clips": CLIPS, "artefacts": ArtefactMix(seed=0, variants_per_clip=1), "config": config}
+    return make_vec_env("MimicIMU-v0", n_envs=n_envs, seed=7, vec_env_cls=vec_env_cls, env_kwargs=kwargs,
+                        vec_env_kwargs=vec_kwargs or None)
+
+
+def assert_same_transitions(batched, dummy, steps: int, scale: float = 0.3) -> dict[str, int]:
+    """Step both with the same random actions; every observation, reward, done and info entry the
+    envs fill must agree. Returns how often each episode ending occurred."""
+    actions = np.random.default_rng(0).normal(0, scale, (steps, batched.num_envs, batched.action_space.shape[0]))
+    np.testing.assert_array_equal(batched.reset(), dummy.reset())
+    endings: dict[str, int] = {}
+    for a in actions.astype(np.float32):
+        obs_b, rew_b, done_b, info_b = batched.step(a)
+        obs_d, rew_d, done_d, info_d = dummy.step(a)
+        np.testing.assert_array_equal(obs_b, obs_d)
+        np.testing.assert_allclose(rew_b, rew_d, rtol=1e-6, atol=1e-7)
+        np.testing.assert_array_equal(done_b, done_d)
+        for ib, id_ in zip(info_b, info_d):
+            for key in ("frame", "episode_frame", "clip", "corrupted", "ended_by", "unstable", "TimeLimit.truncated"):
+                assert ib[key] == id_[key], key
+            np.testing.assert_array_equal(ib["contacts"], id_["contacts"])
+            for key in ("r_local", "r_p", "r_v", "e_discount", "reward"):
+                assert ib[key] == pytest.approx(id_[key], rel=1e-9, abs=1e-12), key
+            if "terminal_observation" in id_:
+                np.testing.assert_array_equal(ib["terminal_observation"], id_["terminal_observation"])
+                assert ib["episode"]["l"] == id_["episode"]["l"]
+                assert ib["episode"]["r"] == pytest.approx(id_["episode"]["r"], abs=1e-5)
+                endings[id_["ended_by"]] = endings.get(id_["ended_by"], 0) + 1
+            else:
+                assert "terminal_observation" not in ib and "episode" not in ib
+    batched.close()
+    dummy.close()
+    return endings
+
+
+def test_a_batch_steps_exactly_as_its_envs_one_at_a_time_through_resets():
+    endings = assert_same_transitions(make(BatchedMimicVecEnv, n_threads=2), make(DummyVecEnv), steps=80)
+    assert sum(endings.values()) >= 3  # random actions fall: the auto-reset path ran
+
+
+@pytest.mark.parametrize("config", [MimicConfig(obs_frame="heading"), MimicConfig(com_offset=True),
+                                    MimicConfig(velocity_feedforward=True)], ids=["heading", "com_offset", "feedforward"])
+def test_every_observation_layout_and_the_velocity_feedforward_batch_alike(config):
+    assert_same_transitions(make(BatchedMimicVecEnv, config, n_threads=2), make(DummyVecEnv, config), steps=40)
+
+
+def test_an_unstable_simulation_ends_its_episode_in_the_batch_as_alone():
+    fragile = MimicConfig(max_joint_speed=6.0)  # any brisk joint motion counts as a blow-up
+    endings = assert_same_transitions(make(BatchedMimicVecEnv, fragile, n_threads=2), make(DummyVecEnv, fragile),
+                                      steps=30, scale=1.0)
+    assert endings.get("unstable", 0) >= 1
+
+
+def test_calls_reach_the_envs_and_the_batch_runs_on_its_threads():
+    venv = make(BatchedMimicVecEnv, n_envs=5, n_threads=2)
+    assert venv.shards == [[0, 1, 2], [3, 4]]
+    venv.set_attr("marker", "x", indices=[3])
+    assert venv.get_attr("marker", indices=[3]) == ["x"]
+    assert venv.has_attr("marker") is False
+    venv.reset()
+    assert venv.env_method("last_start", 0) == [venv.envs[0].last_start(0)] * 5
+    venv.close()
+
+
+def test_batches_it_cannot_step_alike_are_refused():
+    class OwnReward(MimicEnv):  # as MimicGaitEnv: a subclass may reward and observe otherwise
+        pass
+
+    with pytest.raises(ValueError, match="env 0 is a OwnReward"):
+        BatchedMimicVecEnv([lambda: OwnReward(clips=CLIPS)])
+    fns = [lambda: MimicEnv(clips=CLIPS), lambda: MimicEnv(clips=CLIPS, obs_mode="drecon")]
+    with pytest.raises(ValueError, match="env 1 differs from env 0"):
+        BatchedMimicVecEnv(fns)
+    with pytest.raises(ValueError, match="at least one environment"):
+        BatchedMimicVecEnv([])
+
+
+def test_train_ppo_batches_mimic_tasks_by_default_and_refuses_to_batch_the_gait_task():
+    parser = build_parser()
+    assert vec_kind(parser.parse_args(["--run-dir", "r"])) == "batched"
+    assert vec_kind(parser.parse_args(["--run-dir", "r", "--env-id", "MimicGait-v0"])) == "sharded"
+    with pytest.raises(ValueError, match="--vec batched"):
+        vec_kind(parser.parse_args(["--run-dir", "r", "--env-id", "MimicGait-v0", "--vec", "batched"]))
+
+
+def test_the_learner_gets_its_update_threads_only_between_rollouts():
+    before = torch.get_num_threads()
+    switch = UpdateThreads(collect=1, update=2)
+    try:
+        switch._on_rollout_end()
+        assert torch.get_num_threads() == 2
+        switch._on_rollout_start()
+        assert torch.get_num_threads() == 1
+    finally:
+        torch.set_num_threads(before)
