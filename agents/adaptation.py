@@ -95,7 +95,7 @@ class AdaptConfig:
             (SR90, then ELR, then MRR: :func:`chunk_rank`) and stops at the target SR90 alone.
         chunk_steps: environment (control) steps between evaluations (20 000).
         max_steps: most environment steps in all (``None``: only the budget limits).
-        n_envs: environments stepped together (4; a DummyVecEnv, one process).
+        n_envs: environments stepped together (4, in this process; see ``physics_threads``).
         n_steps: rollout length per environment per PPO update (512; 2048 steps per update).
         eval_episodes: deterministic rollouts per evaluation, start frames spread over the clip (5).
         seed: seed of the environments and of PPO's sampling (0).

@@ -104,14 +104,28 @@ def build(setting: Setting) -> PPO:
     return model
 
 
-def rate(setting: Setting, steps: int) -> float:
-    """Control steps/s of PPO training in ``setting``."""
+def rate(setting: Setting, steps: int) -> tuple[float, float, float]:
+    """Control steps/s of PPO training in ``setting``, and the wall time (µs per control step) spent
+    collecting rollouts and updating."""
     model = build(setting)
+    spent = {"collect": 0.0, "update": 0.0}
+
+    def timed(name: str, method):
+        def run(*args, **kwargs):
+            start = time.perf_counter()
+            try:
+                return method(*args, **kwargs)
+            finally:
+                spent[name] += time.perf_counter() - start
+        return run
+
+    model.collect_rollouts = timed("collect", model.collect_rollouts)
+    model.train = timed("update", model.train)
     start = time.perf_counter()
     model.learn(steps, reset_num_timesteps=False, callback=setting.callbacks())
     elapsed = time.perf_counter() - start
     model.get_env().close()
-    return steps / elapsed
+    return steps / elapsed, 1e6 * spent["collect"] / steps, 1e6 * spent["update"] / steps
 
 
 def physics_floor(steps: int) -> float:
@@ -146,7 +160,7 @@ def main() -> None:
     parser.add_argument("--rounds", type=int, default=2, help="interleaved rounds (the median is reported)")
     parser.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = parser.parse_args()
-    measured: dict[str, list[float]] = {s.label: [] for s in SETTINGS}
+    measured: dict[str, list[tuple[float, float, float]]] = {s.label: [] for s in SETTINGS}
     floors = []
     for _ in range(args.rounds):
         floors.append(physics_floor(args.steps))
@@ -155,12 +169,14 @@ def main() -> None:
     floor_frames = 2 * statistics.median(floors) * CORES
     rows = []
     for setting in SETTINGS:
-        steps_per_s = statistics.median(measured[setting.label])
+        rounds = measured[setting.label]
+        steps_per_s = statistics.median(r[0] for r in rounds)
         rows.append({"net": setting.net, "n_envs": setting.n_envs, "vec": setting.vec,
                      "torch_threads": setting.threads_label,
                      "parameters": parameters([int(n) for n in setting.net.split(",")]),
-                     "frames_per_s": round(2 * steps_per_s), "rounds_frames_per_s": [round(2 * r) for r in
-                                                                                     measured[setting.label]],
+                     "frames_per_s": round(2 * steps_per_s), "rounds_frames_per_s": [round(2 * r[0]) for r in rounds],
+                     "collect_us_per_step": round(statistics.median(r[1] for r in rounds)),
+                     "update_us_per_step": round(statistics.median(r[2] for r in rounds)),
                      "share_of_floor": round(2 * steps_per_s / floor_frames, 3)})
     base = rows[0]["frames_per_s"]
     for r in rows:
@@ -173,7 +189,8 @@ def main() -> None:
         for r in rows:
             print(f"{r['net']:>14}  {r['n_envs']:>2} {r['vec']:>8}  {r['torch_threads']} thr  {r['parameters']:>9} "
                   f"params  {r['frames_per_s']:>6} frames/s  ×{r['speedup_vs_first']}  "
-                  f"{100 * r['share_of_floor']:.0f}% of floor")
+                  f"{100 * r['share_of_floor']:.0f}% of floor  (collect {r['collect_us_per_step']} µs, update "
+                  f"{r['update_us_per_step']} µs a step)")
 
 
 if __name__ == "__main__":

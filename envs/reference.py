@@ -6,7 +6,7 @@ environment first needs it; each step then only indexes arrays.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 
 import mujoco
 import numpy as np
@@ -19,28 +19,21 @@ from reference_motion.motion import Motion
 
 
 @dataclass(frozen=True)
-class ReferenceTrack:
-    """Per-frame reference quantities of one clip on one model (``T`` frames, ``B`` bodies,
-    ``J`` jointed bodies; world frame, SI; the per-body arrays other than ``pos`` are float32).
+class ReferenceQuantities:
+    """The per-body reference quantities the reward and observation compare against (``B`` bodies,
+    ``J`` jointed bodies; world frame, SI), each with the leading axes of its holder: ``(T, ...)``
+    in a :class:`ReferenceTrack`, none in a :class:`ReferenceFrame`, ``(N, ...)`` in a batch of frames.
 
     Attributes:
-        motion: the clip.
-        ctrl: ``(T, nu)`` each actuator's hinge angle (rad): the open-loop PD targets, led by
-            the hinge's velocity when the env feeds it forward (:func:`pd_targets`).
-        qvel: ``(T, nv)`` generalised velocities, for reference state initialisation and the
-            velocity feed-forward.
-        pos: ``(T, B, 3)`` body origins.
-        pos_rel_com: ``(T, B, 3)`` body origins relative to the reference CoM.
-        linvel: ``(T, B, 3)`` body origin velocities.
-        com_vel: ``(T, 3)`` CoM velocity.
-        local: ``(T, J, 4)`` rotations of the jointed bodies relative to their parents.
-        faces_rel_root: ``(T, B, 6, 3)`` cube face points relative to the root body's origin.
-        face_vel: ``(T, B, 6, 3)`` cube face point velocities.
+        pos: ``(B, 3)`` body origins.
+        pos_rel_com: ``(B, 3)`` body origins relative to the reference CoM.
+        linvel: ``(B, 3)`` body origin velocities.
+        com_vel: ``(3,)`` CoM velocity.
+        local: ``(J, 4)`` rotations of the jointed bodies relative to their parents.
+        faces_rel_root: ``(B, 6, 3)`` cube face points relative to the root body's origin.
+        face_vel: ``(B, 6, 3)`` cube face point velocities.
     """
 
-    motion: Motion
-    ctrl: np.ndarray
-    qvel: np.ndarray
     pos: np.ndarray
     pos_rel_com: np.ndarray
     linvel: np.ndarray
@@ -49,14 +42,45 @@ class ReferenceTrack:
     faces_rel_root: np.ndarray
     face_vel: np.ndarray
 
+
+@dataclass(frozen=True)
+class ReferenceFrame(ReferenceQuantities):
+    """One frame of a :class:`ReferenceTrack`, or a batch of frames (:meth:`stack`)."""
+
+    @classmethod
+    def stack(cls, frames: list["ReferenceFrame"]) -> "ReferenceFrame":
+        """``N`` frames as one batch: every field ``(N, ...)``."""
+        return cls(*(np.stack([getattr(f, name) for f in frames]) for name in _QUANTITIES))
+
+
+_QUANTITIES = tuple(f.name for f in fields(ReferenceQuantities))
+
+
+@dataclass(frozen=True)
+class ReferenceTrack(ReferenceQuantities):
+    """Per-frame reference quantities of one clip on one model (``T`` frames): those of
+    :class:`ReferenceQuantities` with a leading time axis (the per-body arrays other than ``pos``
+    float32), and:
+
+    Attributes:
+        motion: the clip.
+        ctrl: ``(T, nu)`` each actuator's hinge angle (rad): the open-loop PD targets, led by
+            the hinge's velocity when the env feeds it forward (:func:`pd_targets`).
+        qvel: ``(T, nv)`` generalised velocities, for reference state initialisation and the
+            velocity feed-forward.
+    """
+
+    motion: Motion
+    ctrl: np.ndarray
+    qvel: np.ndarray
+
     @property
     def n_frames(self) -> int:
         return self.motion.n_frames
 
-    def frame(self, f: int) -> "ReferenceFrame":
+    def frame(self, f: int) -> ReferenceFrame:
         """The per-body quantities of frame ``f`` that the reward and observation compare against."""
-        return ReferenceFrame(self.pos[f], self.pos_rel_com[f], self.linvel[f], self.com_vel[f], self.local[f],
-                              self.faces_rel_root[f], self.face_vel[f])
+        return ReferenceFrame(*(getattr(self, name)[f] for name in _QUANTITIES))
 
     @classmethod
     def build(cls, motion: Motion, model: HumanoidModel, actuator_qpos: np.ndarray, jointed: np.ndarray,
@@ -89,25 +113,6 @@ class ReferenceTrack:
                    pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32))
-
-
-@dataclass(frozen=True)
-class ReferenceFrame:
-    """One frame of a :class:`ReferenceTrack` (the fields of the same names, without the time axis),
-    or a batch of frames with a leading axis on every field (:meth:`stack`)."""
-
-    pos: np.ndarray
-    pos_rel_com: np.ndarray
-    linvel: np.ndarray
-    com_vel: np.ndarray
-    local: np.ndarray
-    faces_rel_root: np.ndarray
-    face_vel: np.ndarray
-
-    @classmethod
-    def stack(cls, frames: list["ReferenceFrame"]) -> "ReferenceFrame":
-        """``N`` frames as one batch: every field ``(N, ...)``."""
-        return cls(*(np.stack(values) for values in zip(*(vars(f).values() for f in frames))))
 
 
 def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:
