@@ -114,8 +114,9 @@ class AdaptConfig:
         physics_threads: threads stepping the environments' physics (``None``: one per core, at most
             one per environment). A ``MimicEnv`` policy's environments are stepped as one batch
             (:class:`agents.batched_vec_env.BatchedMimicVecEnv`: the same transitions as one at a
-            time, so the adapted policy does not depend on this); others one at a time in this
-            process. Give 1 where other processes use the cores.
+            time, so a given number of steps trains the same policy whatever this is; within a
+            wall-time budget, faster stepping means more steps, as a less loaded machine does);
+            others one at a time in this process. Give 1 where other processes use the cores.
         cache_dir: where adapted policies are kept (:func:`default_cache_dir`).
     """
 

@@ -15,13 +15,12 @@ handful of NumPy calls on arrays of 20 bodies: the calls' overhead, not the arit
 
 The environments themselves stay ordinary :class:`MimicEnv` objects (resets, clip sampling, the
 reference tracks, ``get_attr``/``env_method``), so a batch steps exactly as the same environments
-would one at a time (``tests/test_vec_env.py`` compares them). Only :class:`MimicEnv` itself is
+would one at a time (``tests/test_batched_vec_env.py`` compares them). Only :class:`MimicEnv` itself is
 batched: a subclass with its own reward or observation (``MimicGait-v0``) is refused.
 """
 
 from __future__ import annotations
 
-import os
 import time
 from collections.abc import Callable, Sequence
 from concurrent.futures import ThreadPoolExecutor
@@ -30,9 +29,11 @@ from typing import Any
 import gymnasium as gym
 import mujoco
 import numpy as np
+from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices
 
-from envs.bodies import body_state, floor_contact_geoms, region_contacts, update_kinematics
+from agents.vec_env import shard_count
+from envs.bodies import body_state, floor_contact_geoms, update_kinematics
 from envs.mimic import MimicEnv
 from envs.reference import ReferenceFrame
 
@@ -44,21 +45,24 @@ class BatchedMimicVecEnv(VecEnv):
     Args:
         env_fns: functions that each build one environment (as for ``DummyVecEnv``; pass this class
             as ``make_vec_env(..., vec_env_cls=BatchedMimicVecEnv)``). Each must build a
-            :class:`MimicEnv` (``MimicIMU-v0`` and its ablations), possibly wrapped; the wrappers are
-            not stepped: ``info["episode"]`` (return ``r``, length ``l``, time ``t``) is filled at the
-            end of each episode as ``Monitor`` would.
+            :class:`MimicEnv` (``MimicIMU-v0`` and its ablations), wrapped at most in ``Monitor`` and
+            gymnasium's checkers, which are not stepped: ``info["episode"]`` (return ``r``, length
+            ``l``, time ``t``) is filled at the end of each episode as ``Monitor`` would. Hooks
+            (``frame_hook``, ``substep_hook``) are not called, so an env with one is refused.
         n_threads: threads stepping the physics, this one included (default: one per core this
             process may run on, at most one per environment).
 
     Raises:
-        ValueError: an environment is not a :class:`MimicEnv`, or the environments differ in model,
-            configuration, observation or action layout.
+        ValueError: an environment is not a :class:`MimicEnv` or has another wrapper, or the
+            environments differ in model, configuration, observation or action layout.
     """
 
     def __init__(self, env_fns: list[Callable[[], gym.Env]], n_threads: int | None = None):
         if not env_fns:
             raise ValueError("BatchedMimicVecEnv needs at least one environment")
-        self.envs: list[MimicEnv] = [fn().unwrapped for fn in env_fns]
+        if n_threads is not None and n_threads < 1:
+            raise ValueError(f"n_threads must be >= 1 or None, got {n_threads}")
+        self.envs: list[MimicEnv] = [_unwrapped(fn(), i) for i, fn in enumerate(env_fns)]
         first = self.envs[0]
         for i, env in enumerate(self.envs):
             if type(env) is not MimicEnv:
@@ -69,9 +73,7 @@ class BatchedMimicVecEnv(VecEnv):
                 raise ValueError(f"env {i} differs from env 0 in model, config, observation or action space; "
                                  "a batch needs them alike")
         n = len(self.envs)
-        n_threads = min(n_threads or len(os.sched_getaffinity(0)), n)
-        if n_threads < 1:
-            raise ValueError(f"n_threads must be >= 1, got {n_threads}")
+        n_threads = shard_count(n_threads, n)
         self.shards = [list(s) for s in np.array_split(np.arange(n), n_threads)]
         self._pool = ThreadPoolExecutor(n_threads - 1) if n_threads > 1 else None
         bodies = first.model.nbody - 1
@@ -88,6 +90,10 @@ class BatchedMimicVecEnv(VecEnv):
 
     # ------------------------------------------------------------------ stepping
     def step_async(self, actions: np.ndarray) -> None:
+        for i, env in enumerate(self.envs):
+            if env.frame_hook is not None or env.substep_hook is not None:
+                raise RuntimeError(f"env {i} has a frame_hook or substep_hook, which a batch does not call; step "
+                                   "it alone (agents.rollout) or in a DummyVecEnv")
         self._controls = [env._begin_step(a) for env, a in zip(self.envs, actions)]
 
     def _simulate(self, shard: Sequence[int]) -> None:
@@ -109,9 +115,11 @@ class BatchedMimicVecEnv(VecEnv):
 
     def step_wait(self):
         others = [self._pool.submit(self._simulate, shard) for shard in self.shards[1:]] if self._pool else []
-        self._simulate(self.shards[0])
-        for future in others:
-            future.result()
+        try:
+            self._simulate(self.shards[0])
+        finally:  # every thread done before anything reads the buffers (or raises)
+            for future in others:
+                future.result()
         first = self.envs[0]
         state = body_state(self._xpos, self._xquat, self._xmat, self._cvel, self._com, self._com_vel)
         refs = ReferenceFrame.stack([env.current_track.frame(env._frame) for env in self.envs])
@@ -124,11 +132,9 @@ class BatchedMimicVecEnv(VecEnv):
             if self._unstable[i]:
                 results.append(env._unstable_step())
                 continue
-            touching = self._touching[i]
-            env._sim_contacts = region_contacts(touching, env.humanoid.geom_contact_channel)
+            spinal_contacts = env._touch(self._touching[i])
             step_terms = dict(zip(names, term_values[i]))
-            results.append(env._end_step(step_terms["total"], step_terms, observations[i],
-                                         env._spinal_contacts(touching)))
+            results.append(env._end_step(step_terms["total"], step_terms, observations[i], spinal_contacts))
         return self._finish(results)
 
     def _finish(self, results: list[tuple]) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict]]:
@@ -191,3 +197,20 @@ class BatchedMimicVecEnv(VecEnv):
             self._pool = None
         for env in self.envs:
             env.close()
+
+
+_PASSIVE_WRAPPERS = (Monitor, gym.wrappers.OrderEnforcing, gym.wrappers.PassiveEnvChecker)
+"""Wrappers a batch may drop: ``Monitor``'s ``info["episode"]`` the batch fills itself, the other two
+only check the API."""
+
+
+def _unwrapped(env: gym.Env, index: int) -> gym.Env:
+    """The environment inside ``env``'s wrappers, which must all be :data:`_PASSIVE_WRAPPERS` (a batch
+    steps the environment itself: any other wrapper would be skipped)."""
+    layer = env
+    while isinstance(layer, gym.Wrapper):
+        if not isinstance(layer, _PASSIVE_WRAPPERS):
+            raise ValueError(f"env {index} is wrapped in {type(layer).__name__}, which BatchedMimicVecEnv would "
+                             "skip; wrap the VecEnv instead, or use agents.vec_env.ShardedVecEnv")
+        layer = layer.env
+    return layer

@@ -103,8 +103,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
-    g.add_argument("--n-envs", type=positive_int, default=32,
-                   help="environments stepped together (one policy batch; 32 batched: the fastest on 2 cores, README)")
+    g.add_argument("--n-envs", type=positive_int, default=None,
+                   help="environments stepped together (one policy batch; default: 32 with --vec batched, the "
+                        "fastest on 2 cores (README), else 8)")
     g.add_argument("--vec", choices=VEC_KINDS, default=None,
                    help="batched: the envs stepped as one batch in this process, their physics on --workers "
                         "threads (agents/batched_vec_env.py; fastest on 2 cores, see README; MimicIMU-v0 and its "
@@ -134,9 +135,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="fixed σ² of the Gaussian policy (with --init-from too: the source's is replaced)")
     g.add_argument("--seed", type=int, default=0)
     g.add_argument("--torch-threads", type=positive_int, default=None,
-                   help="torch threads in the learner process (default: 2 with --vec dummy; with --vec batched 1 "
-                        "while collecting rollouts and one per core while updating; else 1: the workers need "
-                        "the other cores)")
+                   help="torch threads in the learner process, collecting and updating alike (default: 2 with "
+                        "--vec dummy; with --vec batched 1 while collecting rollouts and one per core while "
+                        "updating; else 1: the workers need the other cores)")
     g = p.add_argument_group("run")
     g.add_argument("--run-dir", type=output_dir, required=True)
     g.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --run-dir")
@@ -203,6 +204,13 @@ class UpdateThreads(BaseCallback):
     def __init__(self, collect: int, update: int):
         super().__init__()
         self.collect, self.update = collect, update
+        self._before = torch.get_num_threads()
+
+    def _on_training_start(self) -> None:
+        self._before = torch.get_num_threads()
+
+    def _on_training_end(self) -> None:
+        torch.set_num_threads(self._before)
 
     def _on_rollout_start(self) -> None:
         torch.set_num_threads(self.collect)
@@ -220,9 +228,11 @@ def foot(args: argparse.Namespace) -> str:
 
 
 VEC_KINDS = ("batched", "sharded", "dummy", "subproc")
+"""``--vec`` choices: how the training envs are stepped (``agents/batched_vec_env.py``,
+``agents/vec_env.py``, stable-baselines3)."""
+
 STEPS_PER_UPDATE = 8192
 """Environment steps per PPO update by default (``--n-steps`` is this over ``--n-envs``)."""
-"""``--vec`` choices: how the training envs are stepped (``agents/vec_env.py``, stable-baselines3)."""
 
 def gait_config(args: argparse.Namespace) -> GaitConfig:
     """``MimicGait-v0``'s reward constants for this run: ContactVision's, or an ablation's."""
@@ -448,6 +458,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"{run_dir}: already holds a run; pass --resume to continue it or pick a new --run-dir")
     else:
         history = []
+    args.vec = vec_kind(args)  # recorded, so that a resumed run keeps its kind whatever the defaults become
+    if args.n_envs is None:
+        args.n_envs = 32 if args.vec == "batched" else 8
     if args.n_steps is None:  # the default: 8192 steps per update, however many envs
         args.n_steps = max(1, STEPS_PER_UPDATE // args.n_envs)
     if args.gait_ablation is not None and args.env_id != GAIT_ENV_ID:

@@ -152,7 +152,8 @@ def main() -> None:
     emit_json({"policy": args.policy, "seconds": args.seconds, "strength": args.strength,
                "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
                "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
-               "adapt_keep": args.adapt_keep, "summary": summary, "takes": rows}, args.json)
+               "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads, "summary": summary,
+               "takes": rows}, args.json)
 
 
 if __name__ == "__main__":

@@ -324,14 +324,15 @@ class MimicEnv(gym.Env):
             return self._unstable_step()
         update_kinematics(m, d)
         state = read_body_state(m, d)
-        touching = floor_contact_geoms(d, self._floor)
-        self._sim_contacts = region_contacts(touching, self.humanoid.geom_contact_channel)
+        spinal_contacts = self._touch(floor_contact_geoms(d, self._floor))
         reward, terms = self._reward(state)
-        return self._end_step(reward, terms, self._observe(state), self._spinal_contacts(touching))
+        return self._end_step(reward, terms, self._observe(state), spinal_contacts)
 
-    # The stages of a step, apart so that :class:`agents.batched_vec_env.BatchedMimicVecEnv` can run the
-    # physics of many environments at once between them and compute their rewards and observations
-    # as one batch (:meth:`_tracking_terms`, :meth:`_tracking_observation`).
+    # The stages of a step (_begin_step, the physics, _blew_up / _unstable_step, _touch, the reward and
+    # observation, _end_step), apart so that :class:`agents.batched_vec_env.BatchedMimicVecEnv` can run
+    # the physics of many environments at once between them and compute their rewards and
+    # observations as one batch (:meth:`_tracking_terms`, :meth:`_tracking_observation`). They are
+    # that class's protocol with this one, not a public API.
     def _begin_step(self, action: np.ndarray) -> np.ndarray:
         """Take the policy's ``action``: clip and smooth it, advance the reference by one control
         step and return the PD targets ``(frames_per_control, nu)`` (rad) of its frames."""
@@ -353,6 +354,12 @@ class MimicEnv(gym.Env):
         d = self.data
         return (d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc
                 or unstable(d.qvel, self.config.max_joint_speed))
+
+    def _touch(self, touching: np.ndarray) -> int:
+        """Record the simulated contacts from the floor-touching geoms ``touching`` (before the reward,
+        which may read them) and return how many spinal bodies are on the floor."""
+        self._sim_contacts = region_contacts(touching, self.humanoid.geom_contact_channel)
+        return self._spinal_contacts(touching)
 
     def _step_info(self) -> dict:
         f = self._frame

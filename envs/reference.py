@@ -116,8 +116,8 @@ class ReferenceTrack(ReferenceQuantities):
 
 
 def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:
-    """The position targets ``(nu,)`` (rad) of MuJoCo PD actuators tracking reference hinge
-    ``angles (nu,)`` (rad) moving at ``rates (nu,)`` (rad/s).
+    """The position targets ``(..., nu)`` (rad) of MuJoCo PD actuators tracking reference hinge
+    ``angles (..., nu)`` (rad) moving at ``rates (..., nu)`` (rad/s) (one frame, or several).
 
     A MuJoCo position actuator applies ``kp·(ctrl − q) − kv·q̇``: with ``ctrl`` the reference angle
     its damping pulls the joint towards rest, so a joint following a moving reference trails it.

@@ -3,6 +3,7 @@ a time (DummyVecEnv), through resets, unstable steps and every observation layou
 
 from __future__ import annotations
 
+import gymnasium as gym
 import numpy as np
 import pytest
 import torch
@@ -93,6 +94,19 @@ def test_batches_it_cannot_step_alike_are_refused():
         BatchedMimicVecEnv(fns)
     with pytest.raises(ValueError, match="at least one environment"):
         BatchedMimicVecEnv([])
+    with pytest.raises(ValueError, match="n_threads must be >= 1"):
+        BatchedMimicVecEnv([lambda: MimicEnv(clips=CLIPS)], n_threads=0)
+    with pytest.raises(ValueError, match="wrapped in TimeLimit, which BatchedMimicVecEnv would skip"):
+        BatchedMimicVecEnv([lambda: gym.wrappers.TimeLimit(MimicEnv(clips=CLIPS), 10)])
+
+
+def test_an_env_with_a_recording_hook_is_not_stepped_in_a_batch():
+    venv = make(BatchedMimicVecEnv, n_envs=2, n_threads=1)
+    venv.reset()
+    venv.envs[1].frame_hook = lambda data: None
+    with pytest.raises(RuntimeError, match="env 1 has a frame_hook"):
+        venv.step(np.zeros((2, venv.action_space.shape[0]), dtype=np.float32))
+    venv.close()
 
 
 def test_train_ppo_batches_mimic_tasks_by_default_and_refuses_to_batch_the_gait_task():
@@ -103,13 +117,17 @@ def test_train_ppo_batches_mimic_tasks_by_default_and_refuses_to_batch_the_gait_
         vec_kind(parser.parse_args(["--run-dir", "r", "--env-id", "MimicGait-v0", "--vec", "batched"]))
 
 
-def test_the_learner_gets_its_update_threads_only_between_rollouts():
+def test_the_learner_gets_its_update_threads_only_between_rollouts_and_its_own_back_after():
     before = torch.get_num_threads()
     switch = UpdateThreads(collect=1, update=2)
     try:
+        torch.set_num_threads(3)
+        switch._on_training_start()
         switch._on_rollout_end()
         assert torch.get_num_threads() == 2
         switch._on_rollout_start()
         assert torch.get_num_threads() == 1
+        switch._on_training_end()
+        assert torch.get_num_threads() == 3
     finally:
         torch.set_num_threads(before)
