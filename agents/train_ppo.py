@@ -486,7 +486,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if checkpoint is not None:
         stats = checkpoint.with_name(checkpoint.stem + "_vecnormalize.pkl")
         venv = VecNormalize.load(str(stats), venv)
-        model = PPO.load(checkpoint, env=venv, device=args.device, tensorboard_log=str(run_dir / "tb"))
+        model = PPO.load(checkpoint, env=venv, device=args.device, tensorboard_log=str(run_dir / "tb"),
+                         n_steps=args.n_steps)  # --n-steps with --n-envs on resume: the rollout the command asks for
         print(f"resuming from {checkpoint} at {model.num_timesteps} steps", flush=True)
     else:
         if args.resume:

@@ -42,6 +42,12 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
     stored = json.loads((run / "args.json").read_text())
     assert stored["net"] == "32,32"  # stored settings kept
     assert len(stored["commands"]) == 2 and "--resume" in stored["commands"][1]  # the run's whole history
+    assert stored["vec"] == "batched"  # the kind it ran with, not the default of the day
+
+    main(["--run-dir", str(run), "--resume", "--total-steps", "1024", "--no-progress", "--n-envs", "4",
+          "--n-steps", "32"])  # a resume may change the rollout: 4 envs × 32 steps
+    resumed = PPO.load(newest_checkpoint(run), device="cpu")
+    assert newest_checkpoint(run).name == "step_1024.zip" and (resumed.n_envs, resumed.n_steps) == (4, 32)
 
 
 def test_mirror_and_speed_augmentation_of_training_clips():
