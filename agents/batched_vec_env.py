@@ -32,7 +32,7 @@ import numpy as np
 from stable_baselines3.common.monitor import Monitor
 from stable_baselines3.common.vec_env.base_vec_env import VecEnv, VecEnvIndices
 
-from agents.vec_env import shard_count
+from agents.vec_env import shard_count, vec_reset, vec_step_result
 from envs.bodies import body_state, floor_contact_geoms, update_kinematics
 from envs.mimic import MimicEnv
 from envs.reference import ReferenceFrame
@@ -138,33 +138,30 @@ class BatchedMimicVecEnv(VecEnv):
         return self._finish(results)
 
     def _finish(self, results: list[tuple]) -> tuple[np.ndarray, np.ndarray, np.ndarray, list[dict]]:
-        """Stable-baselines3's step result from the environments' gymnasium results: a finished
-        episode is reset at once, its last observation kept in ``info["terminal_observation"]``, its
-        return, length and time in ``info["episode"]``."""
+        """Stable-baselines3's step result from the environments' gymnasium results
+        (:func:`agents.vec_env.vec_step_result`: a finished episode is reset at once), each finished
+        episode's return, length and time in ``info["episode"]`` as ``Monitor`` gives them."""
         obs = np.empty((self.num_envs, *self.observation_space.shape), dtype=np.float32)
         rewards = np.empty(self.num_envs, dtype=np.float32)
         dones = np.empty(self.num_envs, dtype=bool)
         infos = []
-        for i, (ob, reward, terminated, truncated, info) in enumerate(results):
+        for i, result in enumerate(results):
+            obs[i], reward, dones[i], info, reset_info = vec_step_result(self.envs[i], result)
+            rewards[i] = reward
             self._episode_return[i] += reward
             self._episode_length[i] += 1
-            done = terminated or truncated
-            info["TimeLimit.truncated"] = truncated and not terminated
-            if done:
-                info["terminal_observation"] = ob
+            if dones[i]:
                 info["episode"] = {"r": round(float(self._episode_return[i]), 6), "l": int(self._episode_length[i]),
                                    "t": round(time.time() - self._started, 6)}
                 self._episode_return[i], self._episode_length[i] = 0.0, 0
-                ob, self.reset_infos[i] = self.envs[i].reset()
-            obs[i], rewards[i], dones[i] = ob, reward, done
+                self.reset_infos[i] = reset_info
             infos.append(info)
         return obs, rewards, dones, infos
 
     def reset(self) -> np.ndarray:
         obs = []
         for i, env in enumerate(self.envs):
-            ob, self.reset_infos[i] = env.reset(seed=self._seeds[i], **({"options": self._options[i]}
-                                                                       if self._options[i] else {}))
+            ob, self.reset_infos[i] = vec_reset(env, self._seeds[i], self._options[i])
             obs.append(ob)
         self._episode_return[:], self._episode_length[:] = 0.0, 0
         self._reset_seeds()

@@ -32,9 +32,15 @@ class WorkerError(RuntimeError):
 
 
 def _step(env: gym.Env, action: np.ndarray) -> tuple[Any, float, bool, dict, dict]:
-    """One step in stable-baselines3's VecEnv convention: a finished episode is reset at once, its
-    last observation kept in ``info["terminal_observation"]``."""
-    obs, reward, terminated, truncated, info = env.step(action)
+    """One step of ``env`` in stable-baselines3's VecEnv convention (:func:`vec_step_result`)."""
+    return vec_step_result(env, env.step(action))
+
+
+def vec_step_result(env: gym.Env, result: tuple) -> tuple[Any, float, bool, dict, dict]:
+    """Stable-baselines3's VecEnv convention for ``env``'s gymnasium step ``result`` ``(obs, reward,
+    terminated, truncated, info)``: ``(obs, reward, done, info, reset_info)``, a finished episode
+    reset at once, its last observation kept in ``info["terminal_observation"]``."""
+    obs, reward, terminated, truncated, info = result
     done = terminated or truncated
     info["TimeLimit.truncated"] = truncated and not terminated
     reset_info: dict = {}
@@ -44,7 +50,7 @@ def _step(env: gym.Env, action: np.ndarray) -> tuple[Any, float, bool, dict, dic
     return obs, reward, done, info, reset_info
 
 
-def _reset(env: gym.Env, seed: int | None, options: dict) -> tuple[Any, dict]:
+def vec_reset(env: gym.Env, seed: int | None, options: dict) -> tuple[Any, dict]:
     """``env.reset`` with ``seed`` and, unless empty, ``options`` (as stable-baselines3's VecEnvs)."""
     return env.reset(seed=seed, **({"options": options} if options else {}))
 
@@ -98,7 +104,7 @@ def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) ->
                 value = [_step(env, a) for env, a in zip(envs, data)]
             elif cmd == "reset":
                 seeds, options = data
-                value = [_reset(env, s, o) for env, s, o in zip(envs, seeds, options)]
+                value = [vec_reset(env, s, o) for env, s, o in zip(envs, seeds, options)]
             elif cmd == "call":
                 kind, name, payload, local = data
                 value = [_call(envs[j], kind, name, payload) for j in local]
@@ -240,7 +246,7 @@ class ShardedVecEnv(VecEnv):
         per_shard = [([self._seeds[i] for i in s], [self._options[i] for i in s]) for s in self.shards]
         self._send_each("reset", per_shard)
         seeds, options = per_shard[0]
-        shards = self._local_then_gather(lambda: [_reset(env, sd, o) for env, sd, o in
+        shards = self._local_then_gather(lambda: [vec_reset(env, sd, o) for env, sd, o in
                                                   zip(self.local_envs, seeds, options)])
         results = [r for shard in shards for r in shard]
         obs, reset_infos = zip(*results)
