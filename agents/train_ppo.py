@@ -43,7 +43,7 @@ from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
 from agents.policy import MimicPolicy, load_policy, set_action_variance
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
-from agents.batched_vec_env import BatchedMimicVecEnv
+from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
@@ -104,17 +104,19 @@ def build_parser(prog: str | None = None) -> CliParser:
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=None,
-                   help="environments stepped together (one policy batch; default: 32 with --vec batched, the "
-                        "fastest on 2 cores (README), else 8)")
+                   help="environments stepped together (one policy batch; default: 32 with --vec batched or "
+                        "sharded-batched, the fastest on 2 cores (README), else 8)")
     g.add_argument("--vec", choices=VEC_KINDS, default=None,
                    help="batched: the envs stepped as one batch in this process, their physics on --workers "
-                        "threads (agents/batched_vec_env.py; fastest on 2 cores, see README; MimicIMU-v0 and its "
-                        "ablations); sharded: the envs split over --workers shards, this process and worker "
-                        "processes (agents/vec_env.py); dummy: all envs in this process, one at a time; subproc: "
+                        "threads (agents/batched_vec_env.py; the fastest on 2 cores, see README; MimicIMU-v0 and "
+                        "its ablations); sharded-batched: the envs split over --workers shards, this process and "
+                        "worker processes, each shard stepped as one batch (the batches' Python on every core too: "
+                        "for many cores); sharded: the same shards with their envs stepped one at a time "
+                        "(agents/vec_env.py); dummy: all envs in this process, one at a time; subproc: "
                         "one process per env (default: batched, sharded for MimicGait-v0)")
     g.add_argument("--workers", type=positive_int, default=None,
-                   help="--vec batched: physics threads; --vec sharded: shards, this process included (default: "
-                        "the cores, at most --n-envs)")
+                   help="--vec batched: physics threads; --vec sharded(-batched): shards, this process included "
+                        "(default: the cores, at most --n-envs)")
     g.add_argument("--net", default="256,256", help="hidden layer sizes of actor and critic (tanh)")
     g.add_argument("--device", default="cpu", choices=["cpu", "cuda", "auto"],
                    help="where the networks learn: cpu (fastest for small networks on a few cores), "
@@ -177,8 +179,9 @@ def variant_seed(args: argparse.Namespace) -> int | None:
 def vec_kind(args: argparse.Namespace) -> str:
     """How the run's envs are stepped: ``--vec``, by default batched (sharded for ``MimicGait-v0``,
     whose reward :class:`BatchedMimicVecEnv` does not batch)."""
-    if args.vec == "batched" and args.env_id == GAIT_ENV_ID:
-        raise ValueError(f"--vec batched steps MimicEnv's own reward; {GAIT_ENV_ID} needs --vec sharded, dummy or subproc")
+    if args.vec in BATCHED_KINDS and args.env_id == GAIT_ENV_ID:
+        raise ValueError(f"--vec {args.vec} steps MimicEnv's own reward; {GAIT_ENV_ID} needs --vec sharded, dummy or "
+                         "subproc")
     return args.vec or ("sharded" if args.env_id == GAIT_ENV_ID else "batched")
 
 
@@ -186,9 +189,11 @@ def vec_env_settings(args: argparse.Namespace) -> tuple[type, dict, int, int]:
     """The run's vectorized-env class, its keyword arguments, and the learner's torch threads while
     collecting rollouts and while updating."""
     kind = vec_kind(args)
-    if kind == "batched":
+    if kind in BATCHED_KINDS:  # the cores step the envs while collecting and are free while updating
         collect, update = args.torch_threads or 1, args.torch_threads or shard_count(None, args.n_envs)
-        return BatchedMimicVecEnv, {"n_threads": shard_count(args.workers, args.n_envs)}, collect, update
+        if kind == "batched":
+            return BatchedMimicVecEnv, {"n_threads": shard_count(args.workers, args.n_envs)}, collect, update
+        return ShardedVecEnv, {"n_workers": shard_count(args.workers, args.n_envs), "shard": BatchShard}, collect, update
     threads = args.torch_threads or (2 if kind == "dummy" else 1)
     if kind == "sharded":
         return ShardedVecEnv, {"n_workers": shard_count(args.workers, args.n_envs)}, threads, threads
@@ -197,9 +202,9 @@ def vec_env_settings(args: argparse.Namespace) -> tuple[type, dict, int, int]:
 
 class UpdateThreads(BaseCallback):
     """Give the learner ``update`` torch threads while PPO updates and ``collect`` while it collects
-    rollouts: with the envs stepped in this process (``--vec batched``) the cores are free during
-    updates, and more torch threads during the small forward passes of a rollout only wait on the
-    physics threads."""
+    rollouts: with the envs stepped as batches (``--vec batched``, ``sharded-batched``) the cores are
+    free during updates, and more torch threads during the small forward passes of a rollout only
+    wait on the physics."""
 
     def __init__(self, collect: int, update: int):
         super().__init__()
@@ -227,7 +232,9 @@ def foot(args: argparse.Namespace) -> str:
     return args.foot or ("two" if args.env_id == GAIT_ENV_ID else "one")
 
 
-VEC_KINDS = ("batched", "sharded", "dummy", "subproc")
+VEC_KINDS = ("sharded-batched", "batched", "sharded", "dummy", "subproc")
+BATCHED_KINDS = ("sharded-batched", "batched")
+"""The kinds that step MimicEnv's reward and observation as batches (:mod:`agents.batched_vec_env`)."""
 """``--vec`` choices: how the training envs are stepped (``agents/batched_vec_env.py``,
 ``agents/vec_env.py``, stable-baselines3)."""
 
@@ -460,7 +467,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         history = []
     args.vec = vec_kind(args)  # recorded, so that a resumed run keeps its kind whatever the defaults become
     if args.n_envs is None:
-        args.n_envs = 32 if args.vec == "batched" else 8
+        args.n_envs = 32 if args.vec in BATCHED_KINDS else 8
     if args.n_steps is None:  # the default: 8192 steps per update, however many envs
         args.n_steps = max(1, STEPS_PER_UPDATE // args.n_envs)
     if args.gait_ablation is not None and args.env_id != GAIT_ENV_ID:

@@ -74,8 +74,9 @@ def _wait(connection, spin_s: float) -> None:
     """Wait for ``connection`` to have data: poll without sleeping for ``spin_s`` seconds, then block.
     Waking a blocked process costs ~1 ms on these virtual machines, longer than a step of a shard;
     between the steps of a rollout the wait is shorter than the spin and costs no wake-up. Each poll
-    yields the core to any other runnable process, so spinning costs nothing when the cores are
-    shared (two trainings at once)."""
+    yields the core, but a yield does not reliably hand it to another process: two sharded trainings
+    on 2 cores, their learners spinning without end, left their workers 6% of a core each (the
+    spin is therefore bounded on both sides)."""
     deadline = time.perf_counter() + spin_s
     while not connection.poll(0):
         if time.perf_counter() > deadline:
@@ -84,12 +85,33 @@ def _wait(connection, spin_s: float) -> None:
         os.sched_yield()
 
 
-def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) -> None:
-    """Worker loop: build the shard's environments, then answer the parent's commands until ``close``.
-    Every answer is ``(ok, value)``; an exception is sent back as ``(False, (is it an AttributeError,
-    traceback text))``."""
+class EnvShard:
+    """The environments of one :class:`ShardedVecEnv` shard, stepped one after another (the default
+    shard). A shard class is built from the shard's environment functions and offers ``envs`` (the
+    environments, for attribute and method calls), ``step(actions)`` and ``reset(seeds, options)``
+    (one result per environment: :func:`vec_step_result`'s tuple, :func:`vec_reset`'s) and
+    ``close()``; :class:`agents.batched_vec_env.BatchShard` steps its environments as one batch."""
+
+    def __init__(self, env_fns: Sequence[Callable[[], gym.Env]]):
+        self.envs: list[gym.Env] = [fn() for fn in env_fns]
+
+    def step(self, actions: np.ndarray) -> list[tuple[Any, float, bool, dict, dict]]:
+        return [_step(env, a) for env, a in zip(self.envs, actions)]
+
+    def reset(self, seeds: Sequence[int | None], options: Sequence[dict]) -> list[tuple[Any, dict]]:
+        return [vec_reset(env, s, o) for env, s, o in zip(self.envs, seeds, options)]
+
+    def close(self) -> None:
+        for env in self.envs:
+            env.close()
+
+
+def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float, shard_cls: type) -> None:
+    """Worker loop: build the shard (``shard_cls`` of its environment functions), then answer the
+    parent's commands until ``close``. Every answer is ``(ok, value)``; an exception is sent back as
+    ``(False, (is it an AttributeError, traceback text))``."""
     parent_remote.close()
-    envs: list[gym.Env] = []
+    shard = None
     while True:
         try:
             _wait(remote, spin_s)
@@ -98,19 +120,18 @@ def _serve(remote, parent_remote, env_fns: CloudpickleWrapper, spin_s: float) ->
             break
         try:
             if cmd == "build":
-                envs = [fn() for fn in env_fns.var]
+                shard = shard_cls(env_fns.var)
                 value = None
             elif cmd == "step":
-                value = [_step(env, a) for env, a in zip(envs, data)]
+                value = shard.step(data)
             elif cmd == "reset":
-                seeds, options = data
-                value = [vec_reset(env, s, o) for env, s, o in zip(envs, seeds, options)]
+                value = shard.reset(*data)
             elif cmd == "call":
                 kind, name, payload, local = data
-                value = [_call(envs[j], kind, name, payload) for j in local]
+                value = [_call(shard.envs[j], kind, name, payload) for j in local]
             elif cmd == "close":
-                for env in envs:
-                    env.close()
+                if shard is not None:
+                    shard.close()
                 break
             else:
                 raise ValueError(f"unknown command {cmd!r}")
@@ -130,26 +151,29 @@ class ShardedVecEnv(VecEnv):
     one) stepped in parallel: shard 0 in this process, every other shard in a worker process.
 
     This process steps its own shard while the workers step theirs, then polls for their answers
-    without sleeping; the workers likewise poll for the next command for ``spin_ms`` before they
-    block, yielding the core at each poll to any other runnable process. On the project's 2-core
-    virtual machines a blocked process takes about a millisecond to wake, as long as a
-    4-environment shard takes to step, so neither side blocks inside a rollout.
+    for ``spin_ms`` before it blocks; the workers likewise poll for the next command. On the
+    project's 2-core virtual machines a blocked process takes about a millisecond to wake, as long as
+    a 4-environment shard takes to step, so neither side blocks inside a rollout unless the cores
+    are shared with other work, which then gets them.
 
     Args:
         env_fns: functions that each build one environment (as for ``SubprocVecEnv``; pass this class
             as ``make_vec_env(..., vec_env_cls=ShardedVecEnv, vec_env_kwargs={"n_workers": k})``).
         n_workers: shards, this process included (default 2: one per core of the project's
             machines; 1 is a ``DummyVecEnv``); at most ``len(env_fns)``.
-        spin_ms: how long a worker polls for the next command before it blocks (ms).
+        spin_ms: how long a worker polls for the next command, and this process for the workers'
+            answers, before it blocks (ms).
         start_method: ``multiprocessing`` start method (default ``forkserver``, which is safe with
             torch's threads in this process, else ``spawn``).
+        shard: how each shard steps its environments (default :class:`EnvShard`: one after another;
+            :class:`agents.batched_vec_env.BatchShard`: as one batch).
 
     Raises:
         WorkerError: an environment raised in a worker (the message has its traceback).
     """
 
     def __init__(self, env_fns: list[Callable[[], gym.Env]], n_workers: int = 2, spin_ms: float = 5.0,
-                 start_method: str | None = None):
+                 start_method: str | None = None, shard: type = EnvShard):
         if not env_fns:
             raise ValueError("ShardedVecEnv needs at least one environment")
         if not 1 <= n_workers <= len(env_fns):
@@ -159,21 +183,23 @@ class ShardedVecEnv(VecEnv):
             start_method = "forkserver" if "forkserver" in mp.get_all_start_methods() else "spawn"
         ctx = mp.get_context(start_method)
         self.shards = [list(s) for s in np.array_split(np.arange(len(env_fns)), n_workers)]
-        self._where = [(w, j) for w, shard in enumerate(self.shards) for j in range(len(shard))]
+        self._spin_s = spin_ms / 1000
+        self._where = [(w, j) for w, members in enumerate(self.shards) for j in range(len(members))]
         self.remotes, self.processes = [], []
         self._pending: list[int] = []  # answers each worker still owes
         self.closed = False
-        for shard in self.shards[1:]:
+        for shard_envs in self.shards[1:]:
             remote, work_remote = ctx.Pipe()
             process = ctx.Process(target=_serve, daemon=True, args=(
-                work_remote, remote, CloudpickleWrapper([env_fns[i] for i in shard]), spin_ms / 1000))
+                work_remote, remote, CloudpickleWrapper([env_fns[i] for i in shard_envs]), spin_ms / 1000, shard))
             process.start()
             work_remote.close()
             self.remotes.append(remote)
             self.processes.append(process)
             self._pending.append(0)
         self._send_each("build", [None] * len(self.shards))  # the workers build theirs while this process does
-        self.local_envs = [env_fns[i]() for i in self.shards[0]]
+        self.local = shard([env_fns[i] for i in self.shards[0]])
+        self.local_envs = self.local.envs
         self._gather()
         self._actions: np.ndarray | None = None
         super().__init__(len(env_fns), self.local_envs[0].observation_space, self.local_envs[0].action_space)
@@ -184,7 +210,7 @@ class ShardedVecEnv(VecEnv):
         answers, failures = [], []
         for w, remote in enumerate(self.remotes, start=1):
             try:
-                _wait(remote, spin_s=float("inf"))
+                _wait(remote, self._spin_s)
                 ok, value = remote.recv()
             except EOFError as error:
                 self._drain()
@@ -234,7 +260,7 @@ class ShardedVecEnv(VecEnv):
         self._actions = actions[:len(self.shards[0])]
 
     def step_wait(self):
-        shards = self._local_then_gather(lambda: [_step(env, a) for env, a in zip(self.local_envs, self._actions)])
+        shards = self._local_then_gather(lambda: self.local.step(self._actions))
         results = [r for shard in shards for r in shard]
         obs, rewards, dones, infos, reset_infos = zip(*results)
         for i, info in enumerate(reset_infos):
@@ -246,8 +272,7 @@ class ShardedVecEnv(VecEnv):
         per_shard = [([self._seeds[i] for i in s], [self._options[i] for i in s]) for s in self.shards]
         self._send_each("reset", per_shard)
         seeds, options = per_shard[0]
-        shards = self._local_then_gather(lambda: [vec_reset(env, sd, o) for env, sd, o in
-                                                  zip(self.local_envs, seeds, options)])
+        shards = self._local_then_gather(lambda: self.local.reset(seeds, options))
         results = [r for shard in shards for r in shard]
         obs, reset_infos = zip(*results)
         self.reset_infos = list(reset_infos)
@@ -297,7 +322,6 @@ class ShardedVecEnv(VecEnv):
                 process.terminate()
         for remote in self.remotes:
             remote.close()
-        for env in self.local_envs:
-            env.close()
+        self.local.close()
         self.closed = True
 

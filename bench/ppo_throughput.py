@@ -14,8 +14,10 @@ reported; the machine is noisy):
 * [256, 256] with 8 or 16 envs in one shard per core (2 on the project's machines: this process
   and one worker; ``--vec sharded``, 1 torch thread: ``agents/vec_env.py``);
 * [256, 256] with 16 or 32 envs stepped as one batch in the learner's process, their physics on one
-  thread per core (``--vec batched``, the default: ``agents/batched_vec_env.py``), the learner on 1
-  torch thread while collecting and one per core while updating (``train_ppo.UpdateThreads``).
+  thread per core (``--vec batched``, the default: ``agents/batched_vec_env.py``), the learner on 1 torch thread
+  while collecting and one per core while updating (``train_ppo.UpdateThreads``);
+* [256, 256] with 32 envs in one shard per core, each shard stepped as one batch (``--vec
+  sharded-batched``), the learner's threads as with ``batched``.
 
 A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
 The physics floor is the rate at which the cores would produce those frames doing nothing but
@@ -27,6 +29,7 @@ environments is independent). No training run on these cores can be faster.
 from __future__ import annotations
 
 import argparse
+import functools
 import math
 import os
 import statistics
@@ -40,7 +43,7 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNormalize
 
 import envs  # noqa: F401  (registers the ids)
-from agents.batched_vec_env import BatchedMimicVecEnv
+from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.train_ppo import UpdateThreads
 from agents.vec_env import ShardedVecEnv, shard_count
 from envs import ArtefactMix
@@ -84,14 +87,16 @@ SETTINGS = [Setting("1024,1024,512", 8, "dummy", 2), Setting("256,256", 8, "dumm
             Setting("128,128", 8, "dummy", 2), Setting("256,256", 8, "subproc", 1),
             Setting("256,256", 8, "sharded", 1), Setting("256,256", 16, "sharded", 1),
             Setting("256,256", 16, "batched", 1, update_threads=CORES),
-            Setting("256,256", 32, "batched", 1, update_threads=CORES)]
-VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv, "batched": BatchedMimicVecEnv}
+            Setting("256,256", 32, "batched", 1, update_threads=CORES),
+            Setting("256,256", 32, "sharded-batched", 1, update_threads=CORES)]
+VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv, "batched": BatchedMimicVecEnv,
+               "sharded-batched": functools.partial(ShardedVecEnv, shard=BatchShard)}
 
 
 def build(setting: Setting) -> PPO:
     """A fresh PPO learner of ``setting`` (train_ppo.py's settings, seed 0)."""
     torch.set_num_threads(setting.torch_threads)
-    vec_kwargs = ({"n_workers": shard_count(setting.workers, setting.n_envs)} if setting.vec == "sharded"
+    vec_kwargs = ({"n_workers": shard_count(setting.workers, setting.n_envs)} if setting.vec.startswith("sharded")
                   else {"n_threads": shard_count(setting.workers, setting.n_envs)} if setting.vec == "batched" else {})
     venv = VecNormalize(make_vec_env("MimicIMU-v0", n_envs=setting.n_envs, seed=0,
                                      vec_env_cls=VEC_CLASSES[setting.vec], vec_env_kwargs=vec_kwargs,
@@ -187,7 +192,7 @@ def main() -> None:
     if not emit_json(result, args.json):
         print(f"physics floor: {result['physics_floor_frames_per_s']} frames/s on {CORES} cores")
         for r in rows:
-            print(f"{r['net']:>14}  {r['n_envs']:>2} {r['vec']:>8}  {r['torch_threads']} thr  {r['parameters']:>9} "
+            print(f"{r['net']:>14}  {r['n_envs']:>2} {r['vec']:>15}  {r['torch_threads']} thr  {r['parameters']:>9} "
                   f"params  {r['frames_per_s']:>6} frames/s  ×{r['speedup_vs_first']}  "
                   f"{100 * r['share_of_floor']:.0f}% of floor  (collect {r['collect_us_per_step']} µs, update "
                   f"{r['update_us_per_step']} µs a step)")

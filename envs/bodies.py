@@ -84,16 +84,46 @@ def body_state(xpos: np.ndarray, xquat: np.ndarray, xmat: np.ndarray, cvel: np.n
 
 def floor_contact_geoms(data: mujoco.MjData, floor: int) -> np.ndarray:
     """Geoms touching geom ``floor`` in ``data``'s current contacts (one entry per contact)."""
-    pairs = data.contact.geom
+    return geoms_touching(data.contact.geom, floor)
+
+
+def geoms_touching(pairs: np.ndarray, floor: int, owner: np.ndarray | None = None):
+    """The other geom of each contact pair ``pairs`` ``(n, 2)`` (MuJoCo's ``contact.geom``) that
+    involves geom ``floor``: ``(k,)``, one entry per such contact. With ``owner`` (``(n,)``, the
+    simulation each pair comes from, for the pairs of several simulations concatenated), also the
+    owner of each entry: ``(touching, owner)``."""
     on_floor = (pairs == floor).any(axis=1)
-    return np.where(pairs[:, 0] == floor, pairs[:, 1], pairs[:, 0])[on_floor]
+    touching = np.where(pairs[:, 0] == floor, pairs[:, 1], pairs[:, 0])[on_floor]
+    return touching if owner is None else (touching, owner[on_floor])
 
 
-def region_contacts(touching: np.ndarray, geom_channel: np.ndarray) -> np.ndarray:
+def region_contacts(touching: np.ndarray, geom_channel: np.ndarray, owner: np.ndarray | None = None,
+                    n_owners: int = 1) -> np.ndarray:
     """Contact states ``(4,)`` bool (LT, RT, LH, RH): any sole sphere of that region among the
     floor-touching geoms ``touching``; ``geom_channel`` is each geom's channel or -1
-    (:attr:`reference_motion.humanoid.model.HumanoidModel.geom_contact_channel`)."""
+    (:attr:`reference_motion.humanoid.model.HumanoidModel.geom_contact_channel`). With ``owner``
+    (``(k,)``, which of ``n_owners`` simulations each entry of ``touching`` comes from) the states
+    of each, ``(n_owners, 4)``."""
     channels = geom_channel[touching]
-    out = np.zeros(4, dtype=bool)
-    out[channels[channels >= 0]] = True
+    sole = channels >= 0
+    if owner is None:
+        out = np.zeros(4, dtype=bool)
+        out[channels[sole]] = True
+        return out
+    out = np.zeros((n_owners, 4), dtype=bool)
+    out[owner[sole], channels[sole]] = True
     return out
+
+
+def bodies_touching(touching: np.ndarray, geom_body: np.ndarray, owner: np.ndarray | None = None,
+                    n_owners: int = 1) -> int | np.ndarray:
+    """How many distinct bodies of interest the floor-touching geoms ``touching`` belong to;
+    ``geom_body`` is each geom's body, or -1 for geoms of no interest. With ``owner`` (``(k,)``,
+    which of ``n_owners`` simulations each entry comes from) the count of each, ``(n_owners,)`` int."""
+    bodies = geom_body[touching]
+    mine = bodies >= 0
+    if owner is None:
+        return len(set(bodies[mine].tolist()))
+    stride = max(int(geom_body.max()), 0) + 1
+    pairs = np.unique(owner[mine] * stride + bodies[mine])
+    return np.bincount(pairs // stride, minlength=n_owners)

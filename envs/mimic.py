@@ -20,7 +20,7 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
-from envs.bodies import floor_contact_geoms, read_body_state, region_contacts, update_kinematics
+from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, region_contacts, update_kinematics
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig)
 from envs.observations import heading_rotation, mimic_observation, observation_slices
@@ -200,9 +200,9 @@ class MimicEnv(gym.Env):
     def episode_end(self) -> int:
         """Reference frame at which the running episode is truncated: ``episode_frames`` after its
         start, or the last frame before the clip's end that whole control steps reach."""
-        fpc = self.config.frames_per_control
-        span = min(self.config.episode_frames, self.current_track.n_frames - 1 - self._start)
-        return self._start + fpc * (span // fpc)
+        if self._track is None:
+            raise RuntimeError("call reset() first")
+        return self._episode_end
 
     def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``) or its corrupted variant
@@ -266,6 +266,8 @@ class MimicEnv(gym.Env):
 
         self._track, self._clip, self._variant = track, clip, variant
         self._start = self._frame = start
+        fpc = self.config.frames_per_control
+        self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
         qpos, qvel = (track.motion.qpos[start], track.qvel[start]) if state is None else state
@@ -336,17 +338,19 @@ class MimicEnv(gym.Env):
     def _begin_step(self, action: np.ndarray) -> np.ndarray:
         """Take the policy's ``action``: clip and smooth it, advance the reference by one control
         step and return the PD targets ``(frames_per_control, nu)`` (rad) of its frames."""
-        if self._track is None:
-            raise RuntimeError("call reset() before step()")
-        cfg, track = self.config, self._track
-        lim = cfg.action_limit_rad
-        raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
-        self._action = cfg.action_smoothing * raw + (1.0 - cfg.action_smoothing) * self._action
-        start = self._frame + 1
-        self._frame += cfg.frames_per_control
-        ctrl = np.array(self._pd_targets(track, slice(start, self._frame + 1)))  # a copy: the track is read-only
+        self._action = smoothed_action(action, self._action, self.config)
+        ctrl = np.array(self._advance())  # a copy: the track is read-only
         ctrl[:, self.driven] += self._action
         return ctrl
+
+    def _advance(self) -> np.ndarray:
+        """Advance the reference by one control step: the open-loop PD targets ``(frames_per_control,
+        nu)`` (rad) of its frames, before the action is added (read only)."""
+        if self._track is None:
+            raise RuntimeError("call reset() before step()")
+        start = self._frame + 1
+        self._frame += self.config.frames_per_control
+        return self._pd_targets(self._track, slice(start, self._frame + 1))
 
     def _blew_up(self) -> bool:
         """Whether the simulation went unstable in this step (MuJoCo's bad-acceleration warning, or a
@@ -445,8 +449,7 @@ class MimicEnv(gym.Env):
 
     def _spinal_contacts(self, touching: np.ndarray) -> int:
         """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""
-        bodies = self._geom_spinal_body[touching]
-        return len(set(bodies[bodies >= 0].tolist()))
+        return bodies_touching(touching, self._geom_spinal_body)
 
     # ---------------------------------------------------------------- render
     def render(self):
@@ -462,6 +465,15 @@ class MimicEnv(gym.Env):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfig) -> np.ndarray:
+    """The action the PD targets get: the policy's ``action`` (rad, ``(..., A)``; one environment's or
+    a batch's) clipped to ``±config.action_limit_rad`` and smoothed with the ``previous`` one
+    (``config.action_smoothing``: weight of the new action)."""
+    lim = config.action_limit_rad
+    raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
+    return config.action_smoothing * raw + (1.0 - config.action_smoothing) * previous
 
 
 _SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()

@@ -6,6 +6,7 @@ environment first needs it; each step then only indexes arrays.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, fields
 
 import mujoco
@@ -45,12 +46,13 @@ class ReferenceQuantities:
 
 @dataclass(frozen=True)
 class ReferenceFrame(ReferenceQuantities):
-    """One frame of a :class:`ReferenceTrack`, or a batch of frames (:meth:`stack`)."""
+    """One frame of a :class:`ReferenceTrack`, or a batch of frames (:meth:`gather`)."""
 
     @classmethod
-    def stack(cls, frames: list["ReferenceFrame"]) -> "ReferenceFrame":
-        """``N`` frames as one batch: every field ``(N, ...)``."""
-        return cls(*(np.stack([getattr(f, name) for f in frames]) for name in _QUANTITIES))
+    def gather(cls, tracks: Sequence["ReferenceTrack"], frames: Sequence[int]) -> "ReferenceFrame":
+        """Frame ``frames[i]`` of ``tracks[i]`` for each of ``N`` tracks, as one batch: every field
+        ``(N, ...)``."""
+        return cls(*(np.stack([getattr(t, name)[f] for t, f in zip(tracks, frames)]) for name in _QUANTITIES))
 
 
 _QUANTITIES = tuple(f.name for f in fields(ReferenceQuantities))

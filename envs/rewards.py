@@ -111,10 +111,12 @@ def lagging(e_discount: float, threshold: float = 0.025) -> bool:
     return e_discount < threshold
 
 
-def unstable(qvel: np.ndarray, max_speed: float) -> bool:
-    """The simulation blew up: a NaN/inf or a speed above ``max_speed`` in ``qvel`` (positions
-    are integrated from velocities, so they cannot go bad alone)."""
-    return not np.abs(qvel).max() <= max_speed  # NaN compares False
+def unstable(qvel: np.ndarray, max_speed: float) -> bool | np.ndarray:
+    """The simulation blew up: a NaN/inf or a speed above ``max_speed`` in ``qvel`` ``(..., nv)``
+    (positions are integrated from velocities, so they cannot go bad alone); one bool, or one per
+    leading index."""
+    fine = np.abs(qvel).max(axis=-1) <= max_speed  # NaN compares False
+    return not fine if np.ndim(fine) == 0 else ~fine
 
 
 # --------------------------------------------------------------------------- MimicGait-v0

@@ -11,8 +11,9 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.vec_env import DummyVecEnv
 
 import envs  # noqa: F401  (registers the ids)
-from agents.batched_vec_env import BatchedMimicVecEnv
-from agents.train_ppo import UpdateThreads, build_parser, vec_kind
+from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
+from agents.train_ppo import UpdateThreads, build_parser, vec_env_settings, vec_kind
+from agents.vec_env import ShardedVecEnv
 from envs import ArtefactMix, MimicConfig, MimicEnv
 
 CLIPS = ["deepmimic:walk", "deepmimic:run"]
@@ -72,6 +73,16 @@ def test_an_unstable_simulation_ends_its_episode_in_the_batch_as_alone():
     assert endings.get("unstable", 0) >= 1
 
 
+def test_batches_in_worker_processes_step_exactly_as_their_envs_one_at_a_time():
+    """--vec sharded-batched: a batch in this process and one in a worker, episodes ending on both."""
+    sharded = make(ShardedVecEnv, n_envs=4, n_workers=2, shard=BatchShard)
+    assert [len(s) for s in sharded.shards] == [2, 2] and isinstance(sharded.local, BatchShard)
+    sharded.set_attr("marker", "y", indices=[3])
+    assert sharded.get_attr("marker", indices=[3]) == ["y"]  # reached the worker's batch
+    endings = assert_same_transitions(sharded, make(DummyVecEnv, n_envs=4), steps=60)
+    assert sum(endings.values()) >= 3
+
+
 def test_calls_reach_the_envs_and_the_batch_runs_on_its_threads():
     venv = make(BatchedMimicVecEnv, n_envs=5, n_threads=2)
     assert venv.shards == [[0, 1, 2], [3, 4]]
@@ -112,9 +123,13 @@ def test_an_env_with_a_recording_hook_is_not_stepped_in_a_batch():
 def test_train_ppo_batches_mimic_tasks_by_default_and_refuses_to_batch_the_gait_task():
     parser = build_parser()
     assert vec_kind(parser.parse_args(["--run-dir", "r"])) == "batched"
+    shards = parser.parse_args(["--run-dir", "r", "--n-envs", "32", "--vec", "sharded-batched"])
+    cls, kwargs, collect, update = vec_env_settings(shards)
+    assert cls is ShardedVecEnv and kwargs["shard"] is BatchShard and (collect, update) == (1, kwargs["n_workers"])
     assert vec_kind(parser.parse_args(["--run-dir", "r", "--env-id", "MimicGait-v0"])) == "sharded"
-    with pytest.raises(ValueError, match="--vec batched"):
-        vec_kind(parser.parse_args(["--run-dir", "r", "--env-id", "MimicGait-v0", "--vec", "batched"]))
+    for kind in ("batched", "sharded-batched"):
+        with pytest.raises(ValueError, match=f"--vec {kind} steps MimicEnv's own reward"):
+            vec_kind(parser.parse_args(["--run-dir", "r", "--env-id", "MimicGait-v0", "--vec", kind]))
 
 
 def test_the_learner_gets_its_update_threads_only_between_rollouts_and_its_own_back_after():

@@ -297,3 +297,9 @@ def test_a_batch_of_states_gets_the_rewards_and_observations_of_each_state_alone
     level = heading_rotation(np.array([[0.0, 0.0, 1.0], [0.0, 2.0, 0.0]]))  # no heading, then facing +y
     np.testing.assert_array_equal(level[0], np.eye(3))
     np.testing.assert_allclose(level[1] @ [0.0, 1.0, 0.0], [1.0, 0.0, 0.0], atol=1e-12)
+
+
+def test_instability_is_judged_per_simulation_in_a_batch():
+    qvel = np.zeros((3, 49))
+    qvel[1, 5], qvel[2, 0] = 1e4, np.nan
+    np.testing.assert_array_equal(unstable(qvel, 200.0), [False, True, True])

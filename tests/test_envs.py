@@ -261,3 +261,26 @@ def test_a_clip_shorter_than_an_episode_plays_to_its_end():
         assert info["frame"] <= 91 and (term or info["frame"] == base.episode_end)
     with pytest.raises(ValueError, match=r"start_frame 46 out of range .*0\.\.45"):
         env.reset(options={"start_frame": 46})
+
+
+def test_floor_contacts_of_several_simulations_at_once_match_each_alone():
+    """envs.bodies' contact helpers on a hand-made case: geom 0 is the floor; geoms 1-2 are sole
+    spheres of channels 0 and 3, geom 3 belongs to spinal body 7, geom 4 to body 8, geom 5 to none."""
+    from envs.bodies import bodies_touching, geoms_touching, region_contacts
+    channel = np.array([-1, 0, 3, -1, -1, -1])
+    body = np.array([-1, -1, -1, 7, 8, -1])
+    sims = [np.array([[0, 1], [2, 0], [3, 4]]),  # two soles down; 3-4 touch each other, not the floor
+            np.array([[3, 0], [0, 4], [0, 3], [0, 5]]),  # two spinal bodies (3 twice), one geom of none
+            np.empty((0, 2), int)]  # no contact at all
+    touching = [geoms_touching(p, 0) for p in sims]
+    np.testing.assert_array_equal(touching[0], [1, 2])
+    np.testing.assert_array_equal(touching[1], [3, 4, 3, 5])
+    owner = np.repeat(np.arange(3), [len(p) for p in sims])
+    all_touching, all_owner = geoms_touching(np.concatenate(sims), 0, owner)
+    np.testing.assert_array_equal(all_owner, [0, 0, 1, 1, 1, 1])
+    expected_regions = [[True, False, False, True], [False] * 4, [False] * 4]
+    np.testing.assert_array_equal(region_contacts(all_touching, channel, all_owner, 3), expected_regions)
+    for i in range(3):
+        np.testing.assert_array_equal(region_contacts(touching[i], channel), expected_regions[i])
+    np.testing.assert_array_equal(bodies_touching(all_touching, body, all_owner, 3), [0, 2, 0])
+    assert [bodies_touching(t, body) for t in touching] == [0, 2, 0]
