@@ -41,7 +41,6 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.mixed_precision import UPDATE_PRECISIONS, ppo_class
 from agents.policy import MimicPolicy, load_policy, set_action_variance
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
@@ -137,9 +136,6 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--action-variance", type=positive_float, default=0.03,
                    help="fixed σ² of the Gaussian policy (with --init-from too: the source's is replaced)")
     g.add_argument("--seed", type=int, default=0)
-    g.add_argument("--update-precision", choices=UPDATE_PRECISIONS, default="fp32",
-                   help="bf16: PPO's updates multiply the networks' matrices in bfloat16 (agents/mixed_precision.py; "
-                        "weights, optimiser and losses stay fp32)")
     g.add_argument("--torch-threads", type=positive_int, default=None,
                    help="torch threads in the learner process, collecting and updating alike (default: 2 with "
                         "--vec dummy; with --vec batched 1 while collecting rollouts and one per core while "
@@ -497,13 +493,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if checkpoint is not None:
         stats = checkpoint.with_name(checkpoint.stem + "_vecnormalize.pkl")
         venv = VecNormalize.load(str(stats), venv)
-        model = ppo_class(args.update_precision).load(checkpoint, env=venv, device=args.device, tensorboard_log=str(run_dir / "tb"),
+        model = PPO.load(checkpoint, env=venv, device=args.device, tensorboard_log=str(run_dir / "tb"),
                          n_steps=args.n_steps)  # --n-steps with --n-envs on resume: the rollout the command asks for
         print(f"resuming from {checkpoint} at {model.num_timesteps} steps", flush=True)
     else:
         if args.resume:
             print(f"no checkpoint in {run_dir}; starting from scratch", flush=True)
-        model = ppo_class(args.update_precision)("MlpPolicy", venv, learning_rate=args.lr, n_steps=args.n_steps, batch_size=args.batch_size,
+        model = PPO("MlpPolicy", venv, learning_rate=args.lr, n_steps=args.n_steps, batch_size=args.batch_size,
                     n_epochs=args.epochs, gamma=args.gamma, gae_lambda=args.gae_lambda, clip_range=args.clip_range,
                     seed=args.seed, device=args.device, tensorboard_log=str(run_dir / "tb"), verbose=0,
                     policy_kwargs=policy_kwargs(args.net, args.action_variance))

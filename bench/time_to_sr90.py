@@ -1,7 +1,7 @@
 """Wall time for ``agents/train_ppo.py`` (defaults, 2 cores) to reach SR90 ≥ 0.9 on walk.
 
 Usage: ``python bench/time_to_sr90.py [--run-dir runs/time_to_sr90] [--lr 1e-4] [--seed 0]
-[--update-precision fp32|bf16] [--json [OUT]]``
+[--json [OUT]]``
 
 Trains from scratch on ``deepmimic:walk`` with the default configuration (learning rate as given),
 evaluating 5 rollouts every 100,000 steps, and stops at the first evaluation with SR90 ≥ 0.9. Reports
@@ -26,16 +26,15 @@ def main() -> None:
     parser.add_argument("--lr", default="1e-4")
     parser.add_argument("--max-steps", type=int, default=3_000_000)
     parser.add_argument("--seed", default="0")
-    parser.add_argument("--update-precision", default="fp32", help="train_ppo.py's --update-precision")
     parser.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = parser.parse_args()
     shutil.rmtree(args.run_dir, ignore_errors=True)
     train(["--run-dir", str(args.run_dir), "--clips", "deepmimic:walk", "--lr", args.lr, "--total-steps",
            str(args.max_steps), "--eval-every", "100000", "--checkpoint-every", "100000", "--eval-episodes", "5",
-           "--stop-at-sr90", "0.9", "--seed", args.seed, "--update-precision", args.update_precision, "--no-progress"])
+           "--stop-at-sr90", "0.9", "--seed", args.seed, "--no-progress"])
     evals = [json.loads(line) for line in (args.run_dir / "evaluations.jsonl").read_text().splitlines()]
     hit = next((e for e in evals if e["SR90"] >= 0.9), None)
-    result = {"lr": float(args.lr), "seed": int(args.seed), "update_precision": args.update_precision, "reached": hit is not None, "steps": (hit or evals[-1])["steps"],
+    result = {"lr": float(args.lr), "seed": int(args.seed), "reached": hit is not None, "steps": (hit or evals[-1])["steps"],
               "wall_s": round((hit or evals[-1])["wall_s"], 1),
               "frames_per_s": round(2 * (hit or evals[-1])["steps"] / (hit or evals[-1])["wall_s"]),
               "evaluations": [{k: e[k] for k in ("steps", "wall_s", "ELR_mean", "SR90")} for e in evals]}
