@@ -93,6 +93,8 @@ class BatchedMimicVecEnv(VecEnv):
         self._unstable = np.zeros(n, dtype=bool)
         self._controls = np.zeros((n, first.config.frames_per_control, first.model.nu))
         self._actions = np.zeros((n, *first.action_space.shape))
+        self._smoothed = np.zeros((n, *first.action_space.shape))
+        """The step's smoothed actions (every env's ``_action`` until the envs that finished reset)."""
         self._episode_return = np.zeros(n)
         self._episode_length = np.zeros(n, dtype=int)
         self._started = time.time()
@@ -119,9 +121,10 @@ class BatchedMimicVecEnv(VecEnv):
         :func:`agents.vec_env.vec_step_result`'s ``(obs, reward, done, info, reset_info)`` (a finished
         episode reset at once), each finished episode's return, length and time in
         ``info["episode"]`` as ``Monitor`` gives them."""
-        if any(env.frame_hook is not None or env.substep_hook is not None for env in self.envs):
-            i = next(i for i, env in enumerate(self.envs) if env.frame_hook is not None or env.substep_hook is not None)
-            raise RuntimeError(f"env {i} has a frame_hook or substep_hook, which a batch does not call; step "
+        hooked = next((i for i, env in enumerate(self.envs) if env.frame_hook is not None or env.substep_hook is not None),
+                      None)
+        if hooked is not None:
+            raise RuntimeError(f"env {hooked} has a frame_hook or substep_hook, which a batch does not call; step "
                                "it alone (agents.rollout) or in a DummyVecEnv")
         self._begin_steps(actions)
         self._step_physics()
@@ -131,23 +134,22 @@ class BatchedMimicVecEnv(VecEnv):
         """Every environment takes its action (as :meth:`MimicEnv._begin_step`, batched): the
         smoothed actions and the control step's PD targets ``(N, frames_per_control, nu)``."""
         first = self.envs[0]
-        smoothed = smoothed_action(actions, np.stack([env._action for env in self.envs]), first.config)
+        self._smoothed = smoothed_action(actions, np.stack([env._action for env in self.envs]), first.config)
         self._controls = np.stack([env._advance() for env in self.envs])
-        self._controls[:, :, first.driven] += smoothed[:, None, :]
-        for env, action in zip(self.envs, smoothed):
+        self._controls[:, :, first.driven] += self._smoothed[:, None, :]
+        for env, action in zip(self.envs, self._smoothed):
             env._action = action
 
     def _simulate(self, shard: Sequence[int]) -> None:
         """Step the physics of the environments ``shard`` through the control step's frames and read
         their bodies (run on one thread per shard)."""
-        bad_acceleration = mujoco.mjtWarning.mjWARN_BADQACC
         for i in shard:
             env = self.envs[i]
             m, d = env.model, env.data
             for ctrl in self._controls[i]:
                 d.ctrl[:] = ctrl
                 mujoco.mj_step(m, d, nstep=env.substeps)
-            self._bad_acceleration[i] = d.warning[bad_acceleration].number > env._bad_qacc
+            self._bad_acceleration[i] = env._bad_acceleration()
             if self._bad_acceleration[i]:  # unstable (MimicEnv._blew_up): the step's bodies are not read
                 self._contact_pairs[i] = self._contact_pairs[i][:0]
                 continue
@@ -173,7 +175,7 @@ class BatchedMimicVecEnv(VecEnv):
         state = body_state(self._xpos, self._xquat, self._xmat, self._cvel, self._com, self._com_vel)
         refs = ReferenceFrame.gather([env._track for env in self.envs], [env._frame for env in self.envs])
         terms = first._tracking_terms(state, refs)
-        observations = first._tracking_observation(state, refs, np.stack([env._action for env in self.envs]))
+        observations = first._tracking_observation(state, refs, self._smoothed)
         names = first.reward_info_keys
         term_values = np.stack([getattr(terms, k) for k in names], axis=1).tolist()
         # MimicEnv._touch for every environment at once: their floor contacts and spinal bodies down

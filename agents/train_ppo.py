@@ -233,10 +233,10 @@ def foot(args: argparse.Namespace) -> str:
 
 
 VEC_KINDS = ("sharded-batched", "batched", "sharded", "dummy", "subproc")
-BATCHED_KINDS = ("sharded-batched", "batched")
-"""The kinds that step MimicEnv's reward and observation as batches (:mod:`agents.batched_vec_env`)."""
 """``--vec`` choices: how the training envs are stepped (``agents/batched_vec_env.py``,
 ``agents/vec_env.py``, stable-baselines3)."""
+BATCHED_KINDS = ("sharded-batched", "batched")
+"""The kinds that step MimicEnv's reward and observation as batches (:mod:`agents.batched_vec_env`)."""
 
 STEPS_PER_UPDATE = 8192
 """Environment steps per PPO update by default (``--n-steps`` is this over ``--n-envs``)."""

@@ -355,9 +355,11 @@ class MimicEnv(gym.Env):
     def _blew_up(self) -> bool:
         """Whether the simulation went unstable in this step (MuJoCo's bad-acceleration warning, or a
         joint speed beyond ``config.max_joint_speed``)."""
-        d = self.data
-        return (d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc
-                or unstable(d.qvel, self.config.max_joint_speed))
+        return self._bad_acceleration() or unstable(self.data.qvel, self.config.max_joint_speed)
+
+    def _bad_acceleration(self) -> bool:
+        """Whether MuJoCo warned of a bad acceleration since the episode began."""
+        return self.data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number > self._bad_qacc
 
     def _touch(self, touching: np.ndarray) -> int:
         """Record the simulated contacts from the floor-touching geoms ``touching`` (before the reward,
