@@ -46,6 +46,7 @@ from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptRe
 from agents.policy import MimicPolicy
 from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
+from agents.search import SearchConfig, search
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
@@ -79,12 +80,22 @@ class CleanConfig:
         rewind_s: how far before a failure (s) the retries restart (0.5).
         retries: stochastic rollouts tried from there before re-anchoring (4).
         seed: seed of the first retry; each further retry of the clip takes the next one (0).
+        search: instead of the stochastic retries, search from the rewound state with the policy
+            as the proposal (:func:`agents.search.search`, these settings) to ``rewind_s`` past the
+            failure (``None``: the retries).
+        search_all: run every stretch as such a search, not only the retries (needs ``search``).
     """
 
     episode_frames: int | None = None
     rewind_s: float = 0.5
     retries: int = 4
     seed: int = 0
+    search: SearchConfig | None = None
+    search_all: bool = False
+
+    def __post_init__(self) -> None:
+        if self.search_all and self.search is None:
+            raise ValueError("CleanConfig.search_all needs a search (CleanConfig.search)")
 
     def rewind_frames(self, fps: float, frames_per_control: int, episode_frames: int) -> int:
         """:attr:`rewind_s` in frames at ``fps``: at least one control step, less than an episode
@@ -103,7 +114,7 @@ class Reanchor:
     Attributes:
         frame: the frame restarted from the reference state.
         reason: how the policy failed: ``"fallen"``, ``"lagging"`` or ``"unstable"``.
-        retries: stochastic retries tried (all failed).
+        retries: stochastic retries (or search rollouts) tried (all failed).
         failed_at: frame where the deterministic policy failed.
         best_reached: frame where the longest-surviving attempt failed.
         jump_m: distance (m) the root jumped from the simulated to the reference state (``None``
@@ -124,7 +135,7 @@ class Recovery:
 
     Attributes:
         frame: the frame rewound to; failed_at: where the policy had failed; reason: how.
-        retries: retries it took (the last one succeeded).
+        retries: retries (or search rollouts) it took.
     """
 
     frame: int
@@ -138,24 +149,25 @@ class StateRing:
     retry can rewind to."""
 
     def __init__(self, capacity: int):
-        self._states: deque[tuple[int, np.ndarray, np.ndarray]] = deque(maxlen=capacity)
+        self._states: deque[tuple[int, tuple[np.ndarray, ...]]] = deque(maxlen=capacity)
 
-    def push(self, frame: int, qpos: np.ndarray, qvel: np.ndarray) -> None:
-        """Append the state ``(qpos (nq,), qvel (nv,))`` of ``frame``, the frame after the newest."""
+    def push(self, frame: int, *state: np.ndarray) -> None:
+        """Append the state of ``frame``, the frame after the newest: ``qpos (nq,), qvel (nv,)`` and
+        optionally the smoothed action in effect ``(A,)`` (reset option ``state``)."""
         if self._states and frame != self._states[-1][0] + 1:
             raise ValueError(f"frame {frame} does not follow the newest frame {self._states[-1][0]}")
-        self._states.append((frame, qpos, qvel))
+        self._states.append((frame, state))
 
     def drop_after(self, frame: int) -> None:
         """Forget the states of the frames after ``frame``."""
         while self._states and self._states[-1][0] > frame:
             self._states.pop()
 
-    def state(self, frame: int) -> tuple[np.ndarray, np.ndarray]:
-        """The ``(qpos, qvel)`` of ``frame``; ``KeyError`` when it is not (or no longer) held."""
-        for f, qpos, qvel in reversed(self._states):
+    def state(self, frame: int) -> tuple[np.ndarray, ...]:
+        """The state of ``frame`` as pushed (copies); ``KeyError`` when it is not (or no longer) held."""
+        for f, state in reversed(self._states):
             if f == frame:
-                return qpos.copy(), qvel.copy()
+                return tuple(x.copy() for x in state)
         raise KeyError(f"frame {frame} is not in the state ring")
 
 
@@ -172,6 +184,7 @@ class _Performance:
         hold = np.repeat(reference.qpos[-1:], self.episode_frames + 2, axis=0)
         padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
         self.env = policy.make_env([padded], artefacts=None, episode_frames=self.episode_frames)
+        self.policy = policy
         self.act: Policy = policy
         self.sample: Policy = sampling_policy(policy)
         self.rewind = config.rewind_frames(reference.fps, task.frames_per_control, self.episode_frames)
@@ -188,6 +201,8 @@ class _Performance:
         self.reanchors: list[Reanchor] = []
         self.recoveries: list[Recovery] = []
         self.tries = 0
+        self.rng = np.random.default_rng(config.seed)
+        """The search's action noise."""
 
     # ------------------------------------------------------------ pieces
     def _commit(self, episode: Episode, first: int, last: int) -> None:
@@ -198,9 +213,9 @@ class _Performance:
             return
         self.ring.drop_after(first - 1)
         for f in range(first, last + 1):
-            qpos, qvel = episode.state(f)
-            self.qpos[f] = qpos
-            self.ring.push(f, qpos, qvel)
+            state = episode.state(f)
+            self.qpos[f] = state[0]
+            self.ring.push(f, *state)
             if f > episode.start_frame:  # the start state keeps the reward of the step that reached it
                 self.rewards[f] = episode.rewards[(f - episode.start_frame - 1) // self.frames_per_control]
 
@@ -235,7 +250,12 @@ class _Performance:
         done = 0  # frames 0..done are committed
         while done < self.last:
             stop = min(done + self.episode_frames, self.last)
-            episode = self._run(done, stop, self.act)
+            if self.config.search_all:
+                episode, rollouts = search(self.env, self.policy, done, self.ring.state(done), stop,
+                                           self.config.search, self.rng)
+                self.tries += rollouts
+            else:
+                episode = self._run(done, stop, self.act)
             if self._survived(episode, stop):
                 self._commit(episode, done, stop)
                 done = stop
@@ -253,6 +273,8 @@ class _Performance:
         rewound = max(self.anchor, fail - self.rewind)
         self._commit(failed, failed.start_frame, rewound)  # the good part, when it reaches that far
         goal = min(fail + self.rewind, self.last)
+        if self.config.search is not None:
+            return self._search(failed, rewound, goal)
         best = failed
         for k in range(1, self.config.retries + 1):
             with seeded(self.config.seed + self.tries):
@@ -265,9 +287,24 @@ class _Performance:
                 return end
             if attempt.end_frame > best.end_frame:
                 best = attempt
-        return self._reanchor(best, rewound, fail, reason)
+        return self._reanchor(best, rewound, fail, reason, self.config.retries)
 
-    def _reanchor(self, best: Episode, rewound: int, fail: int, reason: str) -> int:
+    def _search(self, failed: Episode, rewound: int, goal: int) -> int:
+        """After ``failed`` failed: search from the committed state of ``rewound`` to ``goal``, else
+        re-anchor. Returns the new last committed frame."""
+        fail, reason = failed.end_frame, failed.ended_by
+        attempt, rollouts = search(self.env, self.policy, rewound, self.ring.state(rewound), goal, self.config.search,
+                                   self.rng)
+        self.tries += rollouts
+        if self._survived(attempt, goal):
+            end = min(attempt.end_frame, goal)
+            self._commit(attempt, rewound, end)
+            self.recoveries.append(Recovery(frame=rewound, failed_at=fail, reason=reason, retries=rollouts))
+            return end
+        best = attempt if attempt.end_frame > failed.end_frame else failed
+        return self._reanchor(best, rewound, fail, reason, rollouts)
+
+    def _reanchor(self, best: Episode, rewound: int, fail: int, reason: str, retries: int) -> int:
         """Keep ``best`` (the longest-surviving attempt) up to ``rewind`` frames before its failure
         (but at least that far past the last anchor, so the clip advances), then restart there
         from the reference state. Returns the re-anchored frame."""
@@ -279,7 +316,7 @@ class _Performance:
         simulated = best.qpos[frame - best.start_frame] if frame >= best.start_frame else self.qpos[frame]
         self._anchor_at(frame)
         jump = float(np.linalg.norm(simulated[:3] - self.qpos[frame, :3]))
-        self.reanchors.append(Reanchor(frame=frame, reason=reason, retries=self.config.retries, failed_at=fail,
+        self.reanchors.append(Reanchor(frame=frame, reason=reason, retries=retries, failed_at=fail,
                                        best_reached=best.end_frame, jump_m=jump if np.isfinite(jump) else None))
         return frame
 

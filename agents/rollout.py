@@ -41,6 +41,10 @@ class Episode:
         qpos: ``(N + 1, nq)`` simulated generalised positions, the start state then every 60 Hz
             frame simulated (``N`` = :attr:`frames`).
         qvel: ``(N + 1, nv)`` the matching generalised velocities (MuJoCo layout).
+        actions: ``(N + 1, A)`` the smoothed action (rad) in effect at each of those states: the one
+            the control step that simulated the frame applied, at the start state the one the reset
+            gave (:attr:`envs.mimic.MimicEnv.smoothed`). With ``qpos`` and ``qvel`` it is the state
+            an episode continues from (reset option ``state``).
         rewards: ``(S,)`` reward of each control step (S = N / frames per control step).
         ended_by: ``"fallen"``, ``"lagging"``, ``"unstable"`` or ``"time_limit"``; ``""`` when it
             was stopped at ``max_frames`` while still running.
@@ -51,6 +55,7 @@ class Episode:
     start_frame: int
     qpos: np.ndarray
     qvel: np.ndarray
+    actions: np.ndarray
     rewards: np.ndarray
     ended_by: str
     episode_end: int
@@ -70,12 +75,13 @@ class Episode:
         """Whether it ended by a fall, lagging behind the reference, or the simulation blowing up."""
         return self.ended_by in FAILURES
 
-    def state(self, frame: int) -> tuple[np.ndarray, np.ndarray]:
-        """The simulated ``(qpos (nq,), qvel (nv,))`` at reference frame ``frame`` (copies)."""
+    def state(self, frame: int) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The simulated ``(qpos (nq,), qvel (nv,), action (A,))`` at reference frame ``frame``
+        (copies; reset option ``state`` continues from it)."""
         k = frame - self.start_frame
         if not 0 <= k <= self.frames:
             raise IndexError(f"frame {frame} outside this episode's frames {self.start_frame}..{self.end_frame}")
-        return self.qpos[k].copy(), self.qvel[k].copy()
+        return self.qpos[k].copy(), self.qvel[k].copy(), self.actions[k].copy()
 
 
 def run_episode(env: gym.Env, policy: Policy, options: dict, max_frames: int | None = None,
@@ -89,12 +95,13 @@ def run_episode(env: gym.Env, policy: Policy, options: dict, max_frames: int | N
     base = env.unwrapped
     obs, info = env.reset(seed=seed, options=options)
     start = info["frame"]
-    qpos, qvel = [base.data.qpos.copy()], [base.data.qvel.copy()]
+    qpos, qvel, actions = [base.data.qpos.copy()], [base.data.qvel.copy()], [base.smoothed]
     outer_hook = base.frame_hook
 
     def record(data: mujoco.MjData) -> None:
         qpos.append(data.qpos.copy())
         qvel.append(data.qvel.copy())
+        actions.append(base.smoothed)
         if outer_hook is not None:
             outer_hook(data)
 
@@ -111,7 +118,7 @@ def run_episode(env: gym.Env, policy: Policy, options: dict, max_frames: int | N
     finally:
         base.frame_hook = outer_hook
     return Episode(clip=info["clip"], start_frame=start, qpos=np.array(qpos), qvel=np.array(qvel),
-                   rewards=np.array(rewards), ended_by=ended_by, episode_end=base.episode_end)
+                   actions=np.array(actions), rewards=np.array(rewards), ended_by=ended_by, episode_end=base.episode_end)
 
 
 def sampling_policy(policy: MimicPolicy) -> Policy:

@@ -1,10 +1,14 @@
 """How ``clean.py`` recovers from a fall: its rewind-and-retry settings, side by side, on validation takes.
 
 Usage: ``python bench/retry_strategies.py [--policy models/mimic_general]
-[--settings 0.5x4 1x16 2x32] [--seconds 10] [--strength 1] [--seed 7000] [--json [OUT]]``
+[--settings 0.5x4 1x16 1:search:8x32 1:searchall:8x32x1] [--seconds 10] [--strength 1] [--seed 7000]
+[--json [OUT]]``
 
-Each setting ``REWINDxRETRIES`` is a :class:`agents.clean.CleanConfig` (``rewind_s``,
-``retries``). Every take of the library's validation split (never the test split: this is for
+Each setting is a :class:`agents.clean.CleanConfig`: ``REWINDxRETRIES`` (``rewind_s``,
+``retries``: stochastic retries of the policy after a fall) or
+``REWIND:search:BEAMxSAMPLES[xNOISE[xPOSITION_WEIGHT]]`` (after a fall, the policy-guided search of
+:mod:`agents.search` from the rewound state) or ``REWIND:searchall:...`` (every stretch is
+performed by the search, not only the retries). Every take of the library's validation split (never the test split: this is for
 choosing the settings) is cut to ``--seconds``, IMU-corrupted at ``--strength`` with seed
 ``--seed + i`` and re-performed zero-shot by the policy with each setting. Reported per setting:
 re-anchors (teleports back to the reference) and recoveries (failures a stochastic retry got
@@ -19,12 +23,14 @@ from __future__ import annotations
 
 import argparse
 import time
+from dataclasses import asdict
 
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.clean import CleanConfig, clean_motion
 from agents.policy import load_policy
+from agents.search import SearchConfig
 from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the issue's protocol's takes
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.library import expand_clips
@@ -36,12 +42,29 @@ ASTRAY_M = 0.5
 
 
 def setting(text: str) -> CleanConfig:
-    """``"REWINDxRETRIES"`` (e.g. ``2x32``) as a :class:`CleanConfig`."""
+    """``"REWINDxRETRIES"`` (e.g. ``2x32``: stochastic retries) or ``"REWIND:search[all]:BEAMxSAMPLES[xNOISE[xPOSITION_WEIGHT]]"``
+    (e.g. ``1:search:8x32``: the policy-guided search, :class:`agents.search.SearchConfig`) as a
+    :class:`CleanConfig`."""
     try:
+        if ":search" in text:
+            rewind, mode, sizes = (text.lower().split(":") + [""])[:3]
+            beam, samples, *rest = (sizes or "8x32").split("x")
+            noise, weight = [float(x) for x in rest] + [1.0, 0.0][len(rest):]
+            search = SearchConfig(beam=int(beam), samples=int(samples), noise=noise, position_weight=weight)
+            return CleanConfig(rewind_s=float(rewind), search=search, search_all=mode == "searchall")
         rewind, retries = text.lower().split("x")
         return CleanConfig(rewind_s=float(rewind), retries=int(retries))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: expected REWIND_SxRETRIES, e.g. 2x32") from None
+        raise argparse.ArgumentTypeError(f"{text!r}: expected REWIND_SxRETRIES (e.g. 2x32) or "
+                                         "REWIND_S:search[all]:BEAMxSAMPLES[xNOISE[xWEIGHT]] (e.g. 1:search:8x32)") from None
+
+
+def label(config: CleanConfig) -> str:
+    """How a setting is printed: ``1 s x 16`` or ``1 s search 8x32 σ×1``."""
+    if config.search is None:
+        return f"{config.rewind_s:g} s x {config.retries}"
+    s = config.search
+    return f"{config.rewind_s:g} s search{'all' if config.search_all else ''} {s.beam}x{s.samples} σ×{s.noise:g} w{s.position_weight:g}"
 
 
 def main() -> None:
@@ -58,7 +81,7 @@ def main() -> None:
     takes = [corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i)
              for i, clip in enumerate(expand_clips(args.clips))]
     rows = []
-    print(f"{'rewind x retries':<17} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
+    print(f"{'setting':<22} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
           f"{'clean s':>8}")
     for config in args.settings:
         start = time.perf_counter()
@@ -70,14 +93,15 @@ def main() -> None:
             per_take.append({"take": reference.name, "frames": reference.n_frames,
                              "reanchors": len(out.source["reanchors"]), "recoveries": len(out.source["recoveries"]),
                              "sunk_frac": float(below.mean()), "astray_frac": float(away.mean())})
-        row = {"rewind_s": config.rewind_s, "retries": config.retries,
+        row = {"setting": label(config), "rewind_s": config.rewind_s, "retries": config.retries,
+               "search": None if config.search is None else asdict(config.search),
                "reanchors": sum(t["reanchors"] for t in per_take), "recoveries": sum(t["recoveries"] for t in per_take),
                "takes_whole": sum(t["reanchors"] == 0 for t in per_take), "takes": len(per_take),
                "sunk_frac": float(np.mean([t["sunk_frac"] for t in per_take])),
                "astray_frac": float(np.mean([t["astray_frac"] for t in per_take])),
                "clean_s": time.perf_counter() - start, "per_take": per_take}
         rows.append(row)
-        print(f"{f'{config.rewind_s:g} s x {config.retries}':<17} {row['reanchors']:>10} {row['recoveries']:>10} "
+        print(f"{label(config):<22} {row['reanchors']:>10} {row['recoveries']:>10} "
               f"{row['takes_whole']:>3}/{row['takes']:<2} {row['sunk_frac']:>6.1%} {row['astray_frac']:>7.1%} "
               f"{row['clean_s']:>8.1f}", flush=True)
     emit_json({"policy": args.policy, "clips": args.clips, "seconds": args.seconds, "strength": args.strength,

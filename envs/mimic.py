@@ -66,8 +66,11 @@ class MimicEnv(gym.Env):
     added to the reference PD targets of the driven hinges.
 
     ``reset(options=...)`` accepts ``clip`` (index or name), ``start_frame`` and ``corrupted``
-    (bool) to pin down an episode, e.g. for evaluation, and ``state`` = ``(qpos, qvel)`` to start
-    from a given simulated state instead of the reference state (to continue a long clip).
+    (bool) to pin down an episode, e.g. for evaluation, and ``state`` = ``(qpos, qvel)`` or
+    ``(qpos, qvel, action)`` to start from a given simulated state instead of the reference state
+    (to continue a long clip): ``action`` ``(A,)`` (rad) is the smoothed action in effect there
+    (:attr:`smoothed`), which the next step's smoothing continues from and the observation shows
+    (default zeros, as at a reference start).
 
     ``info``: ``r_local``, ``r_p``, ``r_v``, ``e_discount``, ``reward``; ``contacts`` (4 bools,
     order LT, RT, LH, RH: a sole region touching the floor); ``frame`` (reference frame index)
@@ -270,9 +273,9 @@ class MimicEnv(gym.Env):
         self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
-        qpos, qvel = (track.motion.qpos[start], track.qvel[start]) if state is None else state
-        if np.shape(qpos) != (m.nq,) or np.shape(qvel) != (m.nv,) or not np.all(np.isfinite(qpos)):
-            raise ValueError(f"reset option 'state' must be (qpos ({m.nq},), qvel ({m.nv},)) finite arrays")
+        n_act = len(self.driven)
+        qpos, qvel, action = ((track.motion.qpos[start], track.qvel[start], None) if state is None
+                              else _state_parts(state, m.nq, m.nv, n_act))
         d.qpos[:], d.qvel[:] = qpos, qvel
         d.ctrl[:] = self._pd_targets(track, start)
         mujoco.mj_forward(m, d)
@@ -281,13 +284,19 @@ class MimicEnv(gym.Env):
             d.qpos[2] += depth + self.config.init_clearance_m
         update_kinematics(m, d)
         self._bad_qacc = d.warning[mujoco.mjtWarning.mjWARN_BADQACC].number
-        self._action = np.zeros(len(self.driven))
+        self._action = np.zeros(n_act) if action is None else np.array(action, dtype=float)
         self._sim_contacts = region_contacts(floor_contact_geoms(d, self._floor), self.humanoid.geom_contact_channel)
         self._obs = self._observe(read_body_state(m, d))
         info = {"frame": self._frame, "episode_frame": 0, "clip": self.clips[clip].name, "corrupted": variant >= 0,
                 "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._sim_contacts.copy(),
                 "unstable": False, "ended_by": ""}
         return self._obs, info
+
+    @property
+    def smoothed(self) -> np.ndarray:
+        """The smoothed action in effect, ``(A,)`` rad (a copy): the offsets the last step added to
+        the PD targets, zeros after a reset from the reference state."""
+        return self._action.copy()
 
     def _clip_index(self, clip: int | str | None) -> int:
         """Index of ``clip`` (index or name); ``None`` draws one (:mod:`envs.sampling`)."""
@@ -484,6 +493,20 @@ size): environments of one process on the same clips with the same variant seeds
 ``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy, read
 only. A track lives while some environment's LRU cache holds it. Clip names are not part of the
 key (the environment reports its own clip's name)."""
+
+
+def _state_parts(state: Sequence, nq: int, nv: int, n_act: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
+    """``(qpos, qvel, action or None)`` of reset option ``state`` (``(qpos, qvel)`` or ``(qpos, qvel,
+    action)``), checked: shapes ``(nq,)``, ``(nv,)``, ``(n_act,)``, all finite."""
+    expected = f"(qpos ({nq},), qvel ({nv},)[, action ({n_act},)]) finite arrays"
+    if not isinstance(state, (tuple, list)) or len(state) not in (2, 3):
+        raise ValueError(f"reset option 'state' must be {expected}")
+    qpos, qvel, action = (*state, None) if len(state) == 2 else state
+    shapes = [(np.shape(qpos), (nq,)), (np.shape(qvel), (nv,))] + ([] if action is None else [(np.shape(action), (n_act,))])
+    parts = [qpos, qvel] + ([] if action is None else [action])
+    if any(got != want for got, want in shapes) or not all(np.all(np.isfinite(x)) for x in parts):
+        raise ValueError(f"reset option 'state' must be {expected}; got shapes {[np.shape(x) for x in parts]}")
+    return np.asarray(qpos), np.asarray(qvel), action
 
 
 def _content_key(motion: Motion) -> str:

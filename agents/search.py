@@ -1,0 +1,146 @@
+"""Policy-guided sampling search: carry a simulation past a place where the policy alone fails.
+
+SAMCON (Liu et al. 2010, "Sampling-based contact-rich motion control") performs a mocap clip under
+physics by sampling PD-target offsets window by window and keeping the samples whose simulated
+state tracks the clip best. Here a trained policy is the proposal: each sample runs the policy
+with Gaussian noise added to its actions (``noise`` times its own exploration σ), so the search
+explores around what the policy would do rather than around the raw reference.
+
+:func:`search` keeps a beam of the ``beam`` best simulated states. Each window of
+``window_steps`` control steps, ``samples`` rollouts continue the beam's states (round robin; the
+first rollout from the best state is the policy's own noise-free action); a rollout that fails
+(falls, lags behind the reference, the simulation blows up) is dropped, and the survivors ranked by
+the task reward summed along their lineage form the next beam. Every rollout starts from the exact
+state its parent ended in (``qpos``, ``qvel`` and the smoothed action: reset option ``state``), so
+a lineage is one continuous simulation. When every rollout of a window fails, the window is sampled
+again from the same beam, up to ``patience`` times, before the search gives up.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+
+from agents.policy import MimicPolicy
+from agents.rollout import Episode, Policy, run_episode
+
+
+@dataclass(frozen=True)
+class SearchConfig:
+    """How widely :func:`search` samples.
+
+    Attributes:
+        beam: simulated states kept after each window (8).
+        samples: rollouts per window, spread round robin over the beam (32).
+        window_steps: control steps per window (5: 1/6 s at 30 Hz).
+        noise: action noise, times the policy's own exploration σ per action dimension (1.0).
+        patience: times a window whose rollouts all failed is sampled again before giving up (2).
+        position_weight: how a state is ranked besides the task reward: minus this many reward
+            units per control step and metre of horizontal distance between the simulated root
+            and the reference's at the window's end (the task reward sees where the character is
+            only once its head is 0.21 m off, so without this a lineage can drift; 0).
+    """
+
+    beam: int = 8
+    samples: int = 32
+    window_steps: int = 5
+    noise: float = 1.0
+    patience: int = 2
+    position_weight: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name in ("beam", "samples", "window_steps"):
+            if getattr(self, name) < 1:
+                raise ValueError(f"SearchConfig.{name} must be >= 1, got {getattr(self, name)}")
+        if self.noise < 0 or self.patience < 0 or self.position_weight < 0:
+            raise ValueError(f"SearchConfig.noise, .patience and .position_weight must be >= 0, got {self.noise}, "
+                             f"{self.patience}, {self.position_weight}")
+
+
+@dataclass(frozen=True)
+class _Node:
+    """A simulated state the search reached: the window that reached it (``None`` at the start), its
+    parent, and the reward summed along its lineage."""
+
+    window: Episode | None
+    parent: _Node | None
+    score: float
+
+    def lineage(self) -> list[Episode]:
+        """The windows from the start to this state, in order."""
+        node, windows = self, []
+        while node is not None and node.window is not None:
+            windows.append(node.window)
+            node = node.parent
+        return windows[::-1]
+
+
+def noisy_policy(policy: MimicPolicy, scale: float, rng: np.random.Generator) -> Policy:
+    """``policy``'s deterministic action plus Gaussian noise of ``scale`` times its exploration σ
+    (per dimension, rad), clipped to the action space."""
+    sigma = scale * np.exp(policy.model.policy.log_std.detach().numpy())
+    space = policy.model.action_space
+
+    def act(obs: np.ndarray) -> np.ndarray:
+        return np.clip(policy(obs) + sigma * rng.standard_normal(sigma.shape), space.low, space.high)
+
+    return act
+
+
+def joined(windows: list[Episode]) -> Episode:
+    """Consecutive episodes (each starting from the state the previous one ended in) as one."""
+    first, last = windows[0], windows[-1]
+    for a, b in zip(windows, windows[1:]):
+        if b.start_frame != a.end_frame:
+            raise ValueError(f"episode starting at frame {b.start_frame} does not continue one ending at {a.end_frame}")
+    return Episode(clip=first.clip, start_frame=first.start_frame,
+                   qpos=np.concatenate([first.qpos] + [w.qpos[1:] for w in windows[1:]]),
+                   qvel=np.concatenate([first.qvel] + [w.qvel[1:] for w in windows[1:]]),
+                   actions=np.concatenate([first.actions] + [w.actions[1:] for w in windows[1:]]),
+                   rewards=np.concatenate([w.rewards for w in windows]),
+                   ended_by=last.ended_by, episode_end=last.episode_end)
+
+
+def search(env: gym.Env, policy: MimicPolicy, start_frame: int, state: tuple[np.ndarray, ...], stop: int,
+           config: SearchConfig, rng: np.random.Generator) -> tuple[Episode, int]:
+    """Search for a simulation of clip 0 of ``env`` from ``state`` (``(qpos, qvel[, action])``, reset
+    option ``state``) at reference frame ``start_frame`` that reaches frame ``stop`` without failing.
+
+    Returns ``(episode, rollouts)``: the best lineage as one :class:`Episode` from ``start_frame``
+    (``ended_by`` ``""`` when it reached ``stop``; else the failure of the rollout that got furthest,
+    appended to its lineage) and how many rollouts it took.
+    """
+    fpc = env.unwrapped.config.frames_per_control
+    reference_root = env.unwrapped.clips[0].qpos[:, :2]
+    window_frames = config.window_steps * fpc
+    beam = [_Node(None, None, 0.0)]
+    frame, rollouts = start_frame, 0
+    furthest: _Node | None = None  # the failed rollout that got furthest (with its lineage)
+    while frame < stop:
+        length = min(window_frames, stop - frame)
+        children: list[_Node] = []
+        for attempt in range(config.patience + 1):
+            for k in range(config.samples):
+                parent = beam[k % len(beam)]
+                start = state if parent.window is None else parent.window.state(parent.window.end_frame)
+                act = policy if (k == 0 and attempt == 0) else noisy_policy(policy, config.noise, rng)
+                window = run_episode(env, act, {"clip": 0, "start_frame": frame, "state": start}, max_frames=length)
+                rollouts += 1
+                drift = float(np.linalg.norm(window.qpos[-1, :2] - reference_root[window.end_frame]))
+                gained = float(window.rewards.sum()) - config.position_weight * len(window.rewards) * drift
+                node = _Node(window, parent, parent.score + gained)
+                if window.failed:
+                    if furthest is None or window.end_frame > furthest.window.end_frame:
+                        furthest = node
+                else:
+                    children.append(node)
+            if children:
+                break
+        if not children:
+            return joined(furthest.lineage()), rollouts
+        children.sort(key=lambda n: n.score, reverse=True)
+        beam = children[:config.beam]
+        frame = beam[0].window.end_frame
+    return joined(beam[0].lineage()), rollouts
