@@ -270,13 +270,13 @@ def performance_rank(summary: dict) -> tuple[int, int, float]:
 
 
 def _performance(policy: MimicPolicy, reference: Motion) -> tuple[Motion, dict]:
-    """``reference`` performed whole by ``policy`` as :mod:`agents.clean` does it with its default
-    :class:`~agents.clean.CleanConfig` (0.5-s rewind, 4 retries; a clip cleaned with other
-    ``--rewind-s`` / ``--retries`` was still judged with these), and the performance's
+    """``reference`` performed whole by ``policy`` as :mod:`agents.clean` does it with the policy
+    alone (``--search off``: 0.5-s rewind, 4 stochastic retries; the search would cost about 30
+    times as much per chunk, whatever the clip is then cleaned with), and the performance's
     ``reanchors``, ``recoveries`` (counts) and ``reward_ratio`` (``None`` when nothing was simulated)."""
     from agents.clean import CleanConfig, clean_motion  # agents.clean imports this module
 
-    performed = clean_motion(policy, reference, CleanConfig(), progress=False)
+    performed = clean_motion(policy, reference, CleanConfig(rewind_s=0.5, search=None), progress=False)
     source = performed.source
     ratio = source["reward_ratio"]
     return performed, {"reanchors": len(source["reanchors"]), "recoveries": len(source["recoveries"]),

@@ -14,11 +14,15 @@ so cleaning the same clip again skips it; ``--no-adapt`` re-performs zero-shot).
 (any length) is simulated in stretches of at most the policy's episode length, each continuing from
 the simulated state where the previous one ended, so the result is one continuous motion. Where
 the character fails (falls, lags behind the reference, or the simulation blows up), the
-simulation rewinds ``--rewind-s`` before the failure to the last good simulated state and retries
-that stretch with up to ``--retries`` stochastic rollouts of the policy (its Gaussian action
-noise, seeded), keeping the first that gets past the failure; only if every retry fails does it
-re-anchor: the simulation restarts from the reference state at a frame just before where the
-longest retry failed. Every output frame is simulated; the re-anchors (frame, reason, retries)
+simulation rewinds ``--rewind-s`` before the failure to the last good simulated state and tries
+that stretch again; only if that fails too does it re-anchor: the simulation restarts from the
+reference state at a frame just before where the longest try failed. By default
+(``--search all``) every stretch, and every second try, is a policy-guided beam search
+(:mod:`agents.search`: ``--search-samples`` rollouts of the policy with seeded Gaussian action
+noise per 1/6 s window, the ``--search-beam`` best simulated states kept), which gets through
+about half of the places where the policy alone falls (``bench/retry_strategies.py``);
+``--search retries`` searches only after a failure, ``--search off`` runs the policy alone and
+retries with up to ``--retries`` stochastic rollouts of it, keeping the first that gets past. Every output frame is simulated; the re-anchors (frame, reason, retries)
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
 a red border in the video, which shows the reference (left) and the result (right).
 ``--touch-up`` then removes what the soft contact model leaves (feet sunk into the floor, creeping
@@ -70,6 +74,10 @@ REANCHOR_MARK_S = 0.5
 """How long (s) the video marks the result after each re-anchor."""
 
 
+SEARCH_MODES = ("all", "retries", "off")
+"""``--search``: where :class:`CleanConfig`'s search runs."""
+
+
 @dataclass(frozen=True)
 class CleanConfig:
     """How a clip is re-performed.
@@ -77,25 +85,31 @@ class CleanConfig:
     Attributes:
         episode_frames: longest stretch simulated from one reset, in 60 Hz frames (``None``: the
             policy's episode length, 300 for the shipped ones).
-        rewind_s: how far before a failure (s) the retries restart (0.5).
-        retries: stochastic rollouts tried from there before re-anchoring (4).
-        seed: seed of the first retry; each further retry of the clip takes the next one (0).
-        search: instead of the stochastic retries, search from the rewound state with the policy
-            as the proposal (:func:`agents.search.search`, these settings) to ``rewind_s`` past the
-            failure (``None``: the retries).
-        search_all: run every stretch as such a search, not only the retries (needs ``search``).
+        rewind_s: how far before a failure (s) the second try restarts (1.0; chosen on the
+            validation takes with ``bench/retry_strategies.py``).
+        retries: with ``search=None``: stochastic rollouts of the policy tried from there before
+            re-anchoring (4).
+        seed: seed of the first stochastic retry, each further retry of the clip taking the next
+            one; and of the search's action noise (0).
+        search: the policy-guided search (:func:`agents.search.search`, these settings) that
+            performs every stretch and, from the rewound state to ``rewind_s`` past a failure,
+            the second try (default :class:`~agents.search.SearchConfig`); ``None``: the policy's
+            deterministic action, then ``retries`` stochastic retries.
+        search_retries_only: perform the stretches with the policy alone and search only after a
+            failure (False).
     """
 
     episode_frames: int | None = None
-    rewind_s: float = 0.5
+    rewind_s: float = 1.0
     retries: int = 4
     seed: int = 0
-    search: SearchConfig | None = None
-    search_all: bool = False
+    search: SearchConfig | None = SearchConfig()
+    search_retries_only: bool = False
 
-    def __post_init__(self) -> None:
-        if self.search_all and self.search is None:
-            raise ValueError("CleanConfig.search_all needs a search (CleanConfig.search)")
+    @property
+    def searches_everywhere(self) -> bool:
+        """Whether every stretch is performed by the search."""
+        return self.search is not None and not self.search_retries_only
 
     def rewind_frames(self, fps: float, frames_per_control: int, episode_frames: int) -> int:
         """:attr:`rewind_s` in frames at ``fps``: at least one control step, less than an episode
@@ -250,7 +264,7 @@ class _Performance:
         done = 0  # frames 0..done are committed
         while done < self.last:
             stop = min(done + self.episode_frames, self.last)
-            if self.config.search_all:
+            if self.config.searches_everywhere:
                 episode, rollouts = search(self.env, self.policy, done, self.ring.state(done), stop,
                                            self.config.search, self.rng)
                 self.tries += rollouts
@@ -331,7 +345,8 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     ``simulated_fraction``: the share of frame-to-frame transitions that are physics steps, i.e.
     ``1 − re-anchors / (frames − 1)`` (1.0: one continuous simulation from the first frame), and
     ``reward_ratio``: the policy's task reward over the whole performance, as a share of the most a
-    control step can earn (each simulated frame counts the reward of the step that simulated it).
+    control step can earn (each simulated frame counts the reward of the step that simulated it),
+    and ``clean_config``: ``config`` as a dict.
     """
     require_frames(reference, MIN_FRAMES, reference.name, "cleaning")
     performance = _Performance(policy, reference, config)
@@ -345,6 +360,7 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
               "reanchors": [asdict(r) for r in performance.reanchors],
               "recoveries": [asdict(r) for r in performance.recoveries],
               "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last,
+              "clean_config": asdict(config),
               "reward_ratio": performance.reward_ratio()}
     return reference.with_qpos(out, name=f"{reference.name} (cleaned)", loop=False, source=source)
 
@@ -421,11 +437,20 @@ sr90_target = or_none(fraction)
 def add_performance_options(p: argparse.ArgumentParser) -> None:
     """The options of how a clip is re-performed (failures, per-clip adaptation), shared by every
     command that cleans a clip with a policy; read back by :func:`clean_config` and :func:`adapt_to_clip`."""
-    g = p.add_argument_group("failures")
+    g = p.add_argument_group("search and failures")
+    g.add_argument("--search", choices=SEARCH_MODES, default="all",
+                   help="where the policy-guided search runs: every stretch (all), only after a failure "
+                        "(retries), nowhere (off: the policy alone, then --retries stochastic retries)")
+    g.add_argument("--search-beam", type=positive_int, default=SearchConfig.beam,
+                   help="simulated states the search keeps after each window")
+    g.add_argument("--search-samples", type=positive_int, default=SearchConfig.samples,
+                   help="rollouts per search window (the cost: about this many times the policy alone)")
+    g.add_argument("--search-noise", type=non_negative_float, default=SearchConfig.noise,
+                   help="the search's action noise, times the policy's own exploration sigma")
     g.add_argument("--rewind-s", type=positive_float, default=CleanConfig.rewind_s,
-                   help="after a failure, retry from this long before it (s)")
+                   help="after a failure, try again from this long before it (s)")
     g.add_argument("--retries", type=non_negative_int, default=CleanConfig.retries,
-                   help="stochastic retries before re-anchoring to the reference")
+                   help="with --search off: stochastic retries before re-anchoring to the reference")
     g = p.add_argument_group("per-clip adaptation (PPO fine-tuning on the clip before cleaning)")
     g.add_argument("--no-adapt", action="store_true", help="clean with the policy as given (zero-shot)")
     g.add_argument("--adapt-budget-s", type=positive_float, default=AdaptConfig.budget_s,
@@ -475,7 +500,10 @@ def print_performance(cleaned: Motion, out: Path) -> None:
 
 def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> CleanConfig:
     """The :class:`CleanConfig` of the command line, checked against ``policy``'s task before any work."""
-    config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries)
+    search = None if args.search == "off" else SearchConfig(beam=args.search_beam, samples=args.search_samples,
+                                                             noise=args.search_noise)
+    config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries, search=search,
+                         search_retries_only=args.search == "retries")
     task = policy.record.env.mimic_config()
     config.rewind_frames(reference.fps, task.frames_per_control, task.episode_frames)
     return config

@@ -3,8 +3,7 @@
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
 [--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
-[--physics-threads N] [--out-dir DIR]
-[--json [OUT]]``
+[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--out-dir DIR] [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
 the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
@@ -12,8 +11,10 @@ whole: the library's takes are not cyclic) and IMU-corrupted at ``--strength`` w
 seed ``--seed + i`` (seeds no training run uses: training variants come from the run's seed), the
 policy is adapted to the corrupted take (:mod:`agents.adaptation`, per-take budget
 ``--adapt-budget-s``, stopping at SR90 ``--adapt-target`` and keeping the chunk ``--adapt-keep``
-ranks best; a fresh cache so nothing is reused) and cleans it (:func:`agents.clean.clean_motion`).
-Reported per take and summarised: whether the whole take was simulated without a re-anchor
+ranks best; a fresh cache so nothing is reused) and cleans it (:func:`agents.clean.clean_motion`)
+with each of ``--settings`` (:class:`agents.clean.CleanConfig` as ``bench/clean_settings.py`` names
+them: by default the policy alone with stochastic retries, and clean.py's default, every stretch
+searched), side by side. Reported per take and setting and summarised: whether the whole take was simulated without a re-anchor
 (goal: ≥ 9 of 10), ELR of the adapted policy on the take (ADAPT's protocol; goal ≥ 0.97), foot
 skate, floating and penetration of the cleaned take against the corrupted input (goal: each
 ≥ 80% lower; jitter too), the same after the contact touch-up (``clean.py --touch-up``,
@@ -25,6 +26,7 @@ from __future__ import annotations
 import argparse
 import tempfile
 import time
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -32,6 +34,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
 from agents.clean import CleanConfig, clean_motion, sr90_target, touched_up
+from clean_settings import label, setting  # bench/clean_settings.py: the scripts run from bench/
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -76,6 +79,37 @@ def reduction(fraction: float) -> str:
     return "n/a" if np.isnan(fraction) else f"{-fraction:+.0%}"
 
 
+def cleaning(policy, reference: Motion, config: CleanConfig, out_stem: Path | None) -> dict:
+    """``reference`` cleaned by ``policy`` with ``config``, touched up, and scored against it: a
+    report row (written as ``OUT_STEM_{simulated,touched}.npz`` too with ``out_stem``)."""
+    start = time.perf_counter()
+    cleaned = clean_motion(policy, reference, config, progress=False)
+    clean_s = time.perf_counter() - start
+    touched, touch = touched_up(cleaned)
+    before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
+    touched_after = motion_quality(touched).as_dict()
+    if out_stem:
+        for kind, motion in (("simulated", cleaned), ("touched", touched)):
+            motion.save(out_stem.with_name(f"{out_stem.name}_{kind}.npz"))
+    return {"setting": label(config), "reanchors": len(cleaned.source["reanchors"]),
+            "recoveries": len(cleaned.source["recoveries"]), "clean_s": clean_s,
+            **{f"{k}_input": before[k] for k in ARTEFACTS}, **{f"{k}_output": after[k] for k in ARTEFACTS},
+            **{f"{k}_reduction": reduction_of(before[k], after[k]) for k in ARTEFACTS},
+            **{f"{k}_touched_output": touched_after[k] for k in ARTEFACTS},
+            **{f"{k}_touched_reduction": reduction_of(before[k], touched_after[k]) for k in ARTEFACTS},
+            "touch_up": touch.as_dict()}
+
+
+def summary_of(rows: list[dict], setting_label: str) -> dict:
+    """The takes' figures with the cleaning ``setting_label`` summarised."""
+    cleanings = [next(c for c in r["cleanings"] if c["setting"] == setting_label) for r in rows]
+    return {"setting": setting_label, "takes": len(rows), "no_reanchor": sum(c["reanchors"] == 0 for c in cleanings),
+            "reanchors": sum(c["reanchors"] for c in cleanings),
+            "clean_s_median": float(np.median([c["clean_s"] for c in cleanings])),
+            **{f"{k}_{kind}_median": float(np.nanmedian([c[f"{k}_{kind}"] for c in cleanings]))
+               for k in ARTEFACTS for kind in ("reduction", "touched_reduction")}}
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--policy", default="models/mimic_general")
@@ -95,8 +129,10 @@ def main() -> None:
     p.add_argument("--physics-threads", type=int, default=1,
                    help="threads stepping each adaptation's physics (AdaptConfig.physics_threads; 1: the "
                         "protocol runs two of these processes at once, one per core)")
+    p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1:searchall:16x64")],
+                   help="how each adapted take is cleaned (bench/clean_settings.py), side by side")
     p.add_argument("--out-dir", type=Path, default=None,
-                   help="also write each take's input, simulated and touched-up clips here (.npz)")
+                   help="also write each take's input and, per setting K, its simulated and touched-up clips here (.npz)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     frames = int(round(args.seconds * 60)) + 1
@@ -110,49 +146,41 @@ def main() -> None:
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
                                  keep=args.adapt_keep, physics_threads=args.physics_threads, cache_dir=Path(cache))
             adapted = adapt_policy(policy, reference, config, progress=False)
-            start = time.perf_counter()
-            cleaned = clean_motion(adapted.policy, reference, CleanConfig(), progress=False)
-            clean_s = time.perf_counter() - start
-            touched, touch = touched_up(cleaned)
-            before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
-            touched_after = motion_quality(touched).as_dict()
-            if args.out_dir:
-                stem = f"{i:02d}_{clip.split('#')[-1]}"
-                for kind, motion in (("input", reference), ("simulated", cleaned), ("touched", touched)):
-                    motion.save(args.out_dir / f"{stem}_{kind}.npz")
+            stem = args.out_dir / f"{i:02d}_{clip.split('#')[-1]}" if args.out_dir else None
+            if stem:
+                reference.save(stem.with_name(f"{stem.name}_input.npz"))
             row = {"clip": clip, "frames": reference.n_frames, "full_length": looped, "seed": args.seed + i,
-                   "reanchors": len(cleaned.source["reanchors"]), "recoveries": len(cleaned.source["recoveries"]),
                    "ELR_before": adapted.elr_before, "ELR": adapted.elr_after, "SR90": adapted.sr90_after,
-                   "adapt_s": adapted.wall_s, "adapt_steps": adapted.steps, "clean_s": clean_s,
-                   **{f"{k}_input": before[k] for k in ARTEFACTS}, **{f"{k}_output": after[k] for k in ARTEFACTS},
-                   **{f"{k}_reduction": reduction_of(before[k], after[k]) for k in ARTEFACTS},
-                   **{f"{k}_touched_output": touched_after[k] for k in ARTEFACTS},
-                   **{f"{k}_touched_reduction": reduction_of(before[k], touched_after[k]) for k in ARTEFACTS},
-                   "touch_up": touch.as_dict()}
+                   "adapt_s": adapted.wall_s, "adapt_steps": adapted.steps,
+                   "cleanings": [cleaning(adapted.policy, reference, c, stem and stem.with_name(f"{stem.name}_{k}"))
+                                 for k, c in enumerate(args.settings)]}
             rows.append(row)
-            print(f"{clip.split('#')[-1]:<34} re-anchors {row['reanchors']:2d}  ELR {row['ELR_before']:.2f} -> "
-                  f"{row['ELR']:.2f}  skate {reduction(row['foot_skate_mps_reduction'])}  float "
-                  f"{reduction(row['floating_m_reduction'])}  pen {reduction(row['penetration_max_m_reduction'])}  "
-                  f"adapt {row['adapt_s']:.0f} s; touched up: skate {reduction(row['foot_skate_mps_touched_reduction'])}  "
-                  f"float {reduction(row['floating_m_touched_reduction'])}  "
-                  f"pen {reduction(row['penetration_max_m_touched_reduction'])}", flush=True)
+            print(f"{clip.split('#')[-1]:<34} ELR {row['ELR_before']:.2f} -> {row['ELR']:.2f}  adapt "
+                  f"{row['adapt_s']:.0f} s", flush=True)
+            for c in row["cleanings"]:
+                print(f"    {c['setting']:<26} re-anchors {c['reanchors']:2d}  skate "
+                      f"{reduction(c['foot_skate_mps_reduction'])}  float {reduction(c['floating_m_reduction'])}  "
+                      f"pen {reduction(c['penetration_max_m_reduction'])}  clean {c['clean_s']:.0f} s; touched up: "
+                      f"skate {reduction(c['foot_skate_mps_touched_reduction'])}  "
+                      f"float {reduction(c['floating_m_touched_reduction'])}  "
+                      f"pen {reduction(c['penetration_max_m_touched_reduction'])}", flush=True)
     adapt_s = [r["adapt_s"] for r in rows]
-    summary = {"takes": len(rows), "no_reanchor": sum(r["reanchors"] == 0 for r in rows),
-               "ELR_mean": float(np.mean([r["ELR"] for r in rows])),
+    summary = {"takes": len(rows), "ELR_mean": float(np.mean([r["ELR"] for r in rows])),
                "adapt_s_median": float(np.median(adapt_s)), "adapt_s_max": float(np.max(adapt_s)),
-               **{f"{k}_{kind}_median": float(np.nanmedian([r[f"{k}_{kind}"] for r in rows]))
-                  for k in ARTEFACTS for kind in ("reduction", "touched_reduction")}}
-    print(f"\nno re-anchor on {summary['no_reanchor']} of {summary['takes']} takes (goal >= 9 of 10); ELR "
-          f"{summary['ELR_mean']:.3f} (goal >= 0.97); adaptation median {summary['adapt_s_median']:.0f} s, max "
-          f"{summary['adapt_s_max']:.0f} s (goal <= 300 s)")
-    print("median reductions: " + ", ".join(f"{k} {summary[f'{k}_reduction_median']:.0%}" for k in ARTEFACTS)
-          + " (goal: the first four >= 80% each)")
-    print("touched up (clean.py --touch-up): " + ", ".join(f"{k} {summary[f'{k}_touched_reduction_median']:.0%}"
-                                                           for k in ARTEFACTS))
+               "cleanings": [summary_of(rows, label(c)) for c in args.settings]}
+    print(f"\nELR {summary['ELR_mean']:.3f} (goal >= 0.97); adaptation median {summary['adapt_s_median']:.0f} s, "
+          f"max {summary['adapt_s_max']:.0f} s (goal <= 300 s)")
+    for c in summary["cleanings"]:
+        print(f"{c['setting']}: no re-anchor on {c['no_reanchor']} of {c['takes']} takes (goal >= 9 of 10), "
+              f"{c['reanchors']} re-anchors; median reductions: "
+              + ", ".join(f"{k} {c[f'{k}_reduction_median']:.0%}" for k in ARTEFACTS)
+              + " (goal: the first four >= 80% each); touched up: "
+              + ", ".join(f"{k} {c[f'{k}_touched_reduction_median']:.0%}" for k in ARTEFACTS))
     emit_json({"policy": args.policy, "seconds": args.seconds, "strength": args.strength,
                "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
                "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
-               "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads, "summary": summary,
+               "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads,
+               "settings": [asdict(c) for c in args.settings], "summary": summary,
                "takes": rows}, args.json)
 
 

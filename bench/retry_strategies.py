@@ -1,17 +1,17 @@
 """How ``clean.py`` recovers from a fall: its rewind-and-retry settings, side by side, on validation takes.
 
 Usage: ``python bench/retry_strategies.py [--policy models/mimic_general]
-[--settings 0.5x4 1x16 1:search:8x32 1:searchall:8x32x1] [--seconds 10] [--strength 1] [--seed 7000]
+[--settings 0.5x4 1:search:16x64 1:searchall:16x64x1] [--seconds 10] [--strength 1] [--seed 7000]
 [--json [OUT]]``
 
-Each setting is a :class:`agents.clean.CleanConfig`: ``REWINDxRETRIES`` (``rewind_s``,
-``retries``: stochastic retries of the policy after a fall) or
-``REWIND:search:BEAMxSAMPLES[xNOISE[xPOSITION_WEIGHT]]`` (after a fall, the policy-guided search of
-:mod:`agents.search` from the rewound state) or ``REWIND:searchall:...`` (every stretch is
-performed by the search, not only the retries). Every take of the library's validation split (never the test split: this is for
-choosing the settings) is cut to ``--seconds``, IMU-corrupted at ``--strength`` with seed
+Each setting is a :class:`agents.clean.CleanConfig` as ``bench/clean_settings.py`` names it:
+``REWINDxRETRIES`` (the policy alone, stochastic retries after a fall),
+``REWIND:search:BEAMxSAMPLES[xNOISE[xPOSITION_WEIGHT]]`` (the policy alone, the policy-guided
+search of :mod:`agents.search` after a fall) or ``REWIND:searchall:...`` (every stretch searched).
+Every take of the library's validation split (never the test split: this is for choosing the
+settings) is cut to ``--seconds``, IMU-corrupted at ``--strength`` with seed
 ``--seed + i`` and re-performed zero-shot by the policy with each setting. Reported per setting:
-re-anchors (teleports back to the reference) and recoveries (failures a stochastic retry got
+re-anchors (teleports back to the reference) and recoveries (failures a second try got
 past) in all, the takes simulated whole, the cleaning wall time, and what the output's frames
 look like against the input: the share of frames whose root is more than 0.2 m below the input's
 (``sunk``: the character down or going down) and more than 0.5 m from it horizontally
@@ -28,10 +28,10 @@ from dataclasses import asdict
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.clean import CleanConfig, clean_motion
+from agents.clean import clean_motion
 from agents.policy import load_policy
-from agents.search import SearchConfig
 from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the issue's protocol's takes
+from clean_settings import label, setting  # bench/clean_settings.py
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.library import expand_clips
 
@@ -41,37 +41,11 @@ ASTRAY_M = 0.5
 """Root this far (m) from the input's root, horizontally."""
 
 
-def setting(text: str) -> CleanConfig:
-    """``"REWINDxRETRIES"`` (e.g. ``2x32``: stochastic retries) or ``"REWIND:search[all]:BEAMxSAMPLES[xNOISE[xPOSITION_WEIGHT]]"``
-    (e.g. ``1:search:8x32``: the policy-guided search, :class:`agents.search.SearchConfig`) as a
-    :class:`CleanConfig`."""
-    try:
-        if ":search" in text:
-            rewind, mode, sizes = (text.lower().split(":") + [""])[:3]
-            beam, samples, *rest = (sizes or "8x32").split("x")
-            noise, weight = [float(x) for x in rest] + [1.0, 0.0][len(rest):]
-            search = SearchConfig(beam=int(beam), samples=int(samples), noise=noise, position_weight=weight)
-            return CleanConfig(rewind_s=float(rewind), search=search, search_all=mode == "searchall")
-        rewind, retries = text.lower().split("x")
-        return CleanConfig(rewind_s=float(rewind), retries=int(retries))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r}: expected REWIND_SxRETRIES (e.g. 2x32) or "
-                                         "REWIND_S:search[all]:BEAMxSAMPLES[xNOISE[xWEIGHT]] (e.g. 1:search:8x32)") from None
-
-
-def label(config: CleanConfig) -> str:
-    """How a setting is printed: ``1 s x 16`` or ``1 s search 8x32 σ×1``."""
-    if config.search is None:
-        return f"{config.rewind_s:g} s x {config.retries}"
-    s = config.search
-    return f"{config.rewind_s:g} s search{'all' if config.search_all else ''} {s.beam}x{s.samples} σ×{s.noise:g} w{s.position_weight:g}"
-
-
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--policy", default="models/mimic_general")
     p.add_argument("--clips", nargs="+", default=["library:data/library/val"], help="takes (validation only)")
-    p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1x16", "2x32")])
+    p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1:search:16x64", "1:searchall:16x64")])
     p.add_argument("--seconds", type=float, default=10.0)
     p.add_argument("--strength", type=float, default=1.0)
     p.add_argument("--seed", type=int, default=7000, help="artefact seed of the first take (take i: seed + i)")

@@ -44,8 +44,13 @@ class Flailing(MimicPolicy):
         return super().__call__(obs)
 
 
+POLICY_ALONE = CleanConfig(rewind_s=0.5, search=None)
+"""clean.py --search off --rewind-s 0.5: the policy's deterministic action, stochastic retries
+(the search everywhere, the default: tests/test_search.py)."""
+
+
 def test_a_good_policy_performs_the_whole_clip_in_one_simulation(walk_policy, walk):
-    cleaned = clean_motion(walk_policy, walk, progress=False)
+    cleaned = clean_motion(walk_policy, walk, POLICY_ALONE, progress=False)
     assert cleaned.n_frames == walk.n_frames and np.isfinite(cleaned.qpos).all()
     assert cleaned.source["simulated_fraction"] == 1.0
     assert cleaned.source["reanchors"] == [] and cleaned.source["recoveries"] == []
@@ -67,7 +72,8 @@ def test_a_good_policy_performs_the_whole_clip_in_one_simulation(walk_policy, wa
 def test_a_failure_is_retried_from_before_it(walk_policy, walk):
     """The policy flails for 30 steps (a failure); stochastic retries of the walk policy from 1 s
     before it get past it: recorded as recoveries, no re-anchor, every frame simulated."""
-    cleaned = clean_motion(Flailing(walk_policy, first=60, count=30), walk, CleanConfig(rewind_s=1.0), progress=False)
+    cleaned = clean_motion(Flailing(walk_policy, first=60, count=30), walk, CleanConfig(rewind_s=1.0, search=None),
+                           progress=False)
     recoveries = cleaned.source["recoveries"]
     assert recoveries and all(r["reason"] in FAILURES and r["frame"] < r["failed_at"] for r in recoveries)
     assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
@@ -76,7 +82,7 @@ def test_a_failure_is_retried_from_before_it(walk_policy, walk):
 
 def test_when_every_retry_fails_it_reanchors_and_says_where_and_why(walk_policy, walk, monkeypatch):
     monkeypatch.setattr(clean, "sampling_policy", lambda policy: policy)  # the retries flail too
-    cleaned = clean_motion(Flailing(walk_policy), walk, CleanConfig(retries=2), progress=False)
+    cleaned = clean_motion(Flailing(walk_policy), walk, CleanConfig(retries=2, search=None), progress=False)
     reanchors = cleaned.source["reanchors"]
     assert reanchors, "a policy at the action limit must fail"
     frames = [r["frame"] for r in reanchors]
@@ -207,7 +213,7 @@ def test_adaptation_can_keep_the_chunk_that_performs_the_clip_best(walk_policy, 
     assert all({"reanchors", "recoveries", "reward_ratio"} <= set(f) for f in figures)
     best = max(range(len(figures)), key=lambda i: performance_rank(figures[i]))
     assert result.kept_steps == (0 if best == 0 else result.chunks[best - 1]["steps"])
-    kept = clean_motion(result.policy, turn, progress=False).source
+    kept = clean_motion(result.policy, turn, POLICY_ALONE, progress=False).source  # how chunks are ranked
     assert (len(kept["reanchors"]), len(kept["recoveries"])) == (figures[best]["reanchors"], figures[best]["recoveries"])
     assert adaptation_key(turn, walk_policy, config) != adaptation_key(turn, walk_policy, replace(config, keep="evaluation"))
     with pytest.raises(ValueError, match="keep must be one of"):

@@ -6,7 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.clean import CleanConfig, clean_motion
+from agents.clean import CleanConfig, build_parser, clean_config, clean_motion
 from agents.policy import MimicPolicy, load_policy
 from agents.rollout import run_episode
 from agents import search as search_module
@@ -100,13 +100,18 @@ def test_search_gives_up_with_the_furthest_failure(walk_policy, walk):
     assert found.failed and 40 < found.end_frame < 80 and rollouts == 3 + 2 * 3
 
 
-def test_clean_with_search_everywhere_performs_the_clip(walk_policy, walk):
-    config = CleanConfig(search=SearchConfig(beam=2, samples=3), search_all=True)
-    cleaned = clean_motion(walk_policy, walk, config, progress=False)
+def test_clean_searches_everywhere_by_default(walk_policy, walk):
+    """clean.py's default: every stretch searched (16 states, 64 rollouts per window), one
+    continuous simulation of the clip; the settings are recorded with the result."""
+    assert CleanConfig().searches_everywhere and not CleanConfig(search=None).searches_everywhere
+    assert not CleanConfig(search_retries_only=True).searches_everywhere
+    cleaned = clean_motion(walk_policy, walk, progress=False)
     assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
+    assert cleaned.source["clean_config"]["search"] == {"beam": 16, "samples": 64, "window_steps": 5, "noise": 1.0,
+                                                        "patience": 2, "position_weight": 0.0}
     assert np.isfinite(cleaned.qpos).all() and not np.allclose(cleaned.qpos, walk.qpos, atol=1e-3)
-    with pytest.raises(ValueError, match="search_all needs a search"):
-        CleanConfig(search_all=True)
+    step = np.linalg.norm(np.diff(cleaned.qpos[:, :3], axis=0), axis=1)
+    assert step.max() < 0.1  # one simulation: no jump between frames
 
 
 @pytest.mark.parametrize("bad", [dict(beam=0), dict(samples=0), dict(window_steps=0), dict(noise=-1.0),
@@ -114,3 +119,16 @@ def test_clean_with_search_everywhere_performs_the_clip(walk_policy, walk):
 def test_search_config_refuses_bad_settings(bad):
     with pytest.raises(ValueError, match="SearchConfig"):
         SearchConfig(**bad)
+
+
+@pytest.mark.parametrize("argv, search, retries_only", [
+    ([], SearchConfig(), False),
+    (["--search", "retries", "--search-beam", "4", "--search-samples", "8", "--search-noise", "0.5"],
+     SearchConfig(beam=4, samples=8, noise=0.5), True),
+    (["--search", "off", "--retries", "7"], None, False),
+])
+def test_clean_command_line_sets_the_search(walk_policy, walk, argv, search, retries_only):
+    args = build_parser().parse_args(["deepmimic:walk", "--policy", str(WALK_POLICY), "--out", "x.npz", *argv])
+    config = clean_config(walk_policy, walk, args)
+    assert (config.search, config.search_retries_only) == (search, retries_only)
+    assert config.retries == (7 if "--retries" in argv else 4)
