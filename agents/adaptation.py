@@ -274,9 +274,9 @@ def _performance(policy: MimicPolicy, reference: Motion) -> tuple[Motion, dict]:
     alone (``--search off``: 0.5-s rewind, 4 stochastic retries; the search would cost about 30
     times as much per chunk, whatever the clip is then cleaned with), and the performance's
     ``reanchors``, ``recoveries`` (counts) and ``reward_ratio`` (``None`` when nothing was simulated)."""
-    from agents.clean import CleanConfig, clean_motion  # agents.clean imports this module
+    from agents.clean import POLICY_ALONE, clean_motion  # agents.clean imports this module
 
-    performed = clean_motion(policy, reference, CleanConfig(rewind_s=0.5, search=None), progress=False)
+    performed = clean_motion(policy, reference, POLICY_ALONE, progress=False)
     source = performed.source
     ratio = source["reward_ratio"]
     return performed, {"reanchors": len(source["reanchors"]), "recoveries": len(source["recoveries"]),

@@ -19,8 +19,9 @@ that stretch again; only if that fails too does it re-anchor: the simulation res
 reference state at a frame just before where the longest try failed. By default
 (``--search all``) every stretch, and every second try, is a policy-guided beam search
 (:mod:`agents.search`: ``--search-samples`` rollouts of the policy with seeded Gaussian action
-noise per 1/6 s window, the ``--search-beam`` best simulated states kept), which gets through
-about half of the places where the policy alone falls (``bench/retry_strategies.py``);
+noise per 1/6 s window, the ``--search-beam`` best simulated states kept, ranked by the reward so
+far plus the policy's critic's estimate of the return to come), which gets through about two
+thirds of the places where the policy alone falls, zero-shot (``bench/retry_strategies.py``);
 ``--search retries`` searches only after a failure, ``--search off`` runs the policy alone and
 retries with up to ``--retries`` stochastic rollouts of it, keeping the first that gets past. Every output frame is simulated; the re-anchors (frame, reason, retries)
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
@@ -119,6 +120,12 @@ class CleanConfig:
             raise ValueError(f"--rewind-s {self.rewind_s} is {frames} frames, not less than an episode "
                              f"({episode_frames} frames)")
         return frames
+
+
+POLICY_ALONE = CleanConfig(rewind_s=0.5, search=None)
+"""``clean.py --search off --rewind-s 0.5``: the policy's own action, then 4 stochastic retries
+after a failure (the default before the search; about 1/30 of its cost). The adaptation ranks
+its chunks with it, and the benchmarks measured before the search use it."""
 
 
 @dataclass(frozen=True)
@@ -447,6 +454,9 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                    help="rollouts per search window (the cost: about this many times the policy alone)")
     g.add_argument("--search-noise", type=non_negative_float, default=SearchConfig.noise,
                    help="the search's action noise, times the policy's own exploration sigma")
+    g.add_argument("--search-value", type=non_negative_float, default=SearchConfig.value_weight,
+                   help="weight of the policy's critic (its estimate of the return still to come) when the search "
+                        "ranks the states it reached; 0: the reward so far alone")
     g.add_argument("--rewind-s", type=positive_float, default=CleanConfig.rewind_s,
                    help="after a failure, try again from this long before it (s)")
     g.add_argument("--retries", type=non_negative_int, default=CleanConfig.retries,
@@ -501,7 +511,7 @@ def print_performance(cleaned: Motion, out: Path) -> None:
 def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> CleanConfig:
     """The :class:`CleanConfig` of the command line, checked against ``policy``'s task before any work."""
     search = None if args.search == "off" else SearchConfig(beam=args.search_beam, samples=args.search_samples,
-                                                             noise=args.search_noise)
+                                                             noise=args.search_noise, value_weight=args.search_value)
     config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries, search=search,
                          search_retries_only=args.search == "retries")
     task = policy.record.env.mimic_config()

@@ -65,6 +65,13 @@ class MimicPolicy:
         space = self.model.action_space
         return np.clip(mean, space.low, space.high)
 
+    def values(self, obs: np.ndarray) -> np.ndarray:
+        """The critic's estimates ``(K,)`` of the discounted return (reward units) from raw
+        observations ``obs (K, D)``."""
+        x = torch.as_tensor(np.asarray(self.normalizer.normalize_obs(obs), dtype=np.float32))
+        with torch.no_grad():
+            return self.model.policy.predict_values(x).numpy()[:, 0]
+
     @property
     def record(self) -> PolicySidecar:
         """The sidecar, typed (:class:`agents.sidecar.PolicySidecar`; either layout)."""

@@ -46,6 +46,8 @@ class Episode:
             gave (:attr:`envs.mimic.MimicEnv.smoothed`). With ``qpos`` and ``qvel`` it is the state
             an episode continues from (reset option ``state``).
         rewards: ``(S,)`` reward of each control step (S = N / frames per control step).
+        final_obs: ``(D,)`` the raw observation after the last step (after the reset when no step
+            was taken): what the policy would act on next.
         ended_by: ``"fallen"``, ``"lagging"``, ``"unstable"`` or ``"time_limit"``; ``""`` when it
             was stopped at ``max_frames`` while still running.
         episode_end: reference frame at which the environment would have truncated it.
@@ -57,6 +59,7 @@ class Episode:
     qvel: np.ndarray
     actions: np.ndarray
     rewards: np.ndarray
+    final_obs: np.ndarray
     ended_by: str
     episode_end: int
 
@@ -118,7 +121,8 @@ def run_episode(env: gym.Env, policy: Policy, options: dict, max_frames: int | N
     finally:
         base.frame_hook = outer_hook
     return Episode(clip=info["clip"], start_frame=start, qpos=np.array(qpos), qvel=np.array(qvel),
-                   actions=np.array(actions), rewards=np.array(rewards), ended_by=ended_by, episode_end=base.episode_end)
+                   actions=np.array(actions), rewards=np.array(rewards), final_obs=np.array(obs), ended_by=ended_by,
+                   episode_end=base.episode_end)
 
 
 def sampling_policy(policy: MimicPolicy) -> Policy:

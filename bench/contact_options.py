@@ -28,7 +28,7 @@ def measure(variant: str) -> dict:
     """The figures of one variant (in this process: it changes the shared compiled model)."""
     import mujoco
 
-    from agents.clean import clean_motion
+    from agents.clean import POLICY_ALONE, clean_motion  # as measured: the policy alone
     from agents.evaluation import evaluate
     from agents.policy import load_policy
     from reference_motion.humanoid.model import load_model
@@ -40,11 +40,12 @@ def measure(variant: str) -> dict:
         model.geom_solimp[:, 1] = 0.99
     elif variant == "elliptic":
         model.opt.cone, model.opt.impratio = mujoco.mjtCone.mjCONE_ELLIPTIC, 10.0
-    walk = clean_motion(load_policy("models/mimic_walk"), load_motion("deepmimic:walk", min_frames=600), progress=False)
+    walk = clean_motion(load_policy("models/mimic_walk"), load_motion("deepmimic:walk", min_frames=600),
+                        POLICY_ALONE, progress=False)
     general = load_policy("models/mimic_general")
     clips = expand_clips(["library:data/library/val"])
     summary, _ = evaluate(general.make_env(clips, artefacts=None), general, episodes=3, offset_step=30)
-    takes = [motion_quality(clean_motion(general, load_motion(c, "humanoid_1seg"), progress=False)) for c in clips[:4]]
+    takes = [motion_quality(clean_motion(general, load_motion(c, "humanoid_1seg"), POLICY_ALONE, progress=False)) for c in clips[:4]]
     return {"variant": variant, "walk_skate_mps": motion_quality(walk).foot_skate_mps,
             "walk_penetration_max_m": motion_quality(walk).penetration_max_m,
             "val_skate_mps": float(np.mean([q.foot_skate_mps for q in takes])),

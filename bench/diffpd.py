@@ -215,7 +215,7 @@ def vgrf_vs_mujoco(cycle: DynamicCycle, ppo: str) -> dict:
 def ppo_side_by_side(ppo: str, diffpd: DynamicCycle, clips: list[str], strength: float) -> dict:
     """The PPO cleaner (zero-shot) and diff-PD (batch of one) on the same IMU-corrupted clips."""
     import envs  # noqa: F401
-    from agents.clean import clean_motion
+    from agents.clean import POLICY_ALONE, clean_motion  # as measured: the policy alone
     from agents.policy import load_policy
     from envs.config import FOOT_MODELS
 
@@ -227,7 +227,7 @@ def ppo_side_by_side(ppo: str, diffpd: DynamicCycle, clips: list[str], strength:
         truth = load_motion(clip, FOOT_MODELS[policy.foot])
         target = corrupt(truth, ArtefactRecipe.imu().scaled(strength), 1000 + HELD_OUT.index(clip))
         start, cpu = time.perf_counter(), time.process_time()
-        cleaned = clean_motion(policy, target, progress=False)
+        cleaned = clean_motion(policy, target, POLICY_ALONE, progress=False)
         ppo_s, ppo_cpu = time.perf_counter() - start, time.process_time() - cpu
         [ours], _, ours_s, ours_cpu = run_cycle(diffpd, [target])
         rows.append({"clip": clip, "frames": target.n_frames,

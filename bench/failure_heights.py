@@ -43,7 +43,7 @@ def failures_of(policy, reference) -> list[dict]:
 
     clean._Performance._retry = recording
     try:
-        clean.clean_motion(policy, reference, progress=False)
+        clean.clean_motion(policy, reference, clean.POLICY_ALONE, progress=False)  # where the policy alone fails
     finally:
         clean._Performance._retry = retry
     return found

@@ -39,7 +39,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
-from agents.clean import CleanConfig, clean_motion, or_none, sr90_target
+from agents.clean import POLICY_ALONE, clean_motion, or_none, sr90_target
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy, load_policy
 from agents.reconstruct_gait import gait_targets, reconstruction_metrics
@@ -95,7 +95,7 @@ def score_clip(generalist: MimicPolicy, clip: str, seconds: float, episodes: int
                       "adapt_stopped_by": adapted.stopped_by, "adapt_before": adapted.before,
                       "adapt_chunks": adapted.chunks}
     start = time.perf_counter()
-    simulated = clean_motion(policy, reference, CleanConfig(), progress=False)
+    simulated = clean_motion(policy, reference, POLICY_ALONE, progress=False)  # as measured: the policy alone
     wall = time.perf_counter() - start
     metrics = reconstruction_metrics(simulated, gait_reference, targets, toe_targets)
     metrics.pop("contacts")

@@ -1,12 +1,12 @@
 """How ``clean.py`` recovers from a fall: its rewind-and-retry settings, side by side, on validation takes.
 
 Usage: ``python bench/retry_strategies.py [--policy models/mimic_general]
-[--settings 0.5x4 1:search:16x64 1:searchall:16x64x1] [--seconds 10] [--strength 1] [--seed 7000]
+[--settings 0.5x4 1:search:16x64 1:searchall:16x64,value=1] [--seconds 10] [--strength 1] [--seed 7000]
 [--json [OUT]]``
 
 Each setting is a :class:`agents.clean.CleanConfig` as ``bench/clean_settings.py`` names it:
 ``REWINDxRETRIES`` (the policy alone, stochastic retries after a fall),
-``REWIND:search:BEAMxSAMPLES[xNOISE[xPOSITION_WEIGHT]]`` (the policy alone, the policy-guided
+``REWIND:search:BEAMxSAMPLES[,KEY=VALUE...]`` (the policy alone, the policy-guided
 search of :mod:`agents.search` after a fall) or ``REWIND:searchall:...`` (every stretch searched).
 Every take of the library's validation split (never the test split: this is for choosing the
 settings) is cut to ``--seconds``, IMU-corrupted at ``--strength`` with seed

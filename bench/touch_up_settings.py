@@ -23,7 +23,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the scripts run from bench/
-from agents.clean import clean_motion, or_none, reanchor_frames, touched_up
+from agents.clean import POLICY_ALONE, clean_motion, or_none, reanchor_frames, touched_up
 from agents.policy import load_policy
 from json_report import emit_json
 from reference_motion.library import expand_clips
@@ -64,7 +64,7 @@ def main() -> None:
     rows = []
     for i, clip in enumerate(expand_clips(args.clips)):
         reference = corrupted_take(clip, policy.foot, 10.0, 1.0, args.seed + i)
-        simulated = clean_motion(policy, reference, progress=False)
+        simulated = clean_motion(policy, reference, POLICY_ALONE, progress=False)  # as measured: the policy alone
         row = {"clip": clip, "input": motion_quality(reference).as_dict(),
                "simulated": {**motion_quality(simulated).as_dict(), "root_acc_p99": root_vertical_acceleration(simulated)}}
         for smooth in args.smooth:

@@ -13,7 +13,7 @@ from stable_baselines3 import PPO
 
 from agents import clean
 from agents.adaptation import AdaptConfig, adapt_policy, adaptation_key, chunk_rank, performance_rank
-from agents.clean import CleanConfig, StateRing, clean_motion, reanchor_marks
+from agents.clean import POLICY_ALONE, CleanConfig, StateRing, clean_motion, reanchor_marks
 from agents.policy import MimicPolicy, load_policy
 from agents.rollout import FAILURES, run_episode
 from reference_motion.cli import UsageError
@@ -42,11 +42,6 @@ class Flailing(MimicPolicy):
         if self.first <= self.calls < self.first + self.count:
             return np.ones(self.model.action_space.shape, dtype=np.float32)
         return super().__call__(obs)
-
-
-POLICY_ALONE = CleanConfig(rewind_s=0.5, search=None)
-"""clean.py --search off --rewind-s 0.5: the policy's deterministic action, stochastic retries
-(the search everywhere, the default: tests/test_search.py)."""
 
 
 def test_a_good_policy_performs_the_whole_clip_in_one_simulation(walk_policy, walk):

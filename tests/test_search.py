@@ -108,14 +108,14 @@ def test_clean_searches_everywhere_by_default(walk_policy, walk):
     cleaned = clean_motion(walk_policy, walk, progress=False)
     assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
     assert cleaned.source["clean_config"]["search"] == {"beam": 16, "samples": 64, "window_steps": 5, "noise": 1.0,
-                                                        "patience": 2, "position_weight": 0.0}
+                                                        "patience": 2, "position_weight": 0.0, "value_weight": 1.0}
     assert np.isfinite(cleaned.qpos).all() and not np.allclose(cleaned.qpos, walk.qpos, atol=1e-3)
     step = np.linalg.norm(np.diff(cleaned.qpos[:, :3], axis=0), axis=1)
     assert step.max() < 0.1  # one simulation: no jump between frames
 
 
 @pytest.mark.parametrize("bad", [dict(beam=0), dict(samples=0), dict(window_steps=0), dict(noise=-1.0),
-                                 dict(position_weight=-0.1)])
+                                 dict(position_weight=-0.1), dict(value_weight=-1.0)])
 def test_search_config_refuses_bad_settings(bad):
     with pytest.raises(ValueError, match="SearchConfig"):
         SearchConfig(**bad)
@@ -123,8 +123,8 @@ def test_search_config_refuses_bad_settings(bad):
 
 @pytest.mark.parametrize("argv, search, retries_only", [
     ([], SearchConfig(), False),
-    (["--search", "retries", "--search-beam", "4", "--search-samples", "8", "--search-noise", "0.5"],
-     SearchConfig(beam=4, samples=8, noise=0.5), True),
+    (["--search", "retries", "--search-beam", "4", "--search-samples", "8", "--search-noise", "0.5",
+      "--search-value", "0"], SearchConfig(beam=4, samples=8, noise=0.5, value_weight=0.0), True),
     (["--search", "off", "--retries", "7"], None, False),
 ])
 def test_clean_command_line_sets_the_search(walk_policy, walk, argv, search, retries_only):
@@ -132,3 +132,29 @@ def test_clean_command_line_sets_the_search(walk_policy, walk, argv, search, ret
     config = clean_config(walk_policy, walk, args)
     assert (config.search, config.search_retries_only) == (search, retries_only)
     assert config.retries == (7 if "--retries" in argv else 4)
+
+
+def test_the_critic_values_a_walking_state_above_one_about_to_fall(walk_policy, walk):
+    """What ``SearchConfig.value_weight`` ranks by: after 20 control steps of flailing the walk
+    policy's critic expects far less return than after 20 steps of walking, from the same frame."""
+    env = walk_policy.make_env([walk], artefacts=None, episode_frames=60)
+    walking = run_episode(env, walk_policy, {"clip": 0, "start_frame": 0}, max_frames=40)
+    flailing = run_episode(env, Stumbling(walk_policy, env, first=0, frames=40), {"clip": 0, "start_frame": 0},
+                           max_frames=40)
+    assert walking.final_obs.shape == env.observation_space.shape and walking.end_frame == 40
+    values = walk_policy.values(np.stack([walking.final_obs, flailing.final_obs]))
+    assert not flailing.failed  # still up: the critic sees the fall coming (196 against -168 here)
+    assert values.shape == (2,) and values[1] < 0.5 * values[0]
+
+
+def test_search_asks_the_critic_once_per_window_only_when_weighted(walk_policy, walk, monkeypatch):
+    env = walk_policy.make_env([walk], artefacts=None, episode_frames=60)
+    start = run_episode(env, walk_policy, {"clip": 0, "start_frame": 0}, max_frames=0).state(0)
+    asked = []
+    critic = walk_policy.values
+    monkeypatch.setattr(walk_policy, "values", lambda obs: asked.append(len(obs)) or critic(obs))
+    for weight, calls in ((0.0, []), (1.0, [4] * 6)):  # 6 windows of 10 frames, 4 survivors each
+        asked.clear()
+        found, rollouts = search(env, walk_policy, 0, start, 60, SearchConfig(beam=2, samples=4, value_weight=weight),
+                                 np.random.default_rng(0))
+        assert found.ended_by == "" and found.end_frame == 60 and rollouts == 6 * 4 and asked == calls
