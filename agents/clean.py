@@ -18,10 +18,11 @@ simulation rewinds ``--rewind-s`` before the failure to the last good simulated 
 that stretch again; only if that fails too does it re-anchor: the simulation restarts from the
 reference state at a frame just before where the longest try failed. By default
 (``--search all``) every stretch, and every second try, is a policy-guided beam search
-(:mod:`agents.search`: ``--search-samples`` rollouts of the policy with seeded Gaussian action
-noise per 1/6 s window, the ``--search-beam`` best simulated states kept, ranked by the reward so
-far plus the policy's critic's estimate of the return to come), which gets through about two
-thirds of the places where the policy alone falls, zero-shot (``bench/retry_strategies.py``);
+(:mod:`agents.search`: per 1/6 s window, ``--search-samples`` rollouts of the policy with seeded
+Gaussian action noise, one draw held over the window; the ``--search-beam`` best simulated states
+kept, ranked by the reward so far plus the policy's critic's estimate of the return to come),
+which gets through four in five of the places where the policy alone falls, zero-shot
+(``bench/retry_strategies.py``);
 ``--search retries`` searches only after a failure, ``--search off`` runs the policy alone and
 retries with up to ``--retries`` stochastic rollouts of it, keeping the first that gets past. Every output frame is simulated; the re-anchors (frame, reason, retries)
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
@@ -454,6 +455,8 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                    help="rollouts per search window (the cost: about this many times the policy alone)")
     g.add_argument("--search-noise", type=non_negative_float, default=SearchConfig.noise,
                    help="the search's action noise, times the policy's own exploration sigma")
+    g.add_argument("--search-noise-per-step", action="store_true",
+                   help="draw the search's action noise anew each control step, not once per rollout")
     g.add_argument("--search-value", type=non_negative_float, default=SearchConfig.value_weight,
                    help="weight of the policy's critic (its estimate of the return still to come) when the search "
                         "ranks the states it reached; 0: the reward so far alone")
@@ -499,19 +502,22 @@ def print_performance(cleaned: Motion, out: Path) -> None:
     """Print how ``cleaned`` (written to ``out``) was simulated: its simulated fraction, the
     recoveries and every re-anchor."""
     source = cleaned.source
+    searched = (source.get("clean_config") or {}).get("search") is not None
+    tries = "search rollouts" if searched else "retries"
     print(f"wrote {out} ({cleaned.n_frames} frames, all simulated; simulated fraction "
-          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by a retry, "
-          f"{len(source['reanchors'])} re-anchored to the reference)")
+          f"{source['simulated_fraction']:.4f}: {len(source['recoveries'])} failures recovered by "
+          f"{'a second search' if searched else 'a retry'}, {len(source['reanchors'])} re-anchored to the reference)")
     for r in source["reanchors"]:
         jump = f", root jumped {r['jump_m']:.2f} m" if r["jump_m"] is not None else ""
         print(f"  re-anchored at frame {r['frame']} ({r['frame'] / cleaned.fps:.2f} s): {r['reason']} at frame "
-              f"{r['failed_at']}, {r['retries']} retries failed (best reached frame {r['best_reached']}){jump}")
+              f"{r['failed_at']}, {r['retries']} {tries} failed (best reached frame {r['best_reached']}){jump}")
 
 
 def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> CleanConfig:
     """The :class:`CleanConfig` of the command line, checked against ``policy``'s task before any work."""
     search = None if args.search == "off" else SearchConfig(beam=args.search_beam, samples=args.search_samples,
-                                                             noise=args.search_noise, value_weight=args.search_value)
+                                                             noise=args.search_noise, value_weight=args.search_value,
+                                                             hold_noise=not args.search_noise_per_step)
     config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries, search=search,
                          search_retries_only=args.search == "retries")
     task = policy.record.env.mimic_config()

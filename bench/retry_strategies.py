@@ -15,7 +15,9 @@ re-anchors (teleports back to the reference) and recoveries (failures a second t
 past) in all, the takes simulated whole, the cleaning wall time, and what the output's frames
 look like against the input: the share of frames whose root is more than 0.2 m below the input's
 (``sunk``: the character down or going down) and more than 0.5 m from it horizontally
-(``astray``). Fewer re-anchors are worth having only if they do not come from keeping more of
+(``astray``; ``from clean``: from the take's root before the corruption, whose IMU drift moves the
+input's root off the path the body took), and the output's jitter (median over the takes,
+rad/s³; the action noise of the search adds some). Fewer re-anchors are worth having only if they do not come from keeping more of
 the frames where the character is falling.
 """
 
@@ -30,10 +32,11 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.clean import clean_motion
 from agents.policy import load_policy
-from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the issue's protocol's takes
+from adapted_cleaning import corrupted_take, cut_take  # bench/adapted_cleaning.py: the issue's protocol's takes
 from clean_settings import label, setting  # bench/clean_settings.py
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.library import expand_clips
+from reference_motion.quality import motion_quality
 
 SUNK_M = 0.2
 """Root this far (m) below the input's root: the character is down or going down."""
@@ -52,32 +55,39 @@ def main() -> None:
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     policy = load_policy(args.policy)
-    takes = [corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i)
-             for i, clip in enumerate(expand_clips(args.clips))]
+    clips = expand_clips(args.clips)
+    takes = [corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i) for i, clip in enumerate(clips)]
+    truths = [cut_take(clip, policy.foot, args.seconds) for clip in clips]  # the takes before the corruption
     rows = []
-    print(f"{'setting':<22} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
-          f"{'clean s':>8}")
+    print(f"{'setting':<30} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
+          f"{'from clean':>10} {'jitter':>7} {'clean s':>8}")
     for config in args.settings:
         start = time.perf_counter()
         per_take = []
-        for reference in takes:
+        for reference, truth in zip(takes, truths):
             out = clean_motion(policy, reference, config, progress=False)
             below = out.qpos[:, 2] < reference.qpos[:, 2] - SUNK_M
             away = np.linalg.norm(out.qpos[:, :2] - reference.qpos[:, :2], axis=1) > ASTRAY_M
+            away_truth = np.linalg.norm(out.qpos[:, :2] - truth.qpos[:, :2], axis=1) > ASTRAY_M
             per_take.append({"take": reference.name, "frames": reference.n_frames,
                              "reanchors": len(out.source["reanchors"]), "recoveries": len(out.source["recoveries"]),
-                             "sunk_frac": float(below.mean()), "astray_frac": float(away.mean())})
+                             "sunk_frac": float(below.mean()), "astray_frac": float(away.mean()),
+                             "astray_from_clean_frac": float(away_truth.mean()),
+                             "jitter": motion_quality(out).jitter, "jitter_input": motion_quality(reference).jitter})
         row = {"setting": label(config), "rewind_s": config.rewind_s, "retries": config.retries,
                "search": None if config.search is None else asdict(config.search),
                "reanchors": sum(t["reanchors"] for t in per_take), "recoveries": sum(t["recoveries"] for t in per_take),
                "takes_whole": sum(t["reanchors"] == 0 for t in per_take), "takes": len(per_take),
                "sunk_frac": float(np.mean([t["sunk_frac"] for t in per_take])),
                "astray_frac": float(np.mean([t["astray_frac"] for t in per_take])),
+               "astray_from_clean_frac": float(np.mean([t["astray_from_clean_frac"] for t in per_take])),
+               "jitter_median": float(np.median([t["jitter"] for t in per_take])),
+               "jitter_input_median": float(np.median([t["jitter_input"] for t in per_take])),
                "clean_s": time.perf_counter() - start, "per_take": per_take}
         rows.append(row)
-        print(f"{label(config):<22} {row['reanchors']:>10} {row['recoveries']:>10} "
+        print(f"{label(config):<30} {row['reanchors']:>10} {row['recoveries']:>10} "
               f"{row['takes_whole']:>3}/{row['takes']:<2} {row['sunk_frac']:>6.1%} {row['astray_frac']:>7.1%} "
-              f"{row['clean_s']:>8.1f}", flush=True)
+              f"{row['astray_from_clean_frac']:>10.1%} {row['jitter_median']:>7.0f} {row['clean_s']:>8.1f}", flush=True)
     emit_json({"policy": args.policy, "clips": args.clips, "seconds": args.seconds, "strength": args.strength,
                "seed": args.seed, "settings": rows}, args.json)
 

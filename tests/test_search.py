@@ -75,7 +75,7 @@ def test_search_gets_past_where_the_policy_alone_fails(walk_policy, walk, monkey
                         max_frames=120)
     assert alone.failed and alone.end_frame < 120
     env = walk_policy.make_env([walk], artefacts=None, episode_frames=60)
-    monkeypatch.setattr(search_module, "noisy_policy", lambda policy, scale, rng: walk_policy)
+    monkeypatch.setattr(search_module, "noisy_policy", lambda policy, scale, rng, hold: walk_policy)
     stumbling = Stumbling(walk_policy, env, first=40, frames=20)
     start = run_episode(env, walk_policy, {"clip": 0, "start_frame": 0}, max_frames=0).state(0)
     config = SearchConfig(beam=2, samples=4, window_steps=5, patience=0)
@@ -108,7 +108,8 @@ def test_clean_searches_everywhere_by_default(walk_policy, walk):
     cleaned = clean_motion(walk_policy, walk, progress=False)
     assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
     assert cleaned.source["clean_config"]["search"] == {"beam": 16, "samples": 64, "window_steps": 5, "noise": 1.0,
-                                                        "patience": 2, "position_weight": 0.0, "value_weight": 1.0}
+                                                        "patience": 2, "position_weight": 0.0, "value_weight": 1.0,
+                                                        "hold_noise": True}
     assert np.isfinite(cleaned.qpos).all() and not np.allclose(cleaned.qpos, walk.qpos, atol=1e-3)
     step = np.linalg.norm(np.diff(cleaned.qpos[:, :3], axis=0), axis=1)
     assert step.max() < 0.1  # one simulation: no jump between frames
@@ -124,7 +125,8 @@ def test_search_config_refuses_bad_settings(bad):
 @pytest.mark.parametrize("argv, search, retries_only", [
     ([], SearchConfig(), False),
     (["--search", "retries", "--search-beam", "4", "--search-samples", "8", "--search-noise", "0.5",
-      "--search-value", "0"], SearchConfig(beam=4, samples=8, noise=0.5, value_weight=0.0), True),
+      "--search-value", "0", "--search-noise-per-step"],
+     SearchConfig(beam=4, samples=8, noise=0.5, value_weight=0.0, hold_noise=False), True),
     (["--search", "off", "--retries", "7"], None, False),
 ])
 def test_clean_command_line_sets_the_search(walk_policy, walk, argv, search, retries_only):
@@ -158,3 +160,17 @@ def test_search_asks_the_critic_once_per_window_only_when_weighted(walk_policy, 
         found, rollouts = search(env, walk_policy, 0, start, 60, SearchConfig(beam=2, samples=4, value_weight=weight),
                                  np.random.default_rng(0))
         assert found.ended_by == "" and found.end_frame == 60 and rollouts == 6 * 4 and asked == calls
+
+
+@pytest.mark.parametrize("hold", [False, True])
+def test_noisy_policy_adds_noise_of_the_policys_own_sigma_held_or_not(walk_policy, walk, hold):
+    env = walk_policy.make_env([walk], artefacts=None, episode_frames=60)
+    obs, _ = env.reset(options={"clip": 0, "start_frame": 0})
+    act = search_module.noisy_policy(walk_policy, 2.0, np.random.default_rng(0), hold=hold)
+    offsets = np.array([act(obs) - walk_policy(obs) for _ in range(200)])
+    sigma = 2.0 * np.exp(walk_policy.model.policy.log_std.detach().numpy())
+    if hold:  # one draw for the whole rollout
+        np.testing.assert_allclose(offsets, offsets[:1].repeat(200, axis=0))
+    else:
+        ratio = offsets.std(axis=0) / sigma  # clipping at the action limits can only shrink it
+        assert 0.75 < np.median(ratio) < 1.15 and np.abs(offsets.mean(axis=0) / sigma).max() < 0.35
