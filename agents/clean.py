@@ -452,7 +452,8 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--search-beam", type=positive_int, default=SearchConfig.beam,
                    help="simulated states the search keeps after each window")
     g.add_argument("--search-samples", type=positive_int, default=SearchConfig.samples,
-                   help="rollouts per search window (the cost: about this many times the policy alone)")
+                   help="rollouts per search window (cleaning then takes about half this many times as long as with the "
+                        "policy alone)")
     g.add_argument("--search-noise", type=non_negative_float, default=SearchConfig.noise,
                    help="the search's action noise, times the policy's own exploration sigma")
     g.add_argument("--search-noise-per-step", action="store_true",
