@@ -19,10 +19,11 @@ that stretch again; only if that fails too does it re-anchor: the simulation res
 reference state at a frame just before where the longest try failed. By default
 (``--search all``) every stretch, and every second try, is a policy-guided beam search
 (:mod:`agents.search`: per 1/6 s window, ``--search-samples`` rollouts of the policy with seeded
-Gaussian action noise, one draw held over the window; the ``--search-beam`` best simulated states
+Gaussian action noise, one draw held over the window; rollouts that fall or whose root strays
+``--search-max-drift`` from the reference's dropped; the ``--search-beam`` best simulated states
 kept, ranked by the reward so far plus the policy's critic's estimate of the return to come),
-which gets through four in five of the places where the policy alone falls, zero-shot
-(``bench/retry_strategies.py``);
+which gets through half of the places where the policy alone falls, zero-shot, while keeping
+closer to the take's path than the policy alone (``bench/retry_strategies.py``);
 ``--search retries`` searches only after a failure, ``--search off`` runs the policy alone and
 retries with up to ``--retries`` stochastic rollouts of it, keeping the first that gets past. Every output frame is simulated; the re-anchors (frame, reason, retries)
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
@@ -461,6 +462,9 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
     g.add_argument("--search-value", type=non_negative_float, default=SearchConfig.value_weight,
                    help="weight of the policy's critic (its estimate of the return still to come) when the search "
                         "ranks the states it reached; 0: the reward so far alone")
+    g.add_argument("--search-max-drift", type=or_none(positive_float), default=SearchConfig.max_drift_m,
+                   help="a search rollout whose root ends further than this (m, horizontally) from the reference's "
+                        "fails; 'none': only the task's own failures (the body may then trail the take's path)")
     g.add_argument("--rewind-s", type=positive_float, default=CleanConfig.rewind_s,
                    help="after a failure, try again from this long before it (s)")
     g.add_argument("--retries", type=non_negative_int, default=CleanConfig.retries,
@@ -518,7 +522,8 @@ def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespac
     """The :class:`CleanConfig` of the command line, checked against ``policy``'s task before any work."""
     search = None if args.search == "off" else SearchConfig(beam=args.search_beam, samples=args.search_samples,
                                                              noise=args.search_noise, value_weight=args.search_value,
-                                                             hold_noise=not args.search_noise_per_step)
+                                                             hold_noise=not args.search_noise_per_step,
+                                                             max_drift_m=args.search_max_drift)
     config = CleanConfig(rewind_s=args.rewind_s, retries=args.retries, search=search,
                          search_retries_only=args.search == "retries")
     task = policy.record.env.mimic_config()

@@ -4,9 +4,10 @@
 ``REWIND`` s before a failure (``--search off``). ``REWIND:search:BEAMxSAMPLES[,KEY=VALUE...]``
 (e.g. ``1:search:16x64``): the policy alone, the policy-guided search (:mod:`agents.search`) after
 a failure (``--search retries``). ``REWIND:searchall:...``: every stretch searched (``--search all``,
-clean.py's default). ``KEY`` is ``noise``, ``position``, ``value`` or ``hold``:
+clean.py's default). ``KEY`` is ``noise``, ``position``, ``value``, ``hold`` or ``drift``:
 :class:`agents.search.SearchConfig`'s ``noise`` (default 1), ``position_weight`` and
-``value_weight`` (defaults 0 and 1), ``hold_noise`` (0 or 1, default 1), e.g.
+``value_weight`` (defaults 0 and 1), ``hold_noise`` (0 or 1, default 1), ``max_drift_m``
+(metres or ``none``, default 0.5), e.g.
 ``1:searchall:16x64,noise=1.5,value=0``.
 """
 
@@ -18,7 +19,8 @@ from agents.clean import CleanConfig
 from agents.search import SearchConfig
 
 
-SEARCH_KEYS = {"noise": "noise", "position": "position_weight", "value": "value_weight", "hold": "hold_noise"}
+SEARCH_KEYS = {"noise": "noise", "position": "position_weight", "value": "value_weight", "hold": "hold_noise",
+               "drift": "max_drift_m"}
 """The ``KEY=VALUE`` options of a search setting: the :class:`SearchConfig` field each sets."""
 
 
@@ -35,7 +37,10 @@ def setting(text: str) -> CleanConfig:
             fields = {}
             for option in options:
                 key, value = option.split("=")
-                fields[SEARCH_KEYS[key]] = bool(int(value)) if key == "hold" else float(value)
+                if key == "hold":
+                    fields["hold_noise"] = bool(int(value))
+                else:
+                    fields[SEARCH_KEYS[key]] = None if key == "drift" and value == "none" else float(value)
             search = SearchConfig(beam=int(beam), samples=int(samples), **fields)
             return CleanConfig(rewind_s=float(rewind), search=search, search_retries_only=mode == "search")
         rewind, retries = text.lower().split("x")
@@ -52,4 +57,5 @@ def label(config: CleanConfig) -> str:
     s = config.search
     mode = "search" if config.search_retries_only else "searchall"
     return (f"{config.rewind_s:g} s {mode} {s.beam}x{s.samples} σ×{s.noise:g} p{s.position_weight:g} "
-            f"v{s.value_weight:g}{' held' if s.hold_noise else ''}")
+            f"v{s.value_weight:g}{' held' if s.hold_noise else ''}"
+            f"{'' if s.max_drift_m is None else f' drift<{s.max_drift_m:g}'}")

@@ -109,7 +109,7 @@ def test_clean_searches_everywhere_by_default(walk_policy, walk):
     assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
     assert cleaned.source["clean_config"]["search"] == {"beam": 16, "samples": 64, "window_steps": 5, "noise": 1.0,
                                                         "patience": 2, "position_weight": 0.0, "value_weight": 1.0,
-                                                        "hold_noise": True}
+                                                        "hold_noise": True, "max_drift_m": 0.5}
     assert np.isfinite(cleaned.qpos).all() and not np.allclose(cleaned.qpos, walk.qpos, atol=1e-3)
     step = np.linalg.norm(np.diff(cleaned.qpos[:, :3], axis=0), axis=1)
     assert step.max() < 0.1  # one simulation: no jump between frames
@@ -125,8 +125,8 @@ def test_search_config_refuses_bad_settings(bad):
 @pytest.mark.parametrize("argv, search, retries_only", [
     ([], SearchConfig(), False),
     (["--search", "retries", "--search-beam", "4", "--search-samples", "8", "--search-noise", "0.5",
-      "--search-value", "0", "--search-noise-per-step"],
-     SearchConfig(beam=4, samples=8, noise=0.5, value_weight=0.0, hold_noise=False), True),
+      "--search-value", "0", "--search-noise-per-step", "--search-max-drift", "none"],
+     SearchConfig(beam=4, samples=8, noise=0.5, value_weight=0.0, hold_noise=False, max_drift_m=None), True),
     (["--search", "off", "--retries", "7"], None, False),
 ])
 def test_clean_command_line_sets_the_search(walk_policy, walk, argv, search, retries_only):
@@ -174,3 +174,18 @@ def test_noisy_policy_adds_noise_of_the_policys_own_sigma_held_or_not(walk_polic
     else:
         ratio = offsets.std(axis=0) / sigma  # clipping at the action limits can only shrink it
         assert 0.75 < np.median(ratio) < 1.15 and np.abs(offsets.mean(axis=0) / sigma).max() < 0.35
+
+
+def test_a_rollout_that_strays_past_max_drift_fails_as_lagging(walk_policy, walk):
+    """The walk policy keeps the root within centimetres of the reference's over 10 frames, not
+    within a micrometre: with that limit every rollout of the first window fails."""
+    env = walk_policy.make_env([walk], artefacts=None, episode_frames=60)
+    start = run_episode(env, walk_policy, {"clip": 0, "start_frame": 0}, max_frames=0).state(0)
+    rng = np.random.default_rng(0)
+    loose, _ = search(env, walk_policy, 0, start, 30, SearchConfig(beam=2, samples=3, max_drift_m=0.2), rng)
+    assert loose.ended_by == "" and loose.end_frame == 30
+    tight, rollouts = search(env, walk_policy, 0, start, 30, SearchConfig(beam=2, samples=3, patience=0,
+                                                                          max_drift_m=1e-6), rng)
+    assert tight.ended_by == "lagging" and tight.end_frame == 10 and rollouts == 3
+    with pytest.raises(ValueError, match="max_drift_m must be > 0"):
+        SearchConfig(max_drift_m=0.0)
