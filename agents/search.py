@@ -10,7 +10,8 @@ rollout's noise is drawn once and held over its window, as SAMCON samples one of
 :func:`search` keeps a beam of the ``beam`` best simulated states. Each window of
 ``window_steps`` control steps, ``samples`` rollouts continue the beam's states (round robin; the
 first rollout from the best state is the policy's own noise-free action); a rollout that fails
-(falls, lags behind the reference, the simulation blows up) is dropped, and the survivors ranked by
+(falls, lags behind the reference, the simulation blows up, or ends its window with the root
+more than ``max_drift_m`` from the reference's) is dropped, and the survivors ranked by
 the task reward summed along their lineage (plus, with ``value_weight``, the policy's critic's
 estimate of the return still to come from the state reached: a state about to fall earns less)
 form the next beam. Every rollout starts from the exact
