@@ -208,7 +208,6 @@ class _Performance:
         padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
         self.env = policy.make_env([padded], artefacts=None, episode_frames=self.episode_frames)
         self.policy = policy
-        self.act: Policy = policy
         self.sample: Policy = sampling_policy(policy)
         self.rewind = config.rewind_frames(reference.fps, task.frames_per_control, self.episode_frames)
         self.qpos = np.full_like(reference.qpos, np.nan)
@@ -254,7 +253,7 @@ class _Performance:
 
     def _anchor_at(self, frame: int) -> None:
         """Restart from the reference state of ``frame`` (lifted above the floor if it reaches into it)."""
-        self._commit(run_episode(self.env, self.act, {"clip": 0, "start_frame": frame}, max_frames=0), frame, frame)
+        self._commit(run_episode(self.env, self.policy, {"clip": 0, "start_frame": frame}, max_frames=0), frame, frame)
         self.rewards[frame] = np.nan
         self.anchor = frame
 
@@ -274,11 +273,9 @@ class _Performance:
         while done < self.last:
             stop = min(done + self.episode_frames, self.last)
             if self.config.searches_everywhere:
-                episode, rollouts = search(self.env, self.policy, done, self.ring.state(done), stop,
-                                           self.config.search, self.rng)
-                self.tries += rollouts
+                episode, _ = self._search_from(done, stop)
             else:
-                episode = self._run(done, stop, self.act)
+                episode = self._run(done, stop, self.policy)
             if self._survived(episode, stop):
                 self._commit(episode, done, stop)
                 done = stop
@@ -304,10 +301,7 @@ class _Performance:
                 attempt = self._run(rewound, goal, self.sample)
             self.tries += 1
             if self._survived(attempt, goal):
-                end = min(attempt.end_frame, goal)
-                self._commit(attempt, rewound, end)
-                self.recoveries.append(Recovery(frame=rewound, failed_at=fail, reason=reason, retries=k))
-                return end
+                return self._recovered(attempt, rewound, goal, failed, k)
             if attempt.end_frame > best.end_frame:
                 best = attempt
         return self._reanchor(best, rewound, fail, reason, self.config.retries)
@@ -315,17 +309,28 @@ class _Performance:
     def _search(self, failed: Episode, rewound: int, goal: int) -> int:
         """After ``failed`` failed: search from the committed state of ``rewound`` to ``goal``, else
         re-anchor. Returns the new last committed frame."""
-        fail, reason = failed.end_frame, failed.ended_by
-        attempt, rollouts = search(self.env, self.policy, rewound, self.ring.state(rewound), goal, self.config.search,
+        attempt, rollouts = self._search_from(rewound, goal)
+        if self._survived(attempt, goal):
+            return self._recovered(attempt, rewound, goal, failed, rollouts)
+        best = attempt if attempt.end_frame > failed.end_frame else failed
+        return self._reanchor(best, rewound, failed.end_frame, failed.ended_by, rollouts)
+
+    def _search_from(self, frame: int, stop: int) -> tuple[Episode, int]:
+        """The search's simulation from the committed state of ``frame`` towards ``stop`` and the
+        rollouts it took (counted in :attr:`tries`)."""
+        episode, rollouts = search(self.env, self.policy, frame, self.ring.state(frame), stop, self.config.search,
                                    self.rng)
         self.tries += rollouts
-        if self._survived(attempt, goal):
-            end = min(attempt.end_frame, goal)
-            self._commit(attempt, rewound, end)
-            self.recoveries.append(Recovery(frame=rewound, failed_at=fail, reason=reason, retries=rollouts))
-            return end
-        best = attempt if attempt.end_frame > failed.end_frame else failed
-        return self._reanchor(best, rewound, fail, reason, rollouts)
+        return episode, rollouts
+
+    def _recovered(self, attempt: Episode, rewound: int, goal: int, failed: Episode, tries: int) -> int:
+        """Commit ``attempt`` (from ``rewound``, past the failure of ``failed``) up to ``goal`` and
+        record the recovery, which took ``tries``. Returns the new last committed frame."""
+        end = min(attempt.end_frame, goal)
+        self._commit(attempt, rewound, end)
+        self.recoveries.append(Recovery(frame=rewound, failed_at=failed.end_frame, reason=failed.ended_by,
+                                        retries=tries))
+        return end
 
     def _reanchor(self, best: Episode, rewound: int, fail: int, reason: str, retries: int) -> int:
         """Keep ``best`` (the longest-surviving attempt) up to ``rewind`` frames before its failure

@@ -123,11 +123,13 @@ def joined(windows: list[Episode]) -> Episode:
     for a, b in zip(windows, windows[1:]):
         if b.start_frame != a.end_frame:
             raise ValueError(f"episode starting at frame {b.start_frame} does not continue one ending at {a.end_frame}")
-    return Episode(clip=first.clip, start_frame=first.start_frame,
-                   qpos=np.concatenate([first.qpos] + [w.qpos[1:] for w in windows[1:]]),
-                   qvel=np.concatenate([first.qvel] + [w.qvel[1:] for w in windows[1:]]),
-                   actions=np.concatenate([first.actions] + [w.actions[1:] for w in windows[1:]]),
-                   rewards=np.concatenate([w.rewards for w in windows]), final_obs=last.final_obs,
+
+    def states(name: str) -> np.ndarray:  # each later window's first state is the previous one's last
+        return np.concatenate([getattr(first, name)] + [getattr(w, name)[1:] for w in windows[1:]])
+
+    return Episode(clip=first.clip, start_frame=first.start_frame, qpos=states("qpos"), qvel=states("qvel"),
+                   actions=states("actions"), rewards=np.concatenate([w.rewards for w in windows]),
+                   final_obs=last.final_obs,
                    ended_by=last.ended_by, episode_end=last.episode_end)
 
 

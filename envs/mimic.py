@@ -501,12 +501,10 @@ def _state_parts(state: Sequence, nq: int, nv: int, n_act: int) -> tuple[np.ndar
     expected = f"(qpos ({nq},), qvel ({nv},)[, action ({n_act},)]) finite arrays"
     if not isinstance(state, (tuple, list)) or len(state) not in (2, 3):
         raise ValueError(f"reset option 'state' must be {expected}")
-    qpos, qvel, action = (*state, None) if len(state) == 2 else state
-    shapes = [(np.shape(qpos), (nq,)), (np.shape(qvel), (nv,))] + ([] if action is None else [(np.shape(action), (n_act,))])
-    parts = [qpos, qvel] + ([] if action is None else [action])
-    if any(got != want for got, want in shapes) or not all(np.all(np.isfinite(x)) for x in parts):
-        raise ValueError(f"reset option 'state' must be {expected}; got shapes {[np.shape(x) for x in parts]}")
-    return np.asarray(qpos), np.asarray(qvel), action
+    shapes = [np.shape(x) for x in state]
+    if shapes != [(nq,), (nv,), (n_act,)][:len(state)] or not all(np.all(np.isfinite(x)) for x in state):
+        raise ValueError(f"reset option 'state' must be {expected}; got shapes {shapes}")
+    return np.asarray(state[0]), np.asarray(state[1]), state[2] if len(state) == 3 else None
 
 
 def _content_key(motion: Motion) -> str:
