@@ -79,14 +79,15 @@ def reduction(fraction: float) -> str:
     return "n/a" if np.isnan(fraction) else f"{-fraction:+.0%}"
 
 
-def cleaning(policy, reference: Motion, config: CleanConfig, out_stem: Path | None) -> dict:
-    """``reference`` cleaned by ``policy`` with ``config``, touched up, and scored against it: a
-    report row (written as ``OUT_STEM_{simulated,touched}.npz`` too with ``out_stem``)."""
+def cleaning(policy, reference: Motion, before: dict, config: CleanConfig, out_stem: Path | None) -> dict:
+    """``reference`` (whose artefact metrics are ``before``) cleaned by ``policy`` with ``config``,
+    touched up, and scored against it: a report row (written as ``OUT_STEM_{simulated,touched}.npz``
+    too with ``out_stem``)."""
     start = time.perf_counter()
     cleaned = clean_motion(policy, reference, config, progress=False)
     clean_s = time.perf_counter() - start
     touched, touch = touched_up(cleaned)
-    before, after = motion_quality(reference).as_dict(), motion_quality(cleaned).as_dict()
+    after = motion_quality(cleaned).as_dict()
     touched_after = motion_quality(touched).as_dict()
     if out_stem:
         for kind, motion in (("simulated", cleaned), ("touched", touched)):
@@ -149,10 +150,12 @@ def main() -> None:
             stem = args.out_dir / f"{i:02d}_{clip.split('#')[-1]}" if args.out_dir else None
             if stem:
                 reference.save(stem.with_name(f"{stem.name}_input.npz"))
+            before = motion_quality(reference).as_dict()
             row = {"clip": clip, "frames": reference.n_frames, "full_length": looped, "seed": args.seed + i,
                    "ELR_before": adapted.elr_before, "ELR": adapted.elr_after, "SR90": adapted.sr90_after,
                    "adapt_s": adapted.wall_s, "adapt_steps": adapted.steps,
-                   "cleanings": [cleaning(adapted.policy, reference, c, stem and stem.with_name(f"{stem.name}_{k}"))
+                   "cleanings": [cleaning(adapted.policy, reference, before, c,
+                                          stem and stem.with_name(f"{stem.name}_{k}"))
                                  for k, c in enumerate(args.settings)]}
             rows.append(row)
             print(f"{clip.split('#')[-1]:<34} ELR {row['ELR_before']:.2f} -> {row['ELR']:.2f}  adapt "

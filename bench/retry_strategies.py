@@ -58,13 +58,14 @@ def main() -> None:
     clips = expand_clips(args.clips)
     takes = [corrupted_take(clip, policy.foot, args.seconds, args.strength, args.seed + i) for i, clip in enumerate(clips)]
     truths = [cut_take(clip, policy.foot, args.seconds) for clip in clips]  # the takes before the corruption
+    input_jitter = [motion_quality(take).jitter for take in takes]
     rows = []
     print(f"{'setting':<30} {'re-anchors':>10} {'recoveries':>10} {'whole':>6} {'sunk':>6} {'astray':>7} "
           f"{'from clean':>10} {'jitter':>7} {'clean s':>8}")
     for config in args.settings:
         start = time.perf_counter()
         per_take = []
-        for reference, truth in zip(takes, truths):
+        for reference, truth, jitter_input in zip(takes, truths, input_jitter):
             out = clean_motion(policy, reference, config, progress=False)
             below = out.qpos[:, 2] < reference.qpos[:, 2] - SUNK_M
             away = np.linalg.norm(out.qpos[:, :2] - reference.qpos[:, :2], axis=1) > ASTRAY_M
@@ -73,7 +74,7 @@ def main() -> None:
                              "reanchors": len(out.source["reanchors"]), "recoveries": len(out.source["recoveries"]),
                              "sunk_frac": float(below.mean()), "astray_frac": float(away.mean()),
                              "astray_from_clean_frac": float(away_truth.mean()),
-                             "jitter": motion_quality(out).jitter, "jitter_input": motion_quality(reference).jitter})
+                             "jitter": motion_quality(out).jitter, "jitter_input": jitter_input})
         row = {"setting": label(config), "rewind_s": config.rewind_s, "retries": config.retries,
                "search": None if config.search is None else asdict(config.search),
                "reanchors": sum(t["reanchors"] for t in per_take), "recoveries": sum(t["recoveries"] for t in per_take),
