@@ -40,7 +40,6 @@ import sys
 from collections import deque
 from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Callable
 
 if __package__ in (None, ""):  # `python agents/clean.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
@@ -59,7 +58,7 @@ from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
 from reference_motion.bvh_export import write_bvh
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
-                                  non_negative_int, one_line_errors, output_dir, output_file, positive_float,
+                                  non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
                                   positive_int, require_frames)
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
@@ -204,9 +203,8 @@ class _Performance:
         self.config = config
         self.last = reference.n_frames - 1
         # hold the last frame for one more episode so any stretch can start at any frame of the clip
-        hold = np.repeat(reference.qpos[-1:], self.episode_frames + 2, axis=0)
-        padded = reference.with_qpos(np.concatenate([reference.qpos, hold]), loop=False)
-        self.env = policy.make_env([padded], artefacts=None, episode_frames=self.episode_frames)
+        self.env = policy.make_env([reference.held(self.episode_frames + 2)], artefacts=None,
+                                   episode_frames=self.episode_frames)
         self.policy = policy
         self.sample: Policy = sampling_policy(policy)
         self.rewind = config.rewind_frames(reference.fps, task.frames_per_control, self.episode_frames)
@@ -434,14 +432,6 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "far the bodies moved are reported beside them")
     add_performance_options(p)
     return p
-
-
-def or_none(parse: Callable[[str], float]) -> Callable[[str], float | None]:
-    """An argparse type: ``none`` (any case) gives ``None``, anything else goes to ``parse``."""
-    def parse_or_none(text: str) -> float | None:
-        return None if text.strip().lower() == "none" else parse(text)
-
-    return parse_or_none
 
 
 sr90_target = or_none(fraction)

@@ -68,7 +68,7 @@ from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, one_line_errors, output_dir, positive_float,
-                                  positive_int)
+                                  positive_int, resumable_run)
 from reference_motion.library import expand_clips
 from reference_motion.motion import Motion
 
@@ -372,22 +372,11 @@ def build_parser(prog: str | None = None) -> CliParser:
 def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the student's directory."""
     argv = sys.argv[1:] if argv is None else argv
-    args = build_parser(prog).parse_args(argv)
+    if "--resume" in argv and "--teacher-weight" in argv:
+        raise ValueError("--teacher-weight cannot change on --resume: a run keeps the weights it started with")
+    args, history = resumable_run(build_parser(prog), argv, "distillation")
     out: Path = args.out
     settings = out / "args.json"
-    if args.resume:
-        if not settings.is_file():
-            raise FileNotFoundError(f"{settings}: not found: no distillation to resume in {out} (--resume)")
-        if "--teacher-weight" in argv:
-            raise ValueError("--teacher-weight cannot change on --resume: a run keeps the weights it started with")
-        stored = {**vars(build_parser(prog).parse_args(["--out", str(out)])), **json.loads(settings.read_text())}
-        more_rounds = {"rounds": args.rounds} if "--rounds" in argv else {}  # a resumed run may be extended
-        args = type(args)(**{**stored, **more_rounds, "out": out, "resume": True, "no_progress": args.no_progress})
-        history = stored.get("commands", [])
-    elif settings.exists():
-        raise ValueError(f"{out}: already holds a distillation; pass --resume to continue it or pick a new --out")
-    else:
-        history = []
     if not args.teacher or not args.clips:
         raise ValueError("--teacher and --clips are needed (unless --resume)")
     config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,

@@ -39,7 +39,8 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
-from agents.clean import POLICY_ALONE, clean_motion, or_none, sr90_target
+from agents.clean import POLICY_ALONE, clean_motion, sr90_target
+from reference_motion.cli import or_none
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy, load_policy
 from agents.reconstruct_gait import gait_targets, reconstruction_metrics

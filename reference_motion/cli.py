@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import functools
+import json
 import math
 import os
 from collections.abc import Callable
@@ -169,3 +170,34 @@ def mocap_options(args: argparse.Namespace) -> MocapOptions:
     """The :class:`MocapOptions` given by :func:`add_mocap_options`' arguments."""
     return MocapOptions(joint_map=load_joint_map(args.joint_map) if args.joint_map else None,
                         units=args.units, up=args.up, asf=args.asf)
+
+
+def or_none(parse: Callable[[str], float]) -> Callable[[str], float | None]:
+    """An argparse type: ``none`` (any case) gives ``None``, anything else goes to ``parse``."""
+    def parse_or_none(text: str) -> float | None:
+        return None if text.strip().lower() == "none" else parse(text)
+
+    return parse_or_none
+
+
+def resumable_run(parser: argparse.ArgumentParser, argv: list[str], what: str,
+                  changeable: tuple[str, ...] = ("rounds",)) -> tuple[argparse.Namespace, list[str]]:
+    """Parse ``argv`` for a run kept in ``--out`` (its settings in ``OUT/args.json``) that
+    ``--resume`` continues: returns ``(args, history)``, the settings (on ``--resume`` the stored
+    ones, defaults for options newer than the run, with the ``changeable`` options the command line
+    sets and its ``--no-progress``) and the commands that ran it so far. Raises
+    ``FileNotFoundError`` on ``--resume`` with no run there, ``ValueError`` for a new run where one
+    is (``what`` names the kind of run in both messages)."""
+    args = parser.parse_args(argv)
+    settings = args.out / "args.json"
+    if args.resume:
+        if not settings.is_file():
+            raise FileNotFoundError(f"{settings}: not found: no {what} to resume in {args.out} (--resume)")
+        stored = {**vars(parser.parse_args(["--out", str(args.out)])), **json.loads(settings.read_text())}
+        changed = {k: getattr(args, k) for k in changeable if f"--{k.replace('_', '-')}" in argv}
+        resumed = argparse.Namespace(**{**stored, **changed, "out": args.out, "resume": True,
+                                        "no_progress": args.no_progress})
+        return resumed, stored.get("commands", [])
+    if settings.exists():
+        raise ValueError(f"{args.out}: already holds a {what}; pass --resume to continue it or pick a new --out")
+    return args, []

@@ -128,6 +128,13 @@ class Motion:
         """Copy with new ``qpos`` (and any other field changes)."""
         return replace(self, qpos=qpos, **changes)
 
+    def held(self, frames: int) -> "Motion":
+        """Copy, not cyclic, whose last frame is held ``frames`` frames longer: an environment
+        whose episodes are at most ``frames - 2`` long can then start one at any frame of this clip."""
+        if frames < 0:
+            raise ValueError(f"{self.name}: frames to hold must be >= 0, got {frames}")
+        return self.with_qpos(np.concatenate([self.qpos, np.repeat(self.qpos[-1:], frames, axis=0)]), loop=False)
+
     # ------------------------------------------------------------------ I/O
     def save(self, path: str | Path) -> Path:
         """Write ``.npz`` (qpos, fps, model, name, loop, JSON metadata), atomically; ``.npz`` is

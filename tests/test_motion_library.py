@@ -128,3 +128,12 @@ def test_qvel_matches_mujoco_differentiation(walk):
     v = np.zeros(hm.nv)
     mujoco.mj_differentiatePos(hm.model, v, 2 / walk.fps, walk.qpos[9], walk.qpos[11])
     assert np.allclose(walk.qvel[10], v, atol=1e-6)
+
+
+def test_held_repeats_the_last_frame_and_is_not_cyclic(walk):
+    held = walk.held(5)
+    assert held.n_frames == walk.n_frames + 5 and not held.loop
+    np.testing.assert_array_equal(held.qpos[:walk.n_frames], walk.qpos)
+    np.testing.assert_array_equal(held.qpos[-5:], np.repeat(walk.qpos[-1:], 5, axis=0))
+    with pytest.raises(ValueError, match="frames to hold must be >= 0"):
+        walk.held(-1)
