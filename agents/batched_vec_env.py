@@ -173,8 +173,11 @@ class BatchedMimicVecEnv(VecEnv):
         first, n = self.envs[0], self.num_envs
         self._unstable = self._bad_acceleration | unstable(self._qvel, first.config.max_joint_speed)
         state = body_state(self._xpos, self._xquat, self._xmat, self._cvel, self._com, self._com_vel)
-        refs = ReferenceFrame.gather([env._track for env in self.envs], [env._frame for env in self.envs])
-        terms = first._tracking_terms(state, refs)
+        frames = [env._frame for env in self.envs]
+        refs = ReferenceFrame.gather([env._track for env in self.envs], frames)
+        judged = (refs if all(env._judge is env._track for env in self.envs)
+                  else ReferenceFrame.gather([env._judge for env in self.envs], frames))
+        terms = first._tracking_terms(state, judged)
         observations = first._tracking_observation(state, refs, self._smoothed)
         names = first.reward_info_keys
         term_values = np.stack([getattr(terms, k) for k in names], axis=1).tolist()

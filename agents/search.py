@@ -11,7 +11,7 @@ rollout's noise is drawn once and held over its window, as SAMCON samples one of
 ``window_steps`` control steps, ``samples`` rollouts continue the beam's states (round robin; the
 first rollout from the best state is the policy's own noise-free action); a rollout that fails
 (falls, lags behind the reference, the simulation blows up, or ends its window with the root
-more than ``max_drift_m`` from the reference's) is dropped, and the survivors ranked by
+more than ``max_drift_m`` from the reference's, the one the reward compares with) is dropped, and the survivors ranked by
 the task reward summed along their lineage (plus, with ``value_weight``, the policy's critic's
 estimate of the return still to come from the state reached: a state about to fall earns less)
 form the next beam. Every rollout starts from the exact
@@ -143,7 +143,6 @@ def search(env: gym.Env, policy: MimicPolicy, start_frame: int, state: tuple[np.
     appended to its lineage) and how many rollouts it took.
     """
     fpc = env.unwrapped.config.frames_per_control
-    reference_root = env.unwrapped.clips[0].qpos[:, :2]
     window_frames = config.window_steps * fpc
     beam = [_Node(None, None, 0.0)]
     frame, rollouts = start_frame, 0
@@ -158,7 +157,8 @@ def search(env: gym.Env, policy: MimicPolicy, start_frame: int, state: tuple[np.
                 act = policy if (k == 0 and attempt == 0) else noisy_policy(policy, config.noise, rng, config.hold_noise)
                 window = run_episode(env, act, {"clip": 0, "start_frame": frame, "state": start}, max_frames=length)
                 rollouts += 1
-                drift = float(np.linalg.norm(window.qpos[-1, :2] - reference_root[window.end_frame]))
+                judged = env.unwrapped.judging_track.motion  # the clip the reward compares with
+                drift = float(np.linalg.norm(window.qpos[-1, :2] - judged.qpos[window.end_frame, :2]))
                 if config.max_drift_m is not None and drift > config.max_drift_m and not window.failed:
                     window = replace(window, ended_by="lagging")
                 gained = float(window.rewards.sum()) - config.position_weight * len(window.rewards) * drift

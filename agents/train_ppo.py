@@ -47,7 +47,7 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
-from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, GaitConfig, MimicConfig
+from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
@@ -77,6 +77,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="share of episodes with an IMU-corrupted reference (ADAPT's mix: 0.5; 0 = clean only)")
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
                    help="IMU artefact strength range of corrupted references")
+    g.add_argument("--judge", choices=JUDGES, default=ArtefactMix().judge,
+                   help="what a corrupted episode is rewarded and terminated against: the corrupted reference "
+                        "the policy observes (ADAPT), or the clean clip it was made from (envs.ArtefactMix.judge)")
     g.add_argument("--variants-per-clip", type=positive_int, default=4,
                    help="distinct corrupted references made per training clip (the same in every "
                         "process and shared by its envs: that many in all; with --vec subproc that many per env)")
@@ -160,7 +163,7 @@ def build_parser(prog: str | None = None) -> CliParser:
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
     mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
-                       variants_per_clip=args.variants_per_clip, seed=variant_seed(args))
+                       variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge)
            if corrupted_fraction > 0 else None)
     kwargs = {"clips": clips, "artefacts": mix, "foot": foot(args), "config": env_config(args)}
     if args.env_id == GAIT_ENV_ID:

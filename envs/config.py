@@ -121,6 +121,10 @@ class MimicConfig:
         return round(self.frame_rate_hz / self.control_rate_hz)
 
 
+JUDGES = ("corrupted", "clean")
+"""What a corrupted episode is rewarded and terminated against (:attr:`ArtefactMix.judge`)."""
+
+
 @dataclass(frozen=True)
 class ArtefactMix:
     """Which episodes mimic an IMU-corrupted reference (ADAPT trains on clean + faulty takes).
@@ -137,6 +141,11 @@ class ArtefactMix:
             of a vector env its own variants); an int: every environment with this mix makes the
             same variants, so the environments of one process build each once and share it
             (``agents/train_ppo.py`` sets it: 8 environments, 1/8 of the building and memory).
+        judge: what a corrupted episode's reward and terminations compare the simulation with:
+            ``"corrupted"``, the reference the policy observes and its PD targets follow (ADAPT);
+            or ``"clean"``, the clip it was corrupted from, which only training can know (the
+            policy is then rewarded for performing the clean motion from the corrupted reference:
+            :mod:`agents.expert_iteration`'s ``--judge clean``).
     """
 
     recipe: ArtefactRecipe = field(default_factory=ArtefactRecipe.imu)
@@ -144,6 +153,7 @@ class ArtefactMix:
     fraction: float = 0.5
     variants_per_clip: int = 4
     seed: int | None = None
+    judge: str = "corrupted"
 
     def __post_init__(self) -> None:
         lo, hi = self.strength
@@ -153,6 +163,8 @@ class ArtefactMix:
             raise ValueError(f"ArtefactMix.fraction must be in [0, 1], got {self.fraction}")
         if self.variants_per_clip < 1:
             raise ValueError(f"ArtefactMix.variants_per_clip must be >= 1, got {self.variants_per_clip}")
+        if self.judge not in JUDGES:
+            raise ValueError(f"ArtefactMix.judge must be one of {JUDGES}, got {self.judge!r}")
 
 
 CONTACT_MODES = ("vgrf", "keypoints")

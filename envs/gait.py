@@ -299,7 +299,7 @@ class MimicGaitEnv(MimicEnv):
     def _reward(self, state) -> tuple[float, dict[str, float]]:
         """ContactVision's R (eq. 6) of the current frame, its terms, and e_discount (for the lag
         termination)."""
-        g, d, track, f = self.gait_config, self.data, self._track, self._frame
+        g, d, track, f = self.gait_config, self.data, self._judge, self._frame
         ee, head = self.end_effectors, self.head
         terms = {
             "r_q": joint_pose_reward(d.qpos[self.actuator_qpos], track.ctrl[f], g.alpha_q),

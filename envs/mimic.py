@@ -162,6 +162,9 @@ class MimicEnv(gym.Env):
         self.substep_hook: Callable[[mujoco.MjData], None] | None = None
         """Called after every physics substep (to average contact forces over a frame)."""
         self._track: ReferenceTrack | None = None
+        self._judge: ReferenceTrack | None = None
+        """The track the reward and terminations compare with: ``_track``, or with
+        ``ArtefactMix.judge == "clean"`` in a corrupted episode the clean clip's."""
         self._action = np.zeros(n_act)
         self._sim_contacts = np.zeros(4, dtype=bool)
         """The simulated contacts (LT, RT, LH, RH) at the current frame."""
@@ -268,6 +271,7 @@ class MimicEnv(gym.Env):
             raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted, state")
 
         self._track, self._clip, self._variant = track, clip, variant
+        self._judge = self.track(clip, -1) if variant >= 0 and self.artefacts.judge == "clean" else track
         self._start = self._frame = start
         fpc = self.config.frames_per_control
         self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
@@ -416,7 +420,7 @@ class MimicEnv(gym.Env):
         """Reward of the current frame and its terms for ``info`` (keys :attr:`reward_info_keys`),
         from the simulated body state (:class:`envs.bodies.BodyState`, current) and the running
         track: ADAPT's r = e_discount·(r_local + r_p + r_v) (adapt eq. 10)."""
-        terms = self._tracking_terms(state, self._track.frame(self._frame))
+        terms = self._tracking_terms(state, self._judge.frame(self._frame))
         return terms.total, terms.as_dict()
 
     def _tracking_terms(self, state, ref: ReferenceFrame) -> RewardTerms:
@@ -428,6 +432,15 @@ class MimicEnv(gym.Env):
             cube_face_points(state.pos - state.pos[..., :1, :], state.axes, cfg.cube_size_m), ref.faces_rel_root,
             cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), ref.face_vel,
             state.pos[..., self.head, :], ref.pos[..., self.head, :], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
+
+    @property
+    def judging_track(self) -> ReferenceTrack:
+        """The track the running episode's reward and terminations compare with (after
+        :meth:`reset`): :attr:`current_track`, unless the episode is corrupted and judged against
+        the clean clip (``ArtefactMix.judge``)."""
+        if self._judge is None:
+            raise RuntimeError("call reset() first")
+        return self._judge
 
     @property
     def current_track(self) -> ReferenceTrack:

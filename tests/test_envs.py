@@ -9,6 +9,7 @@ from gymnasium.utils.env_checker import check_env
 
 import envs
 from envs import ArtefactMix
+from envs.bodies import read_body_state
 from envs.config import MimicConfig
 from envs.reference import pd_targets
 from reference_motion import rotations as rot
@@ -284,3 +285,32 @@ def test_floor_contacts_of_several_simulations_at_once_match_each_alone():
         np.testing.assert_array_equal(region_contacts(touching[i], channel), expected_regions[i])
     np.testing.assert_array_equal(bodies_touching(all_touching, body, all_owner, 3), [0, 2, 0])
     assert [bodies_touching(t, body) for t in touching] == [0, 2, 0]
+
+
+def test_a_corrupted_episode_can_be_judged_against_the_clean_clip(walk):
+    """ArtefactMix.judge="clean": the policy observes the corrupted reference and its PD targets follow
+    it, but the reward (and so the lag termination) compares the simulation with the clean clip."""
+    mix = ArtefactMix(strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5, judge="clean")
+    judged = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    adapt = gym.make("MimicIMU-v0", clips=[walk], artefacts=ArtefactMix(strength=(1.0, 1.0), fraction=1.0,
+                                                                        variants_per_clip=1, seed=5)).unwrapped
+    obs_j, info_j = judged.reset(options={"clip": 0, "start_frame": 0})
+    obs_a, info_a = adapt.reset(options={"clip": 0, "start_frame": 0})
+    assert info_j["corrupted"] and info_a["corrupted"]
+    np.testing.assert_array_equal(obs_j, obs_a)  # the same corrupted reference is observed ...
+    assert judged.judging_track is judged.track(0, -1) and judged.current_track is judged.track(0, 0)
+    assert adapt.judging_track is adapt.current_track
+    action = np.zeros(adapt.action_space.shape)
+    for _ in range(10):
+        obs_j, r_j, *_ = judged.step(action)
+        obs_a, r_a, *_ = adapt.step(action)
+    np.testing.assert_array_equal(obs_j, obs_a)  # ... and followed, so the simulations are the same
+    clean_terms = judged._tracking_terms(read_body_state(judged.model, judged.data), walk_frame(judged))
+    assert r_j == pytest.approx(clean_terms.total) and abs(r_j - r_a) > 1e-3  # only the reward differs
+    with pytest.raises(ValueError, match="judge must be one of"):
+        ArtefactMix(judge="oracle")
+
+
+def walk_frame(env):
+    """The clean clip's reference frame at the env's current frame."""
+    return env.track(0, -1).frame(env._frame)
