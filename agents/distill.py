@@ -155,6 +155,10 @@ class Labels:
     def fields(self) -> tuple[np.ndarray, ...]:
         return self.obs, self.actions, self.values, self.teacher, self.episode
 
+    def take(self, rows: np.ndarray | slice) -> Labels:
+        """The labelled states ``rows`` (a boolean mask, indices or a slice)."""
+        return Labels(*(f[rows] for f in self.fields()))
+
     def save(self, path: Path) -> None:
         with atomic_write(path) as tmp:
             with open(tmp, "wb") as f:
@@ -304,8 +308,7 @@ def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labe
     """``(train, held out)``: whole episodes, about ``share`` of them held out (the same ones
     whatever the round, by hashing the episode number with ``seed``)."""
     held = (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
-    pick = lambda rows: Labels(*(f[rows] for f in labels.fields()))  # noqa: E731
-    return pick(~held), pick(held)
+    return labels.take(~held), labels.take(held)
 
 
 def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> MimicPolicy:
@@ -372,8 +375,6 @@ def build_parser(prog: str | None = None) -> CliParser:
 def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the student's directory."""
     argv = sys.argv[1:] if argv is None else argv
-    if "--resume" in argv and "--teacher-weight" in argv:
-        raise ValueError("--teacher-weight cannot change on --resume: a run keeps the weights it started with")
     args, history = resumable_run(build_parser(prog), argv, "distillation")
     out: Path = args.out
     settings = out / "args.json"

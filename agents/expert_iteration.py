@@ -19,14 +19,15 @@ Each round runs ``episodes_per_round`` searches. Each is one training clip (unif
 IMU-corrupted with probability ``corrupted_fraction`` at a strength drawn from ``strength``), from
 the reference state at a random start frame to the end of an episode (``episode_frames``), guided
 by the current student. The lineage it kept is replayed to record the observation and the action
-(before smoothing) of every control step; when the search failed, the last ``drop_windows``
-windows before the fall are not used. The student (the policy's actor and critic, its observation
+(before smoothing) of every control step; when the search failed, the window of the fall and the
+``drop_windows`` windows before it are not used. The student (the policy's actor and critic, its observation
 statistics frozen) is then fitted to every label so far with :func:`agents.distill.fit`; the value
 labels are the guiding critic's own estimates, so the critic is held where it was (PPO refits it).
 
 ``OUT`` holds ``student/`` (a policy directory; its sidecar records the rounds), ``data.npz``
 (the labelled states) and ``log.jsonl`` (one line per round), each written whole after every round:
-``--resume`` continues after the last round finished, losing at most one round.
+``--resume`` continues after the last round the student's sidecar records, losing at most one
+round (only ``--rounds`` and ``--workers`` may change).
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.distill import DistillConfig, Labels, fit, fit_report, split_holdout
-from agents.policy import STATS_FILE, MimicPolicy, load_policy, save_policy
+from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy
 from agents.rollout import Episode, run_episode, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import PolicySidecar, TrainingRecord
@@ -136,7 +137,8 @@ def issued_actions(episode: Episode, smoothing: float, frames_per_control: int) 
 def replayed(env: gym.Env, episode: Episode, actions: np.ndarray, tolerance: float = 1e-3) -> np.ndarray:
     """``(K, D)`` the observation before each control step when ``actions (S, A)`` are replayed on
     ``env`` (clip 0) from ``episode``'s start state, for the first ``K <= S`` steps, those that
-    start within ``tolerance`` (rad or m, every ``qpos``) of ``episode``'s state. Each of the
+    start within ``tolerance`` of ``episode``'s state in every ``qpos`` entry (m, rad, or a
+    quaternion component). Each of the
     search's windows restarted the simulation from a recorded state, which drops MuJoCo's solver
     warm start, so a replay retraces the lineage only to ~1e-5, and may part from it before a fall."""
     seen: list[np.ndarray] = []
@@ -170,8 +172,9 @@ def search_labels(policy: MimicPolicy, task: SearchTask, config: ExpertIteration
     episode, rollouts = search(env, policy, task.start_frame, state, stop, config.search, np.random.default_rng(task.seed))
     fpc = base.config.frames_per_control
     actions = issued_actions(episode, base.config.action_smoothing, fpc)
-    if episode.failed:  # the windows that led into the fall are no example to follow
-        actions = actions[:max(0, len(actions) - (config.drop_windows + 1) * config.search.window_steps)]
+    if episode.failed:  # the failed window and the ones that led into it are no example to follow
+        window = config.search.window_steps
+        actions = actions[:max(0, ((len(actions) - 1) // window - config.drop_windows) * window)]
     obs = replayed(env, episode, actions) if len(actions) else np.zeros((0, env.observation_space.shape[0]), np.float32)
     actions = actions[:len(obs)]
     env.close()
@@ -192,6 +195,12 @@ def _load_worker(policy_dir: str) -> None:
 
 def _worker_labels(task: SearchTask, config: ExpertIterationConfig) -> dict:
     return search_labels(_worker_policy, task, config)
+
+
+def held_out_rmse(student: MimicPolicy, held: Labels) -> float | None:
+    """The student's action RMSE (rad) on the held-out labels, rounded to 1e-4 (``None`` when none
+    is held out: a run of few episodes)."""
+    return round(fit_report(student, held, ["search"])["action_rmse"], 4) if len(held) else None
 
 
 def draw_tasks(motions: list[Motion], count: int, corrupted_fraction: float, strength: tuple[float, float],
@@ -215,8 +224,8 @@ def collect(policy_dir: Path, tasks: list[SearchTask], config: ExpertIterationCo
     the labels (episodes numbered from ``first_episode``) and each search's outcome."""
     results = []
     if workers == 1:
-        _load_worker(str(policy_dir))
-        with torch_threads(1):
+        with torch_threads(1):  # _load_worker's one thread, undone after the searches
+            _load_worker(str(policy_dir))
             for task in tqdm(tasks, desc="searching", unit="episode", disable=not progress, leave=False):
                 results.append(_worker_labels(task, config))
     else:
@@ -280,10 +289,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
     motions = load_training_motions(clips, FOOT_MODELS[teacher.record.env.foot], args.mirror)
     log_file, data_file, student_dir = out / "log.jsonl", out / "data.npz", out / "student"
-    done = [json.loads(line) for line in log_file.read_text().splitlines()] if args.resume and log_file.exists() else []
-    labels = Labels.load(data_file) if done else None
+    # the student's sidecar is the record of the rounds finished: a run stopped between writing the
+    # labels, the student and the log line resumes after the student's last round
+    done = (load_policy(student_dir).record.extra["expert_iteration"]["rounds"]
+            if args.resume and (student_dir / MODEL_FILE).exists() else [])
+    labels = Labels.load(data_file).take(slice(done[-1]["states"])) if done else None
     student = load_policy(student_dir if done else args.policy)
     if done:
+        log_file.write_text("".join(json.dumps(record) + "\n" for record in done))
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     args.commands = history + ["python agents/expert_iteration.py " + " ".join(argv)]
@@ -301,17 +314,18 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         new, outcomes = collect(guide, tasks, config, args.workers, first_episode, not args.no_progress)
         labels = new if labels is None else labels + new
         train, held = split_holdout(labels, config.holdout, config.seed)
-        before = fit_report(student, held, ["search"])["action_rmse"]
+        before = held_out_rmse(student, held)
         loss = fit(student, train, config.fit_config(net), sigma, rng, not args.no_progress)
         failed = sum(o["ended_by"] in ("fallen", "lagging", "unstable") for o in outcomes)
         record = {"round": round_, "guided_by": str(guide), "episodes": len(outcomes), "searches_failed": failed,
                   "labelled": len(new), "states": len(labels), "rollouts": sum(o["rollouts"] for o in outcomes),
                   "loss": loss, "held_out_rmse_before": before,
-                  "held_out_rmse": fit_report(student, held, ["search"])["action_rmse"],
+                  "held_out_rmse": held_out_rmse(student, held),
                   "wall_s": time.monotonic() - started}
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
-                                  strength=tuple(args.strength), mirror=args.mirror, init_from=str(args.policy),
+                                  strength=tuple(args.strength), judge=config.judge, mirror=args.mirror,
+                                  init_from=str(args.policy),
                                   commands=args.commands, seed=config.seed, steps=len(labels),
                                   wall_s=record["wall_s"])
         sidecar = PolicySidecar(env=teacher.record.env, ppo=teacher.record.ppo, training=training, metrics={},
@@ -321,7 +335,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
             f.write(json.dumps(record) + "\n")
         done.append(record)
         print(f"[round {round_}] {len(outcomes)} searches ({failed} failed), {len(new)} new labels, {len(labels)} in "
-              f"all; held-out action RMSE {before:.3f} -> {record['held_out_rmse']:.3f} rad; "
+              f"all; held-out action RMSE {before} -> {record['held_out_rmse']} rad; "
               f"{record['wall_s'] / 60:.1f} min", flush=True)
     return student_dir
 

@@ -106,6 +106,7 @@ class TrainingRecord:
         clips: the training clips (SOURCE strings, clip sets expanded).
         eval_clips: the clips the checkpoint was selected on.
         corrupted_fraction, strength: the IMU-corruption mix (share of episodes, strength range).
+        judge: what the corrupted episodes were rewarded against (:attr:`envs.ArtefactMix.judge`).
         mirror, speeds: augmentation.
         init_from: the policy it was warm-started from, if any.
         commands: every command that trained the run, in order.
@@ -116,6 +117,7 @@ class TrainingRecord:
     eval_clips: list[str] = field(default_factory=list)
     corrupted_fraction: float = 0.0
     strength: tuple[float, float] = (0.5, 1.0)
+    judge: str = "corrupted"
     mirror: bool = False
     speeds: list[float] = field(default_factory=lambda: [1.0])
     init_from: str | None = None

@@ -385,8 +385,8 @@ class CheckpointAndEvaluate(BaseCallback):
         training = TrainingRecord(
             clips=training_clips(args),
             eval_clips=evaluation_clips(args),
-            corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), mirror=args.mirror,
-            speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
+            corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
+            mirror=args.mirror, speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None

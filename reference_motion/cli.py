@@ -184,17 +184,26 @@ def resumable_run(parser: argparse.ArgumentParser, argv: list[str], what: str,
                   changeable: tuple[str, ...] = ("rounds",)) -> tuple[argparse.Namespace, list[str]]:
     """Parse ``argv`` for a run kept in ``--out`` (its settings in ``OUT/args.json``) that
     ``--resume`` continues: returns ``(args, history)``, the settings (on ``--resume`` the stored
-    ones, defaults for options newer than the run, with the ``changeable`` options the command line
-    sets and its ``--no-progress``) and the commands that ran it so far. Raises
-    ``FileNotFoundError`` on ``--resume`` with no run there, ``ValueError`` for a new run where one
-    is (``what`` names the kind of run in both messages)."""
+    ones, defaults for options newer than the run, with the ``changeable`` options (destination
+    names) the command line sets, and its ``--no-progress``) and the commands that ran it so far.
+    Raises ``FileNotFoundError`` on ``--resume`` with no run there, ``ValueError`` on ``--resume``
+    with an option that cannot change, or for a new run where one is (``what`` names the kind of
+    run in the messages). Options must be spelt out (``parser.allow_abbrev`` is switched off)."""
+    parser.allow_abbrev = False
     args = parser.parse_args(argv)
     settings = args.out / "args.json"
     if args.resume:
         if not settings.is_file():
             raise FileNotFoundError(f"{settings}: not found: no {what} to resume in {args.out} (--resume)")
+        given = {a.dest for a in parser._actions
+                 if any(arg.split("=", 1)[0] in a.option_strings for arg in argv if arg.startswith("--"))}
+        fixed = sorted(given - set(changeable) - {"out", "resume", "no_progress"})
+        if fixed:
+            names = lambda dests: ", ".join("--" + k.replace("_", "-") for k in dests)  # noqa: E731
+            raise ValueError(f"{names(fixed)} cannot change on --resume: the {what} in {args.out} keeps the settings "
+                             f"it started with (only {names(changeable)} may change)")
         stored = {**vars(parser.parse_args(["--out", str(args.out)])), **json.loads(settings.read_text())}
-        changed = {k: getattr(args, k) for k in changeable if f"--{k.replace('_', '-')}" in argv}
+        changed = {k: getattr(args, k) for k in changeable if k in given}
         resumed = argparse.Namespace(**{**stored, **changed, "out": args.out, "resume": True,
                                         "no_progress": args.no_progress})
         return resumed, stored.get("commands", [])

@@ -130,7 +130,8 @@ class Motion:
 
     def held(self, frames: int) -> "Motion":
         """Copy, not cyclic, whose last frame is held ``frames`` frames longer: an environment
-        whose episodes are at most ``frames - 2`` long can then start one at any frame of this clip."""
+        whose episodes are at most ``frames`` frames long can then start one at any frame of this
+        clip (``agents.clean`` holds two more, a margin for its control steps)."""
         if frames < 0:
             raise ValueError(f"{self.name}: frames to hold must be >= 0, got {frames}")
         return self.with_qpos(np.concatenate([self.qpos, np.repeat(self.qpos[-1:], frames, axis=0)]), loop=False)

@@ -19,8 +19,8 @@ from envs import ArtefactMix, MimicConfig, MimicEnv
 CLIPS = ["deepmimic:walk", "deepmimic:run"]
 
 
-def make(vec_env_cls, config: MimicConfig = MimicConfig(), n_envs: int = 3, **vec_kwargs):
-    kwargs = {"clips": CLIPS, "artefacts": ArtefactMix(seed=0, variants_per_clip=1), "config": config}
+def make(vec_env_cls, config: MimicConfig = MimicConfig(), n_envs: int = 3, judge: str = "corrupted", **vec_kwargs):
+    kwargs = {"clips": CLIPS, "artefacts": ArtefactMix(seed=0, variants_per_clip=1, judge=judge), "config": config}
     return make_vec_env("MimicIMU-v0", n_envs=n_envs, seed=7, vec_env_cls=vec_env_cls, env_kwargs=kwargs,
                         vec_env_kwargs=vec_kwargs or None)
 
@@ -58,6 +58,13 @@ def assert_same_transitions(batched, dummy, steps: int, scale: float = 0.3) -> d
 def test_a_batch_steps_exactly_as_its_envs_one_at_a_time_through_resets():
     endings = assert_same_transitions(make(BatchedMimicVecEnv, n_threads=2), make(DummyVecEnv), steps=80)
     assert sum(endings.values()) >= 3  # random actions fall: the auto-reset path ran
+
+
+def test_corrupted_episodes_judged_against_the_clean_clip_batch_alike():
+    """Half the episodes corrupted, judged against the clean clip: the batch's rewards come from the
+    clean tracks, its observations from the corrupted ones, as each env's own do."""
+    batched, dummy = make(BatchedMimicVecEnv, judge="clean", n_threads=2), make(DummyVecEnv, judge="clean")
+    assert_same_transitions(batched, dummy, steps=60)
 
 
 @pytest.mark.parametrize("config", [MimicConfig(obs_frame="heading"), MimicConfig(com_offset=True),

@@ -9,6 +9,7 @@ import pytest
 
 from agents.expert_iteration import (ExpertIterationConfig, SearchTask, draw_tasks, issued_actions, main, replayed,
                                      search_labels)
+from agents.distill import Labels
 from agents.policy import MimicPolicy, load_policy
 from agents.rollout import run_episode
 from agents.search import SearchConfig
@@ -71,8 +72,8 @@ def test_search_labels_label_the_lineage_and_drop_the_windows_before_a_fall(walk
     backwards = walk.with_qpos(walk.qpos[::-1].copy(), loop=False)  # the walk policy cannot walk it
     failed = search_labels(walk_policy, SearchTask(backwards, 0, seed=3), config)
     assert failed["ended_by"] in ("fallen", "lagging")
-    windows = (config.drop_windows + 1) * config.search.window_steps
-    assert failed["labelled"] <= max(0, failed["frames"] // 2 - windows)
+    window, steps = config.search.window_steps, failed["frames"] // 2  # whole windows before the fall's
+    assert failed["labelled"] == max(0, ((steps - 1) // window - config.drop_windows) * window)
     assert len(failed["obs"]) == len(failed["actions"]) == failed["labelled"]
 
 
@@ -108,6 +109,17 @@ def test_expert_iteration_end_to_end_writes_a_policy_and_resumes(tmp_path, walk_
     rounds = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
     assert [r["round"] for r in rounds] == [0, 1] and rounds[1]["guided_by"].endswith("student")
     assert rounds[1]["states"] > rounds[0]["states"] > 200
+    # stopped after writing the labels and the student but not the log line: the student's record rules
+    log = out / "log.jsonl"
+    log.write_text(log.read_text().splitlines(keepends=True)[0])
+    labels = Labels.load(out / "data.npz")
+    (labels + labels.take(slice(7))).save(out / "data.npz")  # and labels of a round never finished
+    main(["--out", str(out), "--resume", "--rounds", "3", "--no-progress"])
+    rounds = [json.loads(line) for line in log.read_text().splitlines()]
+    assert [r["round"] for r in rounds] == [0, 1, 2]
+    assert rounds[2]["states"] == rounds[1]["states"] + rounds[2]["labelled"] == len(Labels.load(out / "data.npz"))
+    with pytest.raises(SystemExit, match="--epochs cannot change on --resume"):
+        main(["--out", str(out), "--resume", "--epochs", "3"])
     with pytest.raises(SystemExit, match="already holds"):
         main(["--policy", str(WALK_POLICY), "--clips", "deepmimic:walk", "--out", str(out), "--no-progress"])
     with pytest.raises(SystemExit, match="no expert iteration to resume"):
