@@ -50,7 +50,7 @@ from tqdm import tqdm
 import envs  # noqa: F401  (registers the ids)
 from agents.distill import DistillConfig, Labels, fit, fit_report, split_holdout
 from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy
-from agents.rollout import Episode, run_episode, torch_threads
+from agents.rollout import FAILURES, Episode, run_episode, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import PolicySidecar, TrainingRecord
 from agents.train_ppo import load_training_motions
@@ -316,7 +316,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         train, held = split_holdout(labels, config.holdout, config.seed)
         before = held_out_rmse(student, held)
         loss = fit(student, train, config.fit_config(net), sigma, rng, not args.no_progress)
-        failed = sum(o["ended_by"] in ("fallen", "lagging", "unstable") for o in outcomes)
+        failed = sum(o["ended_by"] in FAILURES for o in outcomes)
         record = {"round": round_, "guided_by": str(guide), "episodes": len(outcomes), "searches_failed": failed,
                   "labelled": len(new), "states": len(labels), "rollouts": sum(o["rollouts"] for o in outcomes),
                   "loss": loss, "held_out_rmse_before": before,

@@ -40,13 +40,12 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
 from agents.clean import POLICY_ALONE, clean_motion, sr90_target
-from reference_motion.cli import or_none
 from agents.evaluation import evaluate
 from agents.policy import MimicPolicy, load_policy
 from agents.reconstruct_gait import gait_targets, reconstruction_metrics
 from envs.config import FOOT_MODELS, GAIT_ABLATIONS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from reference_motion.cli import positive_float
+from reference_motion.cli import or_none, positive_float
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 

@@ -23,13 +23,13 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from adapted_cleaning import corrupted_take  # bench/adapted_cleaning.py: the scripts run from bench/
-from agents.clean import POLICY_ALONE, clean_motion, or_none, reanchor_frames, touched_up
+from agents.clean import POLICY_ALONE, clean_motion, reanchor_frames, touched_up
 from agents.policy import load_policy
 from json_report import emit_json
 from reference_motion.library import expand_clips
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
-from reference_motion.cli import positive_float
+from reference_motion.cli import or_none, positive_float
 from reference_motion.touch_up import TOUCH_UP_PINNING
 
 METRICS = ("foot_skate_mps", "floating_m", "penetration_max_m", "penetration_mean_m", "jitter")
