@@ -28,7 +28,8 @@ closer to the take's path than the policy alone (``bench/retry_strategies.py``);
 retries with up to ``--retries`` stochastic rollouts of it, keeping the first that gets past. Every output frame is simulated; the re-anchors (frame, reason, retries)
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
 a red border in the video, which shows the reference (left) and the result (right).
-``--touch-up`` then removes what the soft contact model leaves (feet sunk into the floor, creeping
+``--denoise`` first undoes an IMU take's joint-angle and height errors (:mod:`perception.imu_denoiser`);
+the policy is adapted to and re-performs the denoised take. ``--touch-up`` then removes what the soft contact model leaves (feet sunk into the floor, creeping
 contact points) kinematically (:mod:`reference_motion.touch_up`), reporting how far it moved the
 body and the simulation's own metrics beside the result's. Before/after artefact metrics are printed.
 """
@@ -54,6 +55,8 @@ from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
 from envs.config import FOOT_MODELS
+from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
 from reference_motion.bvh_export import write_bvh
@@ -425,6 +428,11 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     p.add_argument("--seed", type=int, default=0, help="artefact seed")
     p.add_argument("--json", type=output_file(".json"), help="write the before/after metrics as JSON")
     if method:
+        p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
+                       help="an IMU take: undo its joint-angle and height errors with the IMU denoiser "
+                            "(perception/imu_denoiser.py; DIR default: the shipped one) before the policy is "
+                            "adapted to it and re-performs it; the input metrics and the video's left side "
+                            "stay the take as given")
         p.add_argument("--touch-up", action="store_true",
                        help="after the simulation, lift the body out of the floor where soft contacts let it sink "
                             "and pin planted feet with leg IK (reference_motion.touch_up); the output and the "
@@ -551,15 +559,23 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     args = parser.parse_args(argv)
     adaptation, extra = None, {}
     if args.method == "diffpd":
+        if args.denoise:
+            parser.error("--denoise goes with --method ppo")
         from agents.diffpd_clean import clean_from_args  # torch cycle only when asked for
 
         reference, cleaned, extra = clean_from_args(args, parser)
     else:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         config = clean_config(policy, reference, args)
-        adaptation = adapt_to_clip(policy, reference, args)
+        performed = reference
+        if args.denoise:
+            performed = denoise(load_network(args.denoise, "denoiser"), reference)
+            hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
+            height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
+            print(f"denoised with {args.denoise}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
+        adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
-        cleaned = clean_motion(performer, reference, config)
+        cleaned = clean_motion(performer, performed, config)
     touch = None
     if args.touch_up:
         simulated_quality = motion_quality(cleaned).as_dict()
@@ -586,7 +602,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "input": before, "cleaned": after, "simulated_fraction": source["simulated_fraction"],
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
-              "touch_up": touch, **extra}
+              "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None, **extra}
     if args.json:
         write_json(args.json, result)
     return result

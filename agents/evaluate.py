@@ -27,6 +27,8 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate, per_clip, summarize
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
+from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
@@ -47,6 +49,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt each clip with IMU artefacts first")
     p.add_argument("--strength", type=non_negative_float, default=1.0, help="artefact strength")
     p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
+    p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
+                   help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
+                        "default: the shipped one) and is judged against the clip as given")
     p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
     p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
     p.add_argument("--per-clip", action="store_true",
@@ -86,18 +91,24 @@ def artefact_table(runs: list) -> dict[str, dict[str, float]]:
 def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
+    denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
     runs = []
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
-        env = policy.make_env(clips, artefacts=None)
+        if denoiser is None:
+            env = policy.make_env(clips, artefacts=None)
+        else:
+            env = policy.make_env([denoise(denoiser, c) for c in clips], artefacts=None, judged_clips=clips)
         env.reset(seed=0)
         runs += evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)[1]
     summary = summarize(runs)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
+              "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {args.policy} on {', '.join(args.clips)}"
-          + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else ""))
+          + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
+          + (f", denoised by {args.denoise}" if args.denoise else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "
           f"{summary['MRR_std']:.3f}")

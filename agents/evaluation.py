@@ -31,7 +31,10 @@ class Rollout:
         elr, sr90, rde, mrr: the four metrics of the rollout.
         ended_by: why it ended (see :class:`envs.mimic.MimicEnv`).
         simulated: the simulated motion, every 60 Hz frame from the start state on.
-        reference: the reference frames it mimicked (same length and rate).
+        reference: the reference frames it was judged against (same length and rate): those it
+            mimicked, unless the environment judges against other ones
+            (``MimicEnv.judging_track``: the clean take, or the take as given when it mimicked a
+            denoised copy).
     """
 
     clip: str
@@ -56,7 +59,7 @@ def rollout(env: gym.Env, policy: Policy, clip: int | str, start_frame: int, cor
     (:func:`agents.rollout.run_episode`), and score it."""
     episode = run_episode(env, policy, {"clip": clip, "start_frame": start_frame, "corrupted": corrupted})
     frames = episode.qpos
-    ref = env.unwrapped.current_track.motion
+    ref = env.unwrapped.judging_track.motion
     reference = ref.with_qpos(ref.qpos[start_frame:start_frame + len(frames)], loop=False)
     simulated = reference.with_qpos(frames, source={**ref.source, "simulated_by": "policy"})
     total = episode.episode_end - start_frame

@@ -107,6 +107,8 @@ class TrainingRecord:
         eval_clips: the clips the checkpoint was selected on.
         corrupted_fraction, strength: the IMU-corruption mix (share of episodes, strength range).
         judge: what the corrupted episodes were rewarded against (:attr:`envs.ArtefactMix.judge`).
+        denoiser: the IMU denoiser the corrupted references passed through (:attr:`envs.ArtefactMix.denoiser`),
+            if any: the policy expects takes denoised the same way (``clean.py --denoise``).
         mirror, speeds: augmentation.
         init_from: the policy it was warm-started from, if any.
         commands: every command that trained the run, in order.
@@ -118,6 +120,7 @@ class TrainingRecord:
     corrupted_fraction: float = 0.0
     strength: tuple[float, float] = (0.5, 1.0)
     judge: str = "corrupted"
+    denoiser: str | None = None
     mirror: bool = False
     speeds: list[float] = field(default_factory=lambda: [1.0])
     init_from: str | None = None

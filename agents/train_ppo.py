@@ -49,6 +49,7 @@ from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
+from perception.imu_denoiser import DEFAULT_DENOISER
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
@@ -80,6 +81,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--judge", choices=JUDGES, default=ArtefactMix().judge,
                    help="what a corrupted episode is rewarded and terminated against: the corrupted reference "
                         "the policy observes (ADAPT), or the clean clip it was made from (envs.ArtefactMix.judge)")
+    g.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
+                   help="pass every corrupted reference (training, and --eval-strength evaluation) through the IMU "
+                        "denoiser in DIR (default: the shipped one) before the policy observes it, as clean.py "
+                        "--denoise does (envs.ArtefactMix.denoiser)")
     g.add_argument("--variants-per-clip", type=positive_int, default=4,
                    help="distinct corrupted references made per training clip (the same in every "
                         "process and shared by its envs: that many in all; with --vec subproc that many per env)")
@@ -163,7 +168,8 @@ def build_parser(prog: str | None = None) -> CliParser:
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
     mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
-                       variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge)
+                       variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
+                       denoiser=args.denoise)
            if corrupted_fraction > 0 else None)
     kwargs = {"clips": clips, "artefacts": mix, "foot": foot(args), "config": env_config(args)}
     if args.env_id == GAIT_ENV_ID:
@@ -386,6 +392,7 @@ class CheckpointAndEvaluate(BaseCallback):
             clips=training_clips(args),
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
+            denoiser=args.denoise,
             mirror=args.mirror, speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
@@ -483,7 +490,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
-                                               variants_per_clip=args.eval_episodes)
+                                               variants_per_clip=args.eval_episodes, denoiser=args.denoise)
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
     # the run is recorded only now that every clip has loaded: bad input leaves no run behind

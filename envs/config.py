@@ -146,6 +146,10 @@ class ArtefactMix:
             or ``"clean"``, the clip it was corrupted from, which only training can know (the
             policy is then rewarded for performing the clean motion from the corrupted reference:
             :mod:`agents.expert_iteration`'s ``--judge clean``).
+        denoiser: directory of an IMU denoiser (:mod:`perception.imu_denoiser`) that every
+            corrupted variant passes through before the policy observes it, as ``clean.py
+            --denoise`` passes a take (``"corrupted"`` then judges against the denoised variant, the
+            reference the policy follows); ``None`` (default): the corrupted reference as made.
     """
 
     recipe: ArtefactRecipe = field(default_factory=ArtefactRecipe.imu)
@@ -154,6 +158,7 @@ class ArtefactMix:
     variants_per_clip: int = 4
     seed: int | None = None
     judge: str = "corrupted"
+    denoiser: str | None = None
 
     def __post_init__(self) -> None:
         lo, hi = self.strength

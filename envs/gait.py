@@ -23,7 +23,6 @@ stays light.
 
 from __future__ import annotations
 
-import functools
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -49,11 +48,11 @@ _SPEC_HELP = ("expected 'vgrf', 'keypoints', a keypoint .npz file (keypoints, fp
 
 
 # --------------------------------------------------------------------------- contact targets
-@functools.lru_cache(maxsize=4)
-def _network(path: str, kind: str):
-    """A shipped perception network, loaded once per process (:func:`perception.weights.load_network`)."""
-    from perception.weights import load_network
-    return load_network(Path(path), kind)
+def _network(path: str | Path, kind: str):
+    """A shipped perception network, loaded once per process (:func:`perception.weights.shared_network`;
+    imported here, so that ``import envs`` stays free of torch)."""
+    from perception.weights import shared_network
+    return shared_network(str(path), kind)
 
 
 def vgrf_contacts(motion: Motion, vgrf_net: str | Path = DEFAULT_VGRF_NET) -> np.ndarray:

@@ -39,6 +39,10 @@ from reference_motion.transforms import resample
 ClipSpec = str | Path | Motion
 
 
+JUDGED = -2
+"""``MimicEnv.track``'s variant of a clip's judged motion (the env's ``judged_clips``)."""
+
+
 class MimicEnv(gym.Env):
     """Mimic reference clips with a PD-driven MuJoCo humanoid (``MimicIMU-v0`` and its siblings).
 
@@ -60,6 +64,11 @@ class MimicEnv(gym.Env):
             default: where the policy currently fails more often).
         render_mode: ``None`` or ``"rgb_array"`` (character with the reference translucent beside it).
         width, height: rendered image size (pixels).
+        judged_clips: per clip, the motion the reward and terminations compare the simulation with
+            instead of the clip itself, which the policy still observes and follows: the take as
+            given, when the clip is a denoised copy of it (``agents/evaluate.py --denoise``). As
+            many clips as ``clips``, each with as many frames; not with ``artefacts``. ``None``
+            (default): the clips themselves.
 
     Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``) — layout in :mod:`envs.observations`,
     named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
@@ -85,7 +94,7 @@ class MimicEnv(gym.Env):
                  foot: str = "one", episode_frames: int | None = None, obs_mode: str = "adapt",
                  action_mode: str = "key", config: MimicConfig | None = None,
                  sampling: SamplingConfig = SamplingConfig(), render_mode: str | None = None,
-                 width: int = 480, height: int = 360):
+                 width: int = 480, height: int = 360, judged_clips: Sequence[ClipSpec] | None = None):
         _check_choice("foot", foot, tuple(FOOT_MODELS))
         _check_choice("obs_mode", obs_mode, OBS_MODES)
         _check_choice("action_mode", action_mode, ACTION_MODES)
@@ -149,6 +158,8 @@ class MimicEnv(gym.Env):
         self.clips = self._load_clips(clips)
         self._clip_keys = [_content_key(c) for c in self.clips]
         """Per clip: a key of its content (:func:`_content_key`), for :data:`_SHARED_TRACKS`."""
+        self._judged = None if judged_clips is None else self._load_judged(judged_clips)
+        self._judged_keys = [] if self._judged is None else [_content_key(c) for c in self._judged]
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
         self._tracks: OrderedDict[tuple[int, int], ReferenceTrack] = OrderedDict()
@@ -193,6 +204,19 @@ class MimicEnv(gym.Env):
             out.append(motion)
         return out
 
+    def _load_judged(self, judged_clips: Sequence[ClipSpec]) -> list[Motion]:
+        if self.artefacts is not None:
+            raise ValueError("judged_clips and artefacts cannot be combined: corrupted episodes are judged as "
+                             "ArtefactMix.judge says")
+        judged = self._load_clips(judged_clips)
+        if len(judged) != len(self.clips):
+            raise ValueError(f"judged_clips has {len(judged)} clips, clips has {len(self.clips)}; give one per clip")
+        for clip, other in zip(self.clips, judged):
+            if other.n_frames != clip.n_frames:
+                raise ValueError(f"judged clip {other.name!r} has {other.n_frames} frames, its clip {clip.name!r} "
+                                 f"{clip.n_frames}; a clip and the motion it is judged against must match frame by frame")
+        return judged
+
     def last_start(self, clip: int | str) -> int:
         """Latest start frame of an episode on ``clip`` (index or name): one full episode before its
         end, or, for a clip shorter than that, the middle of the clip (episodes then end with it)."""
@@ -211,8 +235,9 @@ class MimicEnv(gym.Env):
         return self._episode_end
 
     def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
-        """The reference track of clip ``clip``: as given (``variant=-1``) or its corrupted variant
-        ``variant``, built on first use (or taken from another environment of this process that
+        """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
+        ``variant`` (passed through ``ArtefactMix.denoiser`` when set), or the motion it is judged
+        against (``variant=JUDGED``), built on first use (or taken from another environment of this process that
         holds the same one, :data:`_SHARED_TRACKS`). A variant's artefact seed and strength depend
         only on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant),
         so the same seed always gives the same references whatever order episodes come in."""
@@ -231,10 +256,18 @@ class MimicEnv(gym.Env):
             seed = int(rng.integers(2**31))
             corruption = (mix.recipe.scaled(float(rng.uniform(*mix.strength))), seed)
             self._variant_seeds[key] = seed
-        content = (self.humanoid.name, self._clip_keys[clip], corruption, self.config.cube_size_m)
+        judged = variant == JUDGED
+        given = self._judged[clip] if judged else self.clips[clip]
+        denoiser = self.artefacts.denoiser if corruption is not None else None
+        content = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
+                   denoiser, self.config.cube_size_m)
         track = _SHARED_TRACKS.get(content)
         if track is None:
-            motion = self.clips[clip] if corruption is None else corrupt(self.clips[clip], *corruption)
+            motion = given if corruption is None else corrupt(given, *corruption)
+            if denoiser is not None:  # torch only when asked for: `import envs` stays light
+                from perception.imu_denoiser import denoise
+                from perception.weights import shared_network
+                motion = denoise(shared_network(denoiser, "denoiser"), motion)
             track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                          self.config.cube_size_m)
             for value in vars(track).values():  # shared between environments: nobody may write to it
@@ -271,7 +304,10 @@ class MimicEnv(gym.Env):
             raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted, state")
 
         self._track, self._clip, self._variant = track, clip, variant
-        self._judge = self.track(clip, -1) if variant >= 0 and self.artefacts.judge == "clean" else track
+        if self._judged is not None:
+            self._judge = self.track(clip, JUDGED)
+        else:
+            self._judge = self.track(clip, -1) if variant >= 0 and self.artefacts.judge == "clean" else track
         self._start = self._frame = start
         fpc = self.config.frames_per_control
         self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
@@ -437,7 +473,7 @@ class MimicEnv(gym.Env):
     def judging_track(self) -> ReferenceTrack:
         """The track the running episode's reward and terminations compare with (after
         :meth:`reset`): :attr:`current_track`, unless the episode is corrupted and judged against
-        the clean clip (``ArtefactMix.judge``)."""
+        the clean clip (``ArtefactMix.judge``) or the env was given ``judged_clips``."""
         if self._judge is None:
             raise RuntimeError("call reset() first")
         return self._judge

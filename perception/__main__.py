@@ -6,6 +6,7 @@ Examples::
     python -m perception train-mlp --dataset data/physics --run-dir runs/contact_mlp --out models/contact_mlp
     python -m perception evaluate-contacts --dataset data/physics --split test --json out/contacts.json
     python -m perception train-keypoints --dataset data/physics --run-dir runs/contact_transformer
+    python -m perception train-denoiser --run-dir runs/imu_denoiser --out models/imu_denoiser
     python -m perception evaluate-keypoints --dataset data/physics --split test --json out/keypoints.json
     python -m perception contacts deepmimic:walk --plot out/walk_contacts.png --json out/walk_contacts.json
     python -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --out out/turn_left1_clean.npz
@@ -15,6 +16,7 @@ Examples::
 from __future__ import annotations
 
 import argparse
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -24,6 +26,7 @@ from tqdm import tqdm
 from perception.cleanup import CleanupConfig, cleanup
 from perception.contacts import CONTACT_NAMES, ContactFunction
 from perception.dataset import SPLITS, load_split
+from perception.denoiser_training import DENOISER_TRAIN_CLIPS, DenoiserTrainConfig, train_denoiser
 from perception.contact_transformer import detect_contacts
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
 from perception.gait import gait_report
@@ -81,6 +84,20 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
         g.add_argument("--no-augment", action="store_true", help="train without UnderPressure's augmentations")
         g.add_argument("--no-progress", action="store_true")
         g.set_defaults(kind=kind)
+    d = DenoiserTrainConfig()
+    g = sub.add_parser("train-denoiser", help="train the IMU denoiser on library takes it corrupts itself",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("--clips", nargs="+", default=list(DENOISER_TRAIN_CLIPS),
+                   help="training clips: SOURCE strings or clip sets")
+    g.add_argument("--val-clips", nargs="+", default=["library:data/library/val"],
+                   help="validation clips (early stopping, the shipped epoch)")
+    g.add_argument("--run-dir", type=output_dir, required=True, help="checkpoints (resumes if it exists)")
+    g.add_argument("--out", type=output_dir, default=Path("models/imu_denoiser"), help="where the best weights are shipped")
+    g.add_argument("--epochs", type=positive_int, default=d.max_epochs, help="most epochs")
+    g.add_argument("--patience", type=non_negative_int, default=d.patience, help="early-stopping patience (epochs)")
+    g.add_argument("--windows-per-epoch", type=positive_int, default=d.windows_per_epoch)
+    g.add_argument("--seed", type=int, default=d.seed)
+    g.add_argument("--no-progress", action="store_true")
     k = KeypointTrainConfig()
     g = sub.add_parser("train-keypoints", help="train the ContactTransformer on filmed physics data (ContactVision)",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
@@ -230,9 +247,9 @@ def _print_keypoint_scores(kind: str, result: dict) -> None:
 
 
 def _train_and_ship(args: argparse.Namespace, trainer, config, describe) -> dict:
-    """Run ``trainer(dataset, run_dir, config)``, ship the best epoch to ``--out`` and say so;
+    """Run ``trainer(run_dir, config, progress=...)``, ship the best epoch to ``--out`` and say so;
     ``describe(best_val)`` words the validation score."""
-    sidecar = trainer(args.dataset, args.run_dir, config, progress=not args.no_progress)
+    sidecar = trainer(args.run_dir, config, progress=not args.no_progress)
     ship(args.run_dir, args.out)
     print(f"best epoch {sidecar['best_epoch']} of {sidecar['epochs']} ({describe(sidecar['best_val'])}, "
           f"{sidecar['wall_s']:.0f} s); shipped to {args.out}")
@@ -248,7 +265,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
                                      max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                                      windows_per_epoch=args.windows_per_epoch, init_from=args.init_from,
                                      seed=args.seed)
-        return _train_and_ship(args, train_keypoints, config, lambda best: f"val F1 {1 - best:.3f}")
+        return _train_and_ship(args, partial(train_keypoints, args.dataset), config, lambda best: f"val F1 {1 - best:.3f}")
     if args.command == "evaluate-keypoints":
         net = load_network(args.net, "keypoints")
         sequences = load_keypoint_split(args.dataset, args.split)
@@ -262,11 +279,16 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
         if args.record:
             record_metrics(args.net, result)
         return result
+    if args.command == "train-denoiser":
+        config = DenoiserTrainConfig(max_epochs=args.epochs, patience=args.patience,
+                                     windows_per_epoch=args.windows_per_epoch, seed=args.seed)
+        trainer = partial(train_denoiser, args.clips, args.val_clips)
+        return _train_and_ship(args, trainer, config, lambda best: f"val RMS error {np.sqrt(best):.4f}")
     if args.command in ("train-vgrf", "train-mlp"):
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                              lr_patience=args.lr_patience,
                              seed=args.seed, augment=not args.no_augment)
-        return _train_and_ship(args, train, config, lambda best: f"val loss {best:.5f}")
+        return _train_and_ship(args, partial(train, args.dataset), config, lambda best: f"val loss {best:.5f}")
     if args.command == "evaluate-contacts":
         models = ContactModels(vgrf=load_network(args.vgrf, "vgrf"), ot=fit_ot(load_split(args.dataset, "train")),
                                mlp=load_network(args.mlp, "mlp") if Path(args.mlp).exists() else None)

@@ -5,17 +5,20 @@ loading them with clear errors."""
 from __future__ import annotations
 
 import json
+from functools import lru_cache
 from pathlib import Path
 
 import torch
 from torch import nn
 
 from perception.contact_transformer import ContactTransformer
+from perception.imu_denoiser import IMUDenoiser
 from perception.vgrf import ContactMLP, VGRFNet
 
-KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP, "keypoints": ContactTransformer}
-"""Network classes by kind; each has ``input_names`` (the points it reads, in order) and ``fps``."""
-TRAIN_COMMANDS = {"vgrf": "train-vgrf", "mlp": "train-mlp", "keypoints": "train-keypoints"}
+KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP, "keypoints": ContactTransformer, "denoiser": IMUDenoiser}
+"""Network classes by kind; each has ``input_names`` (the points or features it reads, in order) and ``fps``."""
+TRAIN_COMMANDS = {"vgrf": "train-vgrf", "mlp": "train-mlp", "keypoints": "train-keypoints",
+                  "denoiser": "train-denoiser"}
 WEIGHTS_FILE, SIDECAR_FILE = "model.pt", "sidecar.json"
 
 
@@ -73,3 +76,11 @@ def load_network(path: Path, kind: str = "vgrf") -> nn.Module:
     except RuntimeError as err:
         raise ValueError(f"{file}: weights do not fit {KINDS[kind].__name__}: {str(err).splitlines()[0]}") from None
     return net.eval()
+
+
+
+@lru_cache(maxsize=8)
+def shared_network(path: str, kind: str) -> nn.Module:
+    """:func:`load_network` of ``path``, once per process and (path, kind): the environments of a
+    process share it."""
+    return load_network(Path(path), kind)

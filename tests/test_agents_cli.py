@@ -8,8 +8,12 @@ import numpy as np
 import pytest
 
 from agents import clean, evaluate
+from agents.evaluation import rollout
 from agents.policy import PolicyError, load_policy
 from agents.train_ppo import main as train
+from envs.config import MimicConfig
+from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.weights import shared_network
 from reference_motion.bvh import load as load_bvh
 from reference_motion.motion import Motion
 
@@ -39,6 +43,22 @@ def test_evaluate_reports_adapt_metrics_and_artefacts(policy_dir, tmp_path):
     assert row["rollouts"] == 3 and row["ELR"] == pytest.approx(saved["ELR_mean"])
 
 
+def test_evaluate_through_the_denoiser_judges_against_the_clip_as_given(policy_dir):
+    """--denoise: the policy mimics the denoised clip, but each rollout is judged against, and its
+    input artefacts and RDE measured on, the corrupted clip as given."""
+    result = evaluate.main(["--policy", str(policy_dir), "--clips", "deepmimic:walk", "--episodes", "2",
+                            "--corrupt", "imu", "--seed", "1000", "--denoise"])
+    assert result["denoiser"].endswith("imu_denoiser") and result["rollouts"] == 2
+    policy = load_policy(policy_dir)
+    [given] = evaluate.reference_clips(["deepmimic:walk"], "humanoid_1seg", MimicConfig(), "imu", 1.0, 1000)
+    performed = denoise(shared_network(str(DEFAULT_DENOISER), "denoiser"), given)
+    env = policy.make_env([performed], artefacts=None, judged_clips=[given])
+    env.reset(seed=0)
+    run = rollout(env, policy, 0, 0)
+    np.testing.assert_array_equal(run.reference.qpos, given.qpos[:run.reference.n_frames])
+    np.testing.assert_array_equal(env.unwrapped.current_track.motion.qpos, performed.qpos)
+
+
 def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):
     """Zero-shot (adaptation: tests/test_clean.py): a barely trained policy fails often, and every
     failure ends in a retry or a re-anchor, never in frames copied from the reference."""
@@ -51,6 +71,19 @@ def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):
     assert "kinematic_frames" not in cleaned.source
     assert load_bvh(tmp_path / "c.bvh").n_frames == 75
     assert set(result["input"]) >= {"foot_skate_mps", "jitter"}
+
+
+def test_clean_can_denoise_an_imu_take_first(policy_dir, tmp_path):
+    """--denoise: the policy re-performs the denoised take; the input metrics are the take as given."""
+    args = ["deepmimic:walker/turn_left0", "--policy", str(policy_dir), "--no-adapt", "--search", "off",
+            "--corrupt", "imu", "--seed", "3"]
+    plain = clean.main(args + ["--out", str(tmp_path / "plain.npz")])
+    denoised = clean.main(args + ["--out", str(tmp_path / "denoised.npz"), "--denoise"])
+    assert plain["denoiser"] is None and denoised["denoiser"].endswith("imu_denoiser")
+    assert denoised["input"] == plain["input"]
+    assert not np.allclose(Motion.load(tmp_path / "plain.npz").qpos, Motion.load(tmp_path / "denoised.npz").qpos)
+    with pytest.raises(SystemExit):
+        clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--denoise"])
 
 
 def test_bad_or_mismatched_policy_files_give_clear_errors(policy_dir, tmp_path):

@@ -1,6 +1,7 @@
 """The registered mimic environments on real clips: API, layout, determinism, endings, errors."""
 
 import warnings
+from dataclasses import replace
 
 import gymnasium as gym
 import numpy as np
@@ -13,6 +14,9 @@ from envs.bodies import read_body_state
 from envs.config import MimicConfig
 from envs.reference import pd_targets
 from reference_motion import rotations as rot
+from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.weights import shared_network
+from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
@@ -309,6 +313,46 @@ def test_a_corrupted_episode_can_be_judged_against_the_clean_clip(walk):
     assert r_j == pytest.approx(clean_terms.total) and abs(r_j - r_a) > 1e-3  # only the reward differs
     with pytest.raises(ValueError, match="judge must be one of"):
         ArtefactMix(judge="oracle")
+
+
+def test_corrupted_variants_can_pass_through_the_imu_denoiser(walk):
+    """ArtefactMix.denoiser: each corrupted variant is the denoised corruption, built once."""
+    mix = ArtefactMix(strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5)
+    plain = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    denoised = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, denoiser=str(DEFAULT_DENOISER))).unwrapped
+    for env in (plain, denoised):
+        env.reset(options={"clip": 0, "start_frame": 0})
+    corrupted = plain.current_track.motion
+    expected = denoise(shared_network(str(DEFAULT_DENOISER), "denoiser"), corrupted)
+    np.testing.assert_allclose(denoised.current_track.motion.qpos, expected.qpos)
+    assert not np.allclose(expected.qpos, corrupted.qpos)
+    assert denoised.track(0, 0) is denoised.current_track  # cached, not denoised again
+
+
+def test_a_clip_can_be_judged_against_another_motion(walk):
+    """judged_clips: the policy observes and follows the clip (a denoised take) while the reward
+    compares the simulation with the motion it is judged against (the take as given)."""
+    given = corrupt(walk, ArtefactRecipe.imu(1.0), 5)
+    judged = gym.make("MimicIMU-v0", clips=[walk], artefacts=None, judged_clips=[given]).unwrapped
+    plain = gym.make("MimicIMU-v0", clips=[walk], artefacts=None).unwrapped
+    assert plain.reset(options={"clip": 0, "start_frame": 0})[1]["corrupted"] is False
+    judged.reset(options={"clip": 0, "start_frame": 0})
+    np.testing.assert_array_equal(judged.judging_track.motion.qpos, given.qpos)
+    np.testing.assert_array_equal(judged.current_track.motion.qpos, walk.qpos)
+    action = np.zeros(plain.action_space.shape)
+    for _ in range(10):
+        obs_j, r_j, *_ = judged.step(action)
+        obs_p, r_p, *_ = plain.step(action)
+    np.testing.assert_array_equal(obs_j, obs_p)  # same reference followed: the same simulation
+    terms = judged._tracking_terms(read_body_state(judged.model, judged.data),
+                                   judged.judging_track.frame(judged._frame))
+    assert r_j == pytest.approx(terms.total) and abs(r_j - r_p) > 1e-3
+    with pytest.raises(ValueError, match="judged_clips has 2 clips, clips has 1"):
+        gym.make("MimicIMU-v0", clips=[walk], artefacts=None, judged_clips=[given, given])
+    with pytest.raises(ValueError, match="judged clip .* has 60 frames, its clip"):
+        gym.make("MimicIMU-v0", clips=[walk], artefacts=None, judged_clips=[given.with_qpos(given.qpos[:60])])
+    with pytest.raises(ValueError, match="judged_clips and artefacts cannot be combined"):
+        gym.make("MimicIMU-v0", clips=[walk], judged_clips=[given], artefacts=ArtefactMix())
 
 
 def walk_frame(env):

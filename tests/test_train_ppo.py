@@ -109,6 +109,19 @@ def test_gait_and_heading_frame_runs_record_their_task_in_the_sidecar(tmp_path):
         main(["--gait-ablation", "no_fc", "--run-dir", str(tmp_path / "x")])
 
 
+def test_a_run_on_denoised_references_records_its_denoiser(tmp_path):
+    """--denoise passes the corrupted references (training and --eval-strength evaluation) through
+    the IMU denoiser; the sidecar says which, so that cleaning can denoise takes the same way."""
+    from agents.policy import load_policy
+    from perception.imu_denoiser import DEFAULT_DENOISER
+    run = tmp_path / "denoised"
+    main(["--clips", "deepmimic:walk", "--corrupted-fraction", "1", "--denoise", "--eval-strength", "1",
+          "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128",
+          "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1", "--net", "16,16"])
+    assert load_policy(run / "best").record.training.denoiser == str(DEFAULT_DENOISER)
+    assert json.loads((run / "args.json").read_text())["denoise"] == str(DEFAULT_DENOISER)
+
+
 def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
     """--init-from copies the source's layers and statistics; --action-variance sets σ² anew."""
     source = load_policy(WALK_POLICY)

@@ -1,0 +1,162 @@
+"""Training the :class:`~perception.imu_denoiser.IMUDenoiser` on clean takes it corrupts itself.
+
+Every training batch cuts random windows out of the training takes (mirrored too), corrupts each
+with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`) at a strength drawn from
+``DenoiserTrainConfig.strength``, a fresh seed each time, or leaves it clean
+(``clean_fraction``), and regresses what :func:`~perception.imu_denoiser.denoise` must add back:
+the clean hinge angles and pelvis height minus the corrupted ones (mean squared error; rad and m
+weigh alike, their errors being of one size: a few degrees, a few centimetres). The validation
+score is that error over the whole validation takes, each clean and corrupted at strengths 0.5
+and 1 with fixed seeds: a denoiser must fix corrupted takes and leave clean ones alone. The loop,
+checkpoints, early stopping and shipping are :func:`perception.training.fit`'s.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Sequence
+
+import numpy as np
+import torch
+from torch import nn
+
+from perception.imu_denoiser import IMUDenoiser, motion_features
+from perception.training import fit
+from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.library import augmented, expand_clips, load_motion
+from reference_motion.motion import Motion
+
+DENOISER_TRAIN_CLIPS = ("library:data/library/train", "deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0",
+                        "deepmimic:walker/turn_right0")
+"""Default training clips: the library's train split and the DeepMimic clips the generalist trains on."""
+VALIDATION_STRENGTHS = (0.0, 0.5, 1.0)
+"""Artefact strengths each validation take is scored at (0 = clean)."""
+VALIDATION_SEED = 77_000
+"""Artefact seed of the first validation take (take i, strength j: seed + 10·i + j)."""
+
+
+@dataclass(frozen=True)
+class DenoiserTrainConfig:
+    """Training settings.
+
+    Attributes:
+        window: longest training window (frames; 240 = 4 s at 60 Hz); each batch draws its length
+            uniformly from ``min_window``…``window``, so the take-level branch learns from short
+            and long inputs alike.
+        min_window: shortest training window (frames; 60 = 1 s, the library's shortest take).
+        batch_size: windows per step.
+        windows_per_epoch: windows drawn per epoch.
+        strength: ``(low, high)`` of the uniform artefact strength of a corrupted window (0–1.5:
+            from mild to beyond the poor real take of strength 1).
+        clean_fraction: share of windows left clean (0.2), so clean takes come out nearly as given.
+        hidden: channels of the network (128: 0.3 M weights, 3 ms per second of motion on one core).
+        lr: initial Adam learning rate, halved after ``lr_patience`` epochs without a better
+            validation score.
+        max_epochs: upper bound on epochs.
+        lr_patience: see ``lr``.
+        patience: stop after this many epochs without a better validation score.
+        mirror: also train on every take performed by the other side of the body.
+        seed: seeds windows, strengths, artefact seeds and the initial weights.
+    """
+
+    window: int = 240
+    min_window: int = 60
+    batch_size: int = 32
+    windows_per_epoch: int = 2048
+    strength: tuple[float, float] = (0.0, 1.5)
+    clean_fraction: float = 0.2
+    hidden: int = 128
+    lr: float = 1e-3
+    max_epochs: int = 60
+    lr_patience: int = 4
+    patience: int = 10
+    mirror: bool = True
+    seed: int = 0
+
+    def __post_init__(self) -> None:
+        if not 2 <= self.min_window <= self.window:
+            raise ValueError(f"DenoiserTrainConfig needs 2 <= min_window <= window, got {self.min_window}, "
+                             f"{self.window}")
+        lo, hi = self.strength
+        if not 0 <= lo <= hi:
+            raise ValueError(f"DenoiserTrainConfig.strength must be (low, high) with 0 <= low <= high, "
+                             f"got {self.strength}")
+        if not 0 <= self.clean_fraction <= 1:
+            raise ValueError(f"DenoiserTrainConfig.clean_fraction must be in [0, 1], got {self.clean_fraction}")
+
+
+def correction_target(clean: Motion, corrupted: Motion) -> np.ndarray:
+    """What the denoiser must add to ``corrupted`` to get ``clean``: ``(T, n_hinge + 1)`` hinge
+    angles (rad) and pelvis height (m), float32."""
+    diff = clean.qpos - corrupted.qpos
+    return np.concatenate([diff[:, 7:], diff[:, 2:3]], axis=1).astype(np.float32)
+
+
+def _window(motion: Motion, start: int, length: int) -> Motion:
+    return Motion(motion.name, motion.fps, motion.qpos[start:start + length], motion.model, source=motion.source)
+
+
+class DenoiserTask:
+    """:class:`perception.training.TrainingTask` of the IMU denoiser on ``train`` / ``val`` clips."""
+
+    def __init__(self, train_clips: Sequence[str], val_clips: Sequence[str], config: DenoiserTrainConfig,
+                 model: str = "humanoid_1seg"):
+        self.config, self.model = config, model
+        self.train_sources, self.val_sources = expand_clips(list(train_clips)), expand_clips(list(val_clips))
+        overlap = sorted(set(self.train_sources) & set(self.val_sources))
+        if overlap:
+            raise ValueError(f"clip(s) {', '.join(overlap)} are in both the training and the validation clips")
+        if not self.train_sources or not self.val_sources:
+            raise ValueError("the IMU denoiser needs at least one training and one validation clip")
+        self.train = augmented([load_motion(s, model) for s in self.train_sources], mirrored=config.mirror)
+        self.lengths = np.array([m.n_frames for m in self.train])
+        if self.lengths.max() < config.min_window:
+            raise ValueError(f"no training clip has {config.min_window} frames; lower DenoiserTrainConfig.min_window")
+        self.val = []
+        for i, source in enumerate(self.val_sources):
+            clean = load_motion(source, model)
+            for j, strength in enumerate(VALIDATION_STRENGTHS):
+                given = corrupt(clean, ArtefactRecipe.imu(strength), VALIDATION_SEED + 10 * i + j) if strength else clean
+                self.val.append((torch.from_numpy(motion_features(given))[None],
+                                 torch.from_numpy(correction_target(clean, given))[None]))
+
+    def network(self) -> nn.Module:
+        net = IMUDenoiser(self.model, fps=self.train[0].fps, hidden=self.config.hidden)
+        net.set_statistics(np.concatenate([motion_features(m) for m in self.train]))
+        return net
+
+    def training_loss(self, net: nn.Module, rng: np.random.Generator, generator: torch.Generator) -> torch.Tensor:
+        c = self.config
+        length = int(rng.integers(c.min_window, min(c.window, self.lengths.max()) + 1))
+        usable = np.flatnonzero(self.lengths >= length)
+        weights = self.lengths[usable] - length + 1
+        features, targets = [], []
+        for pick in rng.choice(usable, size=c.batch_size, p=weights / weights.sum()):
+            clean = _window(self.train[pick], int(rng.integers(self.lengths[pick] - length + 1)), length)
+            given = clean
+            if rng.random() >= c.clean_fraction:
+                given = corrupt(clean, ArtefactRecipe.imu(float(rng.uniform(*c.strength))), int(rng.integers(2**31)))
+            features.append(motion_features(given))
+            targets.append(correction_target(clean, given))
+        prediction = net(torch.from_numpy(np.stack(features)))
+        return ((prediction - torch.from_numpy(np.stack(targets))) ** 2).mean()
+
+    @torch.no_grad()
+    def validation_score(self, net: nn.Module) -> float:
+        """Mean squared error left after correction, frame-weighted over the validation takes."""
+        total = frames = 0
+        for features, target in self.val:
+            total += float(((net(features) - target) ** 2).mean()) * features.shape[1]
+            frames += features.shape[1]
+        return total / frames
+
+    def sidecar(self, net: nn.Module) -> dict:
+        return {"kind": "denoiser", "joints": list(net.input_names), "fps": net.fps, "network": dict(net.config),
+                "train_clips": self.train_sources, "val_clips": self.val_sources}
+
+
+def train_denoiser(train_clips: Sequence[str], val_clips: Sequence[str], run_dir: Path,
+                   config: DenoiserTrainConfig = DenoiserTrainConfig(), progress: bool = True) -> dict:
+    """Train (or resume training) the IMU denoiser in ``run_dir``; returns the sidecar of the best epoch."""
+    return fit(DenoiserTask(train_clips, val_clips, config), run_dir, config, progress)

@@ -1,0 +1,119 @@
+"""Undoing an IMU suit's joint-angle and height errors before a policy tracks the take.
+
+The generalist falls most on IMU-corrupted takes through their joint-angle errors: the hip
+adduction offset alone takes its validation ELR from 0.88 to 0.65, the per-hinge calibration bias
+to 0.76 (README, "what the IMU artefacts cost"). Those errors are constant or slow over a take,
+and a take shows them in ways a single frame does not: legs that swing across the midline while
+the pelvis sways beyond the stance foot, feet that sink or float by the same few centimetres at
+every step. :class:`IMUDenoiser` learns that from the library's training takes corrupted by
+:func:`reference_motion.artefacts.corrupt` (:mod:`perception.denoiser_training`) and returns the
+correction of every hinge angle and of the pelvis height; :func:`denoise` applies it to a
+:class:`~reference_motion.motion.Motion`. The root's horizontal path (heading drift, root drift,
+skate) is left as it is: footskate cleanup and the simulation handle those.
+
+Input per frame (:func:`motion_features`, ``(T, n_hinge + 6)``): the hinge angles (rad), the pelvis
+height (m), the world up axis in the pelvis frame, and the pelvis velocity in its heading frame
+(forward, left; m/s), nothing that depends on where the take is or which way it faces. The network
+is fully convolutional in time (any number of frames): dilated residual convolutions see ±1 s
+around a frame, and a branch that averages over the whole input carries what is constant over the
+take (a calibration offset) to every frame.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import torch
+from torch import nn
+
+from reference_motion import rotations as rot
+from reference_motion.humanoid.model import load_model
+from reference_motion.motion import Motion
+
+DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser"
+"""The shipped IMU denoiser (``python -m perception train-denoiser``)."""
+BODY_FEATURES = ("root_z", "up_x", "up_y", "up_z", "vel_forward", "vel_left")
+"""Per-frame inputs after the hinge angles (:func:`motion_features`)."""
+MIN_STD = 0.05
+"""Floor of the input standardisation's std (rad, m, m/s: a few degrees, centimetres)."""
+
+
+def motion_features(motion: Motion) -> np.ndarray:
+    """Placement- and heading-free features ``(T, n_hinge + 6)`` (float32) of ``motion``: hinge
+    angles (rad), pelvis height (m), the world up axis in the pelvis frame (unit vector) and the
+    pelvis velocity in its heading frame (forward, left; m/s, central differences)."""
+    q = motion.qpos
+    up = rot.rotate(rot.conjugate(q[:, 3:7]), np.array([0.0, 0.0, 1.0]))
+    yaw = rot.yaw(q[:, 3:7])
+    vel = np.gradient(q[:, :2], axis=0) * motion.fps
+    c, s = np.cos(yaw), np.sin(yaw)
+    local = np.stack([c * vel[:, 0] + s * vel[:, 1], -s * vel[:, 0] + c * vel[:, 1]], axis=1)
+    return np.concatenate([q[:, 7:], q[:, 2:3], up, local], axis=1).astype(np.float32)
+
+
+class IMUDenoiser(nn.Module):
+    """Features ``(B, T, n_hinge + 6)`` (:func:`motion_features`) → corrections ``(B, T, n_hinge + 1)``:
+    what to add to each hinge angle (rad) and to the pelvis height (m), for any ``T``.
+
+    The input is standardised with statistics of the training data (buffers ``mean``, ``std``, set
+    by the trainer). A per-frame linear layer to ``hidden`` channels, residual ReLU convolutions
+    (kernel 3) with the given dilations (1…32: ±63 frames, ±1 s at 60 Hz), and a take-level branch
+    (the mean over time of those channels through a linear layer, added back to every frame) feed
+    a per-frame linear output layer, initialised to zero (an untrained denoiser changes nothing).
+
+    Args:
+        model: the humanoid whose hinges are read (``humanoid_1seg`` or ``humanoid_2seg``).
+        fps: frame rate the network was trained at (Hz); inputs must have it.
+        hidden: channels of every layer.
+        dilations: dilation of each residual convolution.
+    """
+
+    def __init__(self, model: str = "humanoid_1seg", fps: float = 60.0, hidden: int = 128,
+                 dilations: tuple[int, ...] = (1, 2, 4, 8, 16, 32)):
+        super().__init__()
+        self.model, self.fps, self.config = model, float(fps), {"model": model, "fps": float(fps), "hidden": hidden,
+                                                                 "dilations": tuple(dilations)}
+        hinges = tuple(load_model(model).hinge_names)
+        self.input_names = hinges + BODY_FEATURES
+        self.output_names = hinges + ("root_z",)
+        n_in = len(self.input_names)
+        self.register_buffer("mean", torch.zeros(n_in))
+        self.register_buffer("std", torch.ones(n_in))
+        self.inp = nn.Conv1d(n_in, hidden, 1)
+        self.convs = nn.ModuleList([nn.Conv1d(hidden, hidden, 3, padding=d, dilation=d) for d in dilations])
+        self.take = nn.Linear(hidden, hidden)
+        self.out = nn.Conv1d(hidden, len(self.output_names), 1)
+        nn.init.zeros_(self.out.weight)  # untrained, it changes nothing: training starts from the take as given
+        nn.init.zeros_(self.out.bias)
+
+    def set_statistics(self, features: np.ndarray) -> None:
+        """Standardise inputs with the mean and std of ``features (N, n_in)``; the std is floored
+        at :data:`MIN_STD`, so a hinge the training takes hardly move (a wrist) is not blown up
+        where a corrupted take moves it."""
+        self.mean.copy_(torch.as_tensor(features.mean(0)))
+        self.std.copy_(torch.as_tensor(np.maximum(features.std(0), MIN_STD)))
+
+    def forward(self, features: torch.Tensor) -> torch.Tensor:
+        z = torch.relu(self.inp(((features - self.mean) / self.std).transpose(1, 2)))
+        for conv in self.convs:
+            z = z + torch.relu(conv(z))
+        z = z + torch.relu(self.take(z.mean(dim=2)))[:, :, None]
+        return self.out(z).transpose(1, 2)
+
+
+@torch.no_grad()
+def denoise(net: IMUDenoiser, motion: Motion) -> Motion:
+    """``motion`` with ``net``'s corrections added to its hinge angles and pelvis height; its
+    ``source`` records ``denoised: True``. A clear ``ValueError`` when the motion is for another
+    humanoid or at another frame rate than the network."""
+    if motion.model != net.model:
+        raise ValueError(f"motion {motion.name!r} is for {motion.model}, the IMU denoiser for {net.model}")
+    if abs(motion.fps - net.fps) > 1e-6:
+        raise ValueError(f"motion {motion.name!r} is at {motion.fps:g} Hz, the IMU denoiser reads {net.fps:g} Hz; "
+                         "resample it first (reference_motion.transforms.resample)")
+    correction = net(torch.from_numpy(motion_features(motion))[None])[0].numpy().astype(float)
+    qpos = motion.qpos.copy()
+    qpos[:, 7:] += correction[:, :-1]
+    qpos[:, 2] += correction[:, -1]
+    return motion.with_qpos(qpos, source={**motion.source, "denoised": True})
