@@ -3,7 +3,7 @@
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
 [--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
-[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--out-dir DIR] [--json [OUT]]``
+[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--out-dir DIR] [--json [OUT]]``
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
 the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
@@ -38,6 +38,8 @@ from clean_settings import label, setting  # bench/clean_settings.py: the script
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.weights import load_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
@@ -80,8 +82,9 @@ def reduction(fraction: float) -> str:
 
 
 def cleaning(policy, reference: Motion, before: dict, config: CleanConfig, out_stem: Path | None) -> dict:
-    """``reference`` (whose artefact metrics are ``before``) cleaned by ``policy`` with ``config``,
-    touched up, and scored against it: a report row (written as ``OUT_STEM_{simulated,touched}.npz``
+    """``reference`` cleaned by ``policy`` with ``config``, touched up, and scored against the
+    artefact metrics ``before`` of the take as given (``reference`` itself, or the take it was
+    denoised from): a report row (written as ``OUT_STEM_{simulated,touched}.npz``
     too with ``out_stem``)."""
     start = time.perf_counter()
     cleaned = clean_motion(policy, reference, config, progress=False)
@@ -132,11 +135,16 @@ def main() -> None:
                         "protocol runs two of these processes at once, one per core)")
     p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1:searchall:16x64")],
                    help="how each adapted take is cleaned (bench/clean_settings.py), side by side")
+    p.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
+                   help="adapt to and clean each corrupted take after the IMU denoiser in DIR (default: the "
+                        "shipped one), as clean.py --denoise does; the artefacts are compared with the take as "
+                        "given, the ELR is the adapted policy's on the take it performs (the denoised one)")
     p.add_argument("--out-dir", type=Path, default=None,
                    help="also write each take's input and, per setting K, its simulated and touched-up clips here (.npz)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     frames = int(round(args.seconds * 60)) + 1
+    denoiser = load_network(Path(args.denoise), "denoiser") if args.denoise else None
     rows = []
     with tempfile.TemporaryDirectory() as cache:
         for i, clip in enumerate(spread(expand_clips(args.clips), args.takes)):
@@ -146,7 +154,8 @@ def main() -> None:
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
                                  keep=args.adapt_keep, physics_threads=args.physics_threads, cache_dir=Path(cache))
-            adapted = adapt_policy(policy, reference, config, progress=False)
+            performed = denoise(denoiser, reference) if denoiser else reference
+            adapted = adapt_policy(policy, performed, config, progress=False)
             stem = args.out_dir / f"{i:02d}_{clip.split('#')[-1]}" if args.out_dir else None
             if stem:
                 reference.save(stem.with_name(f"{stem.name}_input.npz"))
@@ -154,7 +163,7 @@ def main() -> None:
             row = {"clip": clip, "frames": reference.n_frames, "full_length": looped, "seed": args.seed + i,
                    "ELR_before": adapted.elr_before, "ELR": adapted.elr_after, "SR90": adapted.sr90_after,
                    "adapt_s": adapted.wall_s, "adapt_steps": adapted.steps,
-                   "cleanings": [cleaning(adapted.policy, reference, before, c,
+                   "cleanings": [cleaning(adapted.policy, performed, before, c,
                                           stem and stem.with_name(f"{stem.name}_{k}"))
                                  for k, c in enumerate(args.settings)]}
             rows.append(row)
@@ -179,7 +188,7 @@ def main() -> None:
               + ", ".join(f"{k} {c[f'{k}_reduction_median']:.0%}" for k in ARTEFACTS)
               + " (goal: the first four >= 80% each); touched up: "
               + ", ".join(f"{k} {c[f'{k}_touched_reduction_median']:.0%}" for k in ARTEFACTS))
-    emit_json({"policy": args.policy, "seconds": args.seconds, "strength": args.strength,
+    emit_json({"policy": args.policy, "denoiser": args.denoise, "seconds": args.seconds, "strength": args.strength,
                "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
                "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
                "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads,

@@ -11,9 +11,10 @@ correction of every hinge angle and of the pelvis height; :func:`denoise` applie
 :class:`~reference_motion.motion.Motion`. The root's horizontal path (heading drift, root drift,
 skate) is left as it is: footskate cleanup and the simulation handle those.
 
-Input per frame (:func:`motion_features`, ``(T, n_hinge + 6)``): the hinge angles (rad), the pelvis
-height (m), the world up axis in the pelvis frame, and the pelvis velocity in its heading frame
-(forward, left; m/s), nothing that depends on where the take is or which way it faces. The network
+Input per frame (:func:`motion_features`, ``(T, n_hinge + 18)``): the hinge angles (rad), the
+pelvis height (m), the world up axis in the pelvis frame, the pelvis velocity in its heading frame
+(forward, left; m/s), and where the four sole points are relative to the pelvis in that frame and
+above the floor (m): nothing that depends on where the take is or which way it faces. The network
 is fully convolutional in time (any number of frames): dilated residual convolutions see ±1 s
 around a frame, and a branch that averages over the whole input carries what is constant over the
 take (a calibration offset) to every frame.
@@ -28,32 +29,43 @@ import torch
 from torch import nn
 
 from reference_motion import rotations as rot
-from reference_motion.humanoid.model import load_model
+from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
 
 DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser"
 """The shipped IMU denoiser (``python -m perception train-denoiser``)."""
-BODY_FEATURES = ("root_z", "up_x", "up_y", "up_z", "vel_forward", "vel_left")
+BODY_FEATURES = (("root_z", "up_x", "up_y", "up_z", "vel_forward", "vel_left")
+                 + tuple(f"{point}_{axis}" for point in CONTACT_CHANNELS for axis in ("forward", "left"))
+                 + tuple(f"{point}_z" for point in CONTACT_CHANNELS))
 """Per-frame inputs after the hinge angles (:func:`motion_features`)."""
 MIN_STD = 0.05
 """Floor of the input standardisation's std (rad, m, m/s: a few degrees, centimetres)."""
 
 
 def motion_features(motion: Motion) -> np.ndarray:
-    """Placement- and heading-free features ``(T, n_hinge + 6)`` (float32) of ``motion``: hinge
-    angles (rad), pelvis height (m), the world up axis in the pelvis frame (unit vector) and the
-    pelvis velocity in its heading frame (forward, left; m/s, central differences)."""
+    """Placement- and heading-free features ``(T, n_hinge + 18)`` (float32) of ``motion``: hinge
+    angles (rad), pelvis height (m), the world up axis in the pelvis frame (unit vector), the
+    pelvis velocity in its heading frame (forward, left; m/s, central differences), and each sole
+    point's (:data:`~reference_motion.humanoid.model.CONTACT_CHANNELS`) place relative to the
+    pelvis in that frame (forward, left; m) and height (m), by forward kinematics: how wide the
+    feet stand and whether they meet the floor, the clearest signs of an adduction offset and of
+    a body floating or sunk."""
     q = motion.qpos
     up = rot.rotate(rot.conjugate(q[:, 3:7]), np.array([0.0, 0.0, 1.0]))
     yaw = rot.yaw(q[:, 3:7])
-    vel = np.gradient(q[:, :2], axis=0) * motion.fps
-    c, s = np.cos(yaw), np.sin(yaw)
-    local = np.stack([c * vel[:, 0] + s * vel[:, 1], -s * vel[:, 0] + c * vel[:, 1]], axis=1)
-    return np.concatenate([q[:, 7:], q[:, 2:3], up, local], axis=1).astype(np.float32)
+    c, s = np.cos(yaw)[:, None], np.sin(yaw)[:, None]
+
+    def heading_frame(xy: np.ndarray) -> np.ndarray:  # (T, K, 2) world → (T, K, 2) forward, left
+        return np.stack([c * xy[..., 0] + s * xy[..., 1], -s * xy[..., 0] + c * xy[..., 1]], axis=-1)
+
+    vel = heading_frame((np.gradient(q[:, :2], axis=0) * motion.fps)[:, None])[:, 0]
+    feet = load_model(motion.model).forward_kinematics(q).foot_points  # (T, 4, 3)
+    feet_xy = heading_frame(feet[..., :2] - q[:, None, :2]).reshape(len(q), -1)
+    return np.concatenate([q[:, 7:], q[:, 2:3], up, vel, feet_xy, feet[..., 2]], axis=1).astype(np.float32)
 
 
 class IMUDenoiser(nn.Module):
-    """Features ``(B, T, n_hinge + 6)`` (:func:`motion_features`) → corrections ``(B, T, n_hinge + 1)``:
+    """Features ``(B, T, n_hinge + 18)`` (:func:`motion_features`) → corrections ``(B, T, n_hinge + 1)``:
     what to add to each hinge angle (rad) and to the pelvis height (m), for any ``T``.
 
     The input is standardised with statistics of the training data (buffers ``mean``, ``std``, set
