@@ -34,7 +34,8 @@ out; its action RMSE per motion class (the clip's teacher) is what the log repor
 ``OUT`` holds ``student/`` (a policy directory: ``model.zip``, ``model_vecnormalize.pkl``,
 ``sidecar.json`` with the distillation's record), ``data.npz`` (the labelled states) and
 ``log.jsonl`` (one line per round), each written whole after every round: ``--resume`` continues
-after the last round finished, losing at most one round.
+after the last round the student's sidecar records (:func:`finished_rounds`), losing at most one
+round.
 """
 
 from __future__ import annotations
@@ -59,7 +60,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
+from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, PolicyError, load_policy, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
 from agents.train_ppo import load_training_motions, policy_kwargs
@@ -320,6 +321,21 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
     return MimicPolicy(default.path, model, default.normalizer, {})
 
 
+def finished_rounds(out: Path, key: str, resume: bool) -> tuple[list[dict], Labels | None]:
+    """The rounds a run in ``out`` finished and its labels, to resume it (``([], None)`` unless
+    ``resume`` and ``out/student`` holds a student). The student's sidecar, under
+    ``extra[key]["rounds"]``, is the record: each round writes the labels, then the student, then
+    the log line, so a run stopped between them has labels ahead of the student (cut back to the
+    states it was fitted on) or a log line short (``out/log.jsonl`` is rewritten from the record)."""
+    student_dir = out / "student"
+    if not (resume and (student_dir / MODEL_FILE).exists()):
+        return [], None
+    done = load_policy(student_dir).record.extra[key]["rounds"]
+    labels = Labels.load(out / "data.npz").take(slice(done[-1]["states"]))
+    (out / "log.jsonl").write_text("".join(json.dumps(record) + "\n" for record in done))
+    return done, labels
+
+
 def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: dict, training: TrainingRecord,
                  config: DistillConfig) -> Path:
     """Write ``out/student`` whole (:func:`agents.policy.save_policy`): the model, the default
@@ -394,8 +410,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     student = new_student(env, default, config)
     sigma = float(default.model.policy.log_std.detach().exp().mean())
     log_file, data_file = out / "log.jsonl", out / "data.npz"
-    done = [json.loads(line) for line in log_file.read_text().splitlines()] if args.resume and log_file.exists() else []
-    labels = Labels.load(data_file) if done else None
+    done, labels = finished_rounds(out, "distillation", args.resume)
     if done:
         student = MimicPolicy(default.path, PPO.load(out / "student" / MODEL_FILE, env=DummyVecEnv([lambda: env]),
                                                      device="cpu"), default.normalizer, {})

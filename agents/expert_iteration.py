@@ -48,8 +48,8 @@ import torch
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.distill import DistillConfig, Labels, fit, fit_report, split_holdout
-from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy
+from agents.distill import DistillConfig, Labels, finished_rounds, fit, fit_report, split_holdout
+from agents.policy import STATS_FILE, MimicPolicy, load_policy, save_policy
 from agents.rollout import FAILURES, Episode, run_episode, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import PolicySidecar, TrainingRecord
@@ -289,14 +289,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
     motions = load_training_motions(clips, FOOT_MODELS[teacher.record.env.foot], args.mirror)
     log_file, data_file, student_dir = out / "log.jsonl", out / "data.npz", out / "student"
-    # the student's sidecar is the record of the rounds finished: a run stopped between writing the
-    # labels, the student and the log line resumes after the student's last round
-    done = (load_policy(student_dir).record.extra["expert_iteration"]["rounds"]
-            if args.resume and (student_dir / MODEL_FILE).exists() else [])
-    labels = Labels.load(data_file).take(slice(done[-1]["states"])) if done else None
+    done, labels = finished_rounds(out, "expert_iteration", args.resume)
     student = load_policy(student_dir if done else args.policy)
     if done:
-        log_file.write_text("".join(json.dumps(record) + "\n" for record in done))
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
     out.mkdir(parents=True, exist_ok=True)
     args.commands = history + ["python agents/expert_iteration.py " + " ".join(argv)]

@@ -56,6 +56,11 @@ def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
     assert student.record.ppo.net == "32,32" and student.record.env.env_id == "MimicIMU-v0"
     env = student.make_env(["deepmimic:walk"])
     assert student(env.reset(seed=0)[0]).shape == (20,)
+    # a stop after the next round's labels were written, before its student and log line: the
+    # student's sidecar says one round is done, so the resume cuts the labels back and redoes it
+    labels = Labels.load(out / "data.npz")
+    (labels + labels).save(out / "data.npz")
+    (out / "log.jsonl").write_text("")
     main(["--out", str(out), "--resume", "--rounds", "2", "--no-progress"])
     rounds = [json.loads(line) for line in (out / "log.jsonl").read_text().splitlines()]
     assert [r["round"] for r in rounds] == [0, 1] and [r["acted_by"] for r in rounds] == ["teachers", "student"]
