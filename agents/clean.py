@@ -567,6 +567,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     else:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         config = clean_config(policy, reference, args)
+        note = policy.denoiser_note(args.denoise)
+        if note:
+            print(note)
         performed = reference
         if args.denoise:
             performed = denoise(load_network(args.denoise, "denoiser"), reference)

@@ -95,6 +95,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     runs = []
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
+        note = policy.denoiser_note(args.denoise)
+        if note:
+            print(note)
         if denoiser is None:
             env = policy.make_env(clips, artefacts=None)
         else:

@@ -114,6 +114,16 @@ class MimicPolicy:
         sidecar = replace(record, env=task, extra={**record.extra, "ablation": ablation}).to_dict()
         return replace(self, sidecar=sidecar)
 
+    def denoiser_note(self, denoiser: str | Path | None) -> str | None:
+        """A warning when the policy's corrupted training references passed through an IMU denoiser
+        (``train_ppo.py --denoise``, :attr:`~agents.sidecar.TrainingRecord.denoiser`) and the takes
+        it is given now pass through another one, ``denoiser``, or none (``None``); else ``None``."""
+        trained = self.record.training.denoiser
+        if not trained or (denoiser and Path(denoiser).resolve() == Path(trained).resolve()):
+            return None
+        return (f"note: {self.path} was trained on corrupted references passed through the IMU denoiser {trained}; "
+                f"these takes are {f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
+
     def check_env(self, env: gym.Env) -> None:
         """Raise :class:`PolicyError` unless ``env``'s spaces are the ones the policy was trained on."""
         obs, act = self.model.observation_space.shape, self.model.action_space.shape

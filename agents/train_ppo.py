@@ -50,6 +50,7 @@ from envs import ENV_IDS, ArtefactMix
 from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, GaitConfig, MimicConfig
 from envs.observations import OBS_FRAMES
 from perception.imu_denoiser import DEFAULT_DENOISER
+from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
@@ -84,7 +85,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
                    help="pass every corrupted reference (training, and --eval-strength evaluation) through the IMU "
                         "denoiser in DIR (default: the shipped one) before the policy observes it, as clean.py "
-                        "--denoise does (envs.ArtefactMix.denoiser)")
+                        "--denoise does (envs.ArtefactMix.denoiser); the --eval-strength evaluation then judges a "
+                        "rollout against the denoised reference it follows, evaluate.py --denoise against the take as "
+                        "given")
     g.add_argument("--variants-per-clip", type=positive_int, default=4,
                    help="distinct corrupted references made per training clip (the same in every "
                         "process and shared by its envs: that many in all; with --vec subproc that many per env)")
@@ -448,6 +451,19 @@ def policy_kwargs(net: str, action_variance: float) -> dict:
             "log_std_init": 0.5 * math.log(action_variance)}
 
 
+def check_denoiser(args: argparse.Namespace) -> None:
+    """Refuse ``--denoise`` before any work where it cannot act (no corrupted reference to denoise)
+    or where the denoiser reads another humanoid or frame rate than the run's environments."""
+    if args.corrupted_fraction == 0 and args.eval_strength is None:
+        raise ValueError("--denoise passes corrupted references through the IMU denoiser; this run has none "
+                         "(give --corrupted-fraction > 0 or --eval-strength)")
+    net = shared_network(str(args.denoise), "denoiser")
+    model, fps = FOOT_MODELS[foot(args)], env_config(args).frame_rate_hz
+    if net.model != model or abs(net.fps - fps) > 1e-6:
+        raise ValueError(f"{args.denoise}: an IMU denoiser for {net.model} at {net.fps:g} Hz; this run's environments "
+                         f"simulate {model} at {fps:g} Hz")
+
+
 def newest_checkpoint(run_dir: Path) -> Path | None:
     found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / "checkpoints").glob("step_*.zip")
              if CHECKPOINT.search(p.name)]
@@ -482,6 +498,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         args.n_steps = max(1, STEPS_PER_UPDATE // args.n_envs)
     if args.gait_ablation is not None and args.env_id != GAIT_ENV_ID:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
+    if args.denoise is not None:
+        check_denoiser(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)

@@ -28,7 +28,8 @@ from reference_motion.humanoid.model import load_model
 from reference_motion.library import expand_clips, load_motion
 
 KINDS = ("clean", "imu", "adduction", "bias", "drift", "noise", "height")
-"""Corruptions measured: none, every kind together, and the kinds the denoiser corrects alone."""
+"""Corruptions measured: none, every kind together, and each kind that acts on the hinge angles or
+the pelvis height (what the denoiser corrects) alone."""
 
 
 def errors(clean, given, hips: list[int]) -> dict[str, float]:

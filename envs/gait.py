@@ -200,6 +200,7 @@ class MimicGaitEnv(MimicEnv):
         width, height: rendered image size (pixels).
         vgrf_net: the VGRFNet of ``contacts="vgrf"`` (a shipped network folder; default ``models/vgrf``).
         contact_net: the ContactTransformer of keypoint contacts (default ``models/contact_transformer``).
+        judged_clips: refused (``MimicEnv``'s; a gait episode is judged against its own clip).
 
     Observation: ``Box(13 + 12·B + A + 6·P + 4,)`` float32 (B bodies, A action size, P =
     ``gait.preview_frames``): the mimic observation, the contact and toe targets of the next P
@@ -238,7 +239,10 @@ class MimicGaitEnv(MimicEnv):
                  action_mode: str | None = None, config: MimicConfig | None = None, gait: GaitConfig | None = None,
                  sampling: SamplingConfig = SamplingConfig(), render_mode: str | None = None, width: int = 480,
                  height: int = 360, vgrf_net: str | Path = DEFAULT_VGRF_NET,
-                 contact_net: str | Path = DEFAULT_CONTACT_NET):
+                 contact_net: str | Path = DEFAULT_CONTACT_NET, judged_clips: Sequence[ClipSpec] | None = None):
+        if judged_clips is not None:
+            raise ValueError("MimicGait-v0 takes no judged_clips: its reward compares the simulation with the clips "
+                             "it follows and their contact targets")
         if foot not in ("one", "two"):
             raise ValueError(f"MimicGait-v0: foot must be 'two' (humanoid_2seg, toe hinges following the "
                              f"ToeRefEstimator) or 'one' (the one-segment-foot ablation), got {foot!r}")

@@ -257,6 +257,9 @@ class MimicEnv(gym.Env):
             corruption = (mix.recipe.scaled(float(rng.uniform(*mix.strength))), seed)
             self._variant_seeds[key] = seed
         judged = variant == JUDGED
+        if variant < JUDGED or (judged and self._judged is None):
+            raise ValueError(f"track variant {variant}: expected -1 (the clip), a corrupted variant >= 0, or JUDGED "
+                             f"({JUDGED}) on an env made with judged_clips")
         given = self._judged[clip] if judged else self.clips[clip]
         denoiser = self.artefacts.denoiser if corruption is not None else None
         content = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
@@ -537,8 +540,8 @@ def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfi
 
 
 _SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
-"""The reference tracks alive in this process, by content (model, clip content, corruption, cube
-size): environments of one process on the same clips with the same variant seeds (the envs of a
+"""The reference tracks alive in this process, by content (model, clip content, corruption,
+denoiser, cube size): environments of one process on the same clips with the same variant seeds (the envs of a
 ``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy, read
 only. A track lives while some environment's LRU cache holds it. Clip names are not part of the
 key (the environment reports its own clip's name)."""

@@ -26,7 +26,7 @@ from tqdm import tqdm
 from perception.cleanup import CleanupConfig, cleanup
 from perception.contacts import CONTACT_NAMES, ContactFunction
 from perception.dataset import SPLITS, load_split
-from perception.denoiser_training import DENOISER_TRAIN_CLIPS, DenoiserTrainConfig, train_denoiser
+from perception.denoiser_training import DENOISER_TRAIN_CLIPS, DENOISER_VAL_CLIPS, DenoiserTrainConfig, train_denoiser
 from perception.contact_transformer import detect_contacts
 from perception.evaluation import ContactModels, evaluate_contacts, fit_ot
 from perception.gait import gait_report
@@ -89,7 +89,7 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     g.add_argument("--clips", nargs="+", default=list(DENOISER_TRAIN_CLIPS),
                    help="training clips: SOURCE strings or clip sets")
-    g.add_argument("--val-clips", nargs="+", default=["library:data/library/val"],
+    g.add_argument("--val-clips", nargs="+", default=list(DENOISER_VAL_CLIPS),
                    help="validation clips (early stopping, the shipped epoch)")
     g.add_argument("--run-dir", type=output_dir, required=True, help="checkpoints (resumes if it exists)")
     g.add_argument("--out", type=output_dir, default=Path("models/imu_denoiser"), help="where the best weights are shipped")

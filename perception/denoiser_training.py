@@ -13,6 +13,7 @@ checkpoints, early stopping and shipping are :func:`perception.training.fit`'s.
 
 from __future__ import annotations
 
+import json
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Sequence
@@ -24,12 +25,15 @@ from torch import nn
 from perception.imu_denoiser import IMUDenoiser, motion_features
 from perception.training import fit
 from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.atomic import write_json
 from reference_motion.library import augmented, expand_clips, load_motion
 from reference_motion.motion import Motion
 
 DENOISER_TRAIN_CLIPS = ("library:data/library/train", "deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0",
                         "deepmimic:walker/turn_right0")
 """Default training clips: the library's train split and the DeepMimic clips the generalist trains on."""
+DENOISER_VAL_CLIPS = ("library:data/library/val",)
+"""Default validation clips (early stopping, the shipped epoch): the library's val split."""
 VALIDATION_STRENGTHS = (0.0, 0.5, 1.0)
 """Artefact strengths each validation take is scored at (0 = clean)."""
 VALIDATION_SEED = 77_000
@@ -158,5 +162,13 @@ class DenoiserTask:
 
 def train_denoiser(train_clips: Sequence[str], val_clips: Sequence[str], run_dir: Path,
                    config: DenoiserTrainConfig = DenoiserTrainConfig(), progress: bool = True) -> dict:
-    """Train (or resume training) the IMU denoiser in ``run_dir``; returns the sidecar of the best epoch."""
-    return fit(DenoiserTask(train_clips, val_clips, config), run_dir, config, progress)
+    """Train (or resume training) the IMU denoiser in ``run_dir``; returns the sidecar of the best
+    epoch. ``run_dir/clips.json`` records the expanded clips, and a resume on other clips is refused."""
+    task = DenoiserTask(train_clips, val_clips, config)
+    run_dir = Path(run_dir)
+    record, clips = run_dir / "clips.json", {"train": task.train_sources, "val": task.val_sources}
+    if record.exists() and json.loads(record.read_text()) != clips:
+        raise ValueError(f"{record}: {run_dir} holds a run on other clips; use a new run directory")
+    run_dir.mkdir(parents=True, exist_ok=True)
+    write_json(record, clips)
+    return fit(task, run_dir, config, progress)

@@ -78,7 +78,6 @@ def load_network(path: Path, kind: str = "vgrf") -> nn.Module:
     return net.eval()
 
 
-
 @lru_cache(maxsize=8)
 def shared_network(path: str, kind: str) -> nn.Module:
     """:func:`load_network` of ``path``, once per process and (path, kind): the environments of a

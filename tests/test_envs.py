@@ -353,6 +353,10 @@ def test_a_clip_can_be_judged_against_another_motion(walk):
         gym.make("MimicIMU-v0", clips=[walk], artefacts=None, judged_clips=[given.with_qpos(given.qpos[:60])])
     with pytest.raises(ValueError, match="judged_clips and artefacts cannot be combined"):
         gym.make("MimicIMU-v0", clips=[walk], judged_clips=[given], artefacts=ArtefactMix())
+    with pytest.raises(ValueError, match="on an env made with judged_clips"):
+        plain.track(0, envs.mimic.JUDGED)
+    with pytest.raises(ValueError, match="MimicGait-v0 takes no judged_clips"):
+        gym.make("MimicGait-v0", clips=[walk], judged_clips=[given])
 
 
 def walk_frame(env):

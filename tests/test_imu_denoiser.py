@@ -60,14 +60,20 @@ def test_correction_target_is_what_turns_the_corrupted_take_back(walk):
 def test_a_few_epochs_learn_to_undo_artefacts_on_a_held_out_clip(tmp_path):
     """Trained 12 small epochs on two DeepMimic clips, the denoiser already leaves less error
     on a walker it never saw (clean, and corrupted at strengths 0.5 and 1) than doing nothing; a
-    finished run given more epochs resumes where it stopped."""
+    run stopped and resumed ends as the run never stopped, and one on other clips is refused."""
     config = DenoiserTrainConfig(hidden=32, windows_per_epoch=256, batch_size=16, max_epochs=12, window=120)
     clips, val = ["deepmimic:walk", "deepmimic:run"], ["deepmimic:walker/turn_left0"]
     sidecar = train_denoiser(clips, val, tmp_path / "run", config, progress=False)
     untrained = DenoiserTask(clips, val, config).validation_score(IMUDenoiser(hidden=32))
     assert sidecar["best_val"] < 0.8 * untrained
-    again = train_denoiser(clips, val, tmp_path / "run", replace(config, max_epochs=13), progress=False)
-    assert again["epochs"] == 13 and again["history"][:12] == sidecar["history"]
+    # stopped after 6 epochs and resumed to 12: the same weights as the run never stopped
+    train_denoiser(clips, val, tmp_path / "stopped", replace(config, max_epochs=6), progress=False)
+    resumed = train_denoiser(clips, val, tmp_path / "stopped", config, progress=False)
+    assert resumed["epochs"] == 12 and resumed["best_val"] == sidecar["best_val"]
+    assert torch.equal(torch.load(tmp_path / "stopped" / "best.pt")["out.weight"],
+                       torch.load(tmp_path / "run" / "best.pt")["out.weight"])
+    with pytest.raises(ValueError, match="holds a run on other clips"):
+        train_denoiser(["deepmimic:walk"], val, tmp_path / "run", config, progress=False)
 
 
 def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path):

@@ -1,5 +1,6 @@
 """agents/train_ppo.py end to end on a tiny budget: checkpoints, evaluation, best model, resume."""
 
+import argparse
 import json
 from pathlib import Path
 
@@ -9,7 +10,8 @@ import torch
 from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy
-from agents.train_ppo import build_parser, deferred_signals, main, newest_checkpoint, recorded_progress, training_motions
+from agents.train_ppo import (build_parser, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
+                              training_motions)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
@@ -118,8 +120,18 @@ def test_a_run_on_denoised_references_records_its_denoiser(tmp_path):
     main(["--clips", "deepmimic:walk", "--corrupted-fraction", "1", "--denoise", "--eval-strength", "1",
           "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128",
           "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1", "--net", "16,16"])
-    assert load_policy(run / "best").record.training.denoiser == str(DEFAULT_DENOISER)
-    assert json.loads((run / "args.json").read_text())["denoise"] == str(DEFAULT_DENOISER)
+    policy = load_policy(run / "best")
+    assert policy.record.training.denoiser == str(DEFAULT_DENOISER)
+    stored = argparse.Namespace(**json.loads((run / "args.json").read_text()))
+    assert stored.denoise == str(DEFAULT_DENOISER)
+    assert env_kwargs(stored, ["deepmimic:walk"], 1.0)["artefacts"].denoiser == str(DEFAULT_DENOISER)
+    assert policy.denoiser_note(DEFAULT_DENOISER) is None and "not denoised" in policy.denoiser_note(None)
+    with pytest.raises(SystemExit, match="this run has none"):
+        main(["--clips", "deepmimic:walk", "--denoise", "--run-dir", str(tmp_path / "x")])
+    with pytest.raises(SystemExit, match="an IMU denoiser for humanoid_1seg at 60 Hz; this run's environments "
+                                         "simulate humanoid_2seg"):
+        main(["--env-id", "MimicGait-v0", "--clips", "deepmimic:walk", "--corrupted-fraction", "0.5", "--denoise",
+              "--run-dir", str(tmp_path / "y")])
 
 
 def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
