@@ -60,7 +60,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.policy import MODEL_FILE, STATS_FILE, MimicPolicy, PolicyError, load_policy, save_policy
+from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
 from agents.train_ppo import load_training_motions, policy_kwargs
@@ -330,7 +330,7 @@ def finished_rounds(out: Path, key: str, resume: bool) -> tuple[list[dict], Labe
     student_dir = out / "student"
     if not (resume and (student_dir / MODEL_FILE).exists()):
         return [], None
-    done = load_policy(student_dir).record.extra[key]["rounds"]
+    done = PolicySidecar.load(student_dir / SIDECAR_FILE).extra[key]["rounds"]  # written whole with the model
     labels = Labels.load(out / "data.npz").take(slice(done[-1]["states"]))
     (out / "log.jsonl").write_text("".join(json.dumps(record) + "\n" for record in done))
     return done, labels

@@ -31,7 +31,7 @@ import numpy as np
 
 from envs.config import (CONTACT_MODES, DEFAULT_CONTACT_NET, DEFAULT_VGRF_NET, TOE_BODIES, ArtefactMix, GaitConfig,
                          MimicConfig)
-from envs.mimic import ClipSpec, MimicEnv
+from envs.mimic import ClipSpec, MimicEnv, shipped_network
 from envs.observations import gait_observation, gait_observation_slices
 from envs.rewards import (GAIT_TERMS, contact_reward, end_effector_reward, fall_discount, gait_reward,
                           joint_pose_reward, joint_velocity_reward, root_orientation_reward, torque_reward,
@@ -48,20 +48,13 @@ _SPEC_HELP = ("expected 'vgrf', 'keypoints', a keypoint .npz file (keypoints, fp
 
 
 # --------------------------------------------------------------------------- contact targets
-def _network(path: str | Path, kind: str):
-    """A shipped perception network, loaded once per process (:func:`perception.weights.shared_network`;
-    imported here, so that ``import envs`` stays free of torch)."""
-    from perception.weights import shared_network
-    return shared_network(str(path), kind)
-
-
 def vgrf_contacts(motion: Motion, vgrf_net: str | Path = DEFAULT_VGRF_NET) -> np.ndarray:
     """Contacts ``(T, 4)`` bool (LT, RT, LH, RH) of ``motion``: VGRFNet's insole vGRF of its 23
     UnderPressure joints, through the contact function Γ (as ``python -m perception contacts``)."""
     from perception.contacts import ContactFunction
     from perception.skeleton import motion_joint_positions
     from perception.vgrf import estimate
-    forces = estimate(_network(str(vgrf_net), "vgrf"), motion_joint_positions(motion))
+    forces = estimate(shipped_network(vgrf_net, "vgrf"), motion_joint_positions(motion))
     return ContactFunction()(forces, motion.fps)
 
 
@@ -76,7 +69,7 @@ def keypoint_contacts(motion: Motion, contact_net: str | Path = DEFAULT_CONTACT_
     points = motion_keypoints(motion)
     camera = follow_camera(points[:, 0], math.radians(azimuth_deg))
     keypoints = observe(points, camera, np.random.default_rng(0), noise_px=0.0, drop_prob=0.0)
-    return detect_contacts(_network(str(contact_net), "keypoints"), keypoints, motion.fps)
+    return detect_contacts(shipped_network(contact_net, "keypoints"), keypoints, motion.fps)
 
 
 def keypoint_file_contacts(path: str | Path, motion: Motion, contact_net: str | Path = DEFAULT_CONTACT_NET) -> np.ndarray:
@@ -95,7 +88,7 @@ def keypoint_file_contacts(path: str | Path, motion: Motion, contact_net: str | 
         raise ValueError(f"{path}: the keypoints cover {covered:.2f} s ({len(keypoints)} frames at {fps:g} Hz) but clip "
                          f"{motion.name!r} lasts {needed:.2f} s; give the keypoints of that clip's video")
     from perception.contact_transformer import detect_contacts
-    contacts = detect_contacts(_network(str(contact_net), "keypoints"), keypoints, fps)
+    contacts = detect_contacts(shipped_network(contact_net, "keypoints"), keypoints, fps)
     at = np.clip(np.round(np.arange(motion.n_frames) / motion.fps * fps).astype(int), 0, len(contacts) - 1)
     return contacts[at]
 

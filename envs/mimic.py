@@ -39,6 +39,13 @@ from reference_motion.transforms import resample
 ClipSpec = str | Path | Motion
 
 
+def shipped_network(path: str | Path, kind: str):
+    """A shipped perception network, loaded once per process (:func:`perception.weights.shared_network`;
+    imported here, so that ``import envs`` stays free of torch)."""
+    from perception.weights import shared_network
+    return shared_network(str(path), kind)
+
+
 JUDGED = -2
 """``MimicEnv.track``'s variant of a clip's judged motion (the env's ``judged_clips``)."""
 
@@ -269,8 +276,7 @@ class MimicEnv(gym.Env):
             motion = given if corruption is None else corrupt(given, *corruption)
             if denoiser is not None:  # torch only when asked for: `import envs` stays light
                 from perception.imu_denoiser import denoise
-                from perception.weights import shared_network
-                motion = denoise(shared_network(denoiser, "denoiser"), motion)
+                motion = denoise(shipped_network(denoiser, "denoiser"), motion)
             track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                          self.config.cube_size_m)
             for value in vars(track).values():  # shared between environments: nobody may write to it
