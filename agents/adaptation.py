@@ -227,7 +227,8 @@ class AdaptResult:
 def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig = AdaptConfig()) -> str:
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
     resolved path, the bytes of its ``model.zip`` and, for the same weights in a gait-ablated task
-    (:meth:`MimicPolicy.ablated`), the ablation: it adapts to another policy), and of ``config``'s
+    (:meth:`MimicPolicy.ablated`), the ablation, or observing in another frame than they were
+    trained in (:meth:`MimicPolicy.observing`), that frame: it adapts to another policy), and of ``config``'s
     training settings (:meth:`AdaptConfig.training_settings`, the chunk-keeping rule included)
     where they differ from those every entry was made with before they counted
     (:data:`_EARLIER_SETTINGS`: those entries keep their keys), so runs made otherwise live beside
@@ -239,6 +240,9 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig =
     ablation = policy.record.extra.get("ablation")
     if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
         h.update(f"|ablation={ablation}".encode())
+    frame = policy.record.env.mimic_config().obs_frame
+    if "observed_in" in policy.record.extra:  # the same weights observing in another frame (MimicPolicy.observing)
+        h.update(f"|obs_frame={frame}".encode())
     settings = config.training_settings()
     if settings != _EARLIER_SETTINGS:
         h.update(f"|training={settings!r}".encode())

@@ -27,6 +27,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate, per_clip, summarize
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
+from envs.observations import SAME_LAYOUT_FRAMES
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import load_network
 from reference_motion.atomic import write_json
@@ -52,6 +53,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
                         "default: the shipped one) and is judged against the clip as given")
+    p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES,
+                   help="run a world-frame policy observing in this frame (envs.observations; default: the frame its "
+                        "sidecar records)")
     p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
     p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
     p.add_argument("--per-clip", action="store_true",
@@ -98,6 +102,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         note = policy.denoiser_note(args.denoise)
         if note:
             print(note)
+        if args.obs_frame:
+            policy = policy.observing(args.obs_frame)
         if denoiser is None:
             env = policy.make_env(clips, artefacts=None)
         else:
@@ -105,7 +111,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         env.reset(seed=0)
         runs += evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)[1]
     summary = summarize(runs)
-    result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
+    result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt, "obs_frame": args.obs_frame,
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}

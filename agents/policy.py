@@ -28,6 +28,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar
 from envs.config import GAIT_ABLATIONS
+from envs.observations import SAME_LAYOUT_FRAMES
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 
@@ -112,6 +113,23 @@ class MimicPolicy:
                               f"{gait.toe_reference}); ablate the full policy instead")
         task = replace(record.env, gait=asdict(gait.ablated(ablation)))
         sidecar = replace(record, env=task, extra={**record.extra, "ablation": ablation}).to_dict()
+        return replace(self, sidecar=sidecar)
+
+    def observing(self, frame: str) -> MimicPolicy:
+        """This policy, its observation turned into ``frame`` (one of
+        :data:`envs.observations.SAME_LAYOUT_FRAMES`: ``"world"`` or ``"reference"``, which differ
+        only by a turn about z): the same weights, but :meth:`make_env` builds its task observing
+        in ``frame``, and adapting the copy fine-tunes it there. The sidecar records the change
+        (``observed_in``: the frame it was given in first); the files on disk are not touched."""
+        record = self.record
+        config = record.env.mimic_config()
+        if config.obs_frame == frame:
+            return self
+        if {config.obs_frame, frame} - set(SAME_LAYOUT_FRAMES):
+            raise PolicyError(f"{self.path}: observes in the {config.obs_frame!r} frame; only "
+                              f"{' and '.join(SAME_LAYOUT_FRAMES)} have the same layout, so it cannot run in {frame!r}")
+        task = replace(record.env, config={**record.env.config, "obs_frame": frame})
+        sidecar = replace(record, env=task, extra={"observed_in": config.obs_frame, **record.extra}).to_dict()
         return replace(self, sidecar=sidecar)
 
     def denoiser_note(self, denoiser: str | Path | None) -> str | None:

@@ -67,8 +67,11 @@ class MimicConfig:
         track_cache_size: reference tracks (clip or corrupted variant) kept in memory per env,
             least recently used dropped first (each is ~10 kB per frame; rebuilt in ~20 ms).
         obs_frame: axes of the observation's vectors (:data:`envs.observations.OBS_FRAMES`):
-            ``"world"`` (ADAPT's, adapt §3.2.1) or ``"heading"`` (the character's heading frame,
-            plus its CoM offset from the reference's; 3 values longer).
+            ``"world"`` (ADAPT's, adapt §3.2.1), ``"heading"`` (the character's heading frame,
+            plus its CoM offset from the reference's; 3 values longer) or ``"reference"``
+            (ADAPT's layout in axes turned with the reference's heading: every clip then walks
+            towards +x, as the clips a world-frame policy trained on start; such a policy runs
+            in it as it is).
         com_offset: the observation also carries ``dp_com``, the character's CoM minus the
             reference's (m), in world axes too (3 values longer). ADAPT's world-frame state has
             no position error at all, so drift from the reference, which the lag termination ends

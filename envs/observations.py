@@ -26,17 +26,27 @@ learn each heading apart; nor does it see how far the character has drifted from
 although the lag termination is on exactly that distance. ``"heading"`` rotates every vector
 into the character's heading frame (z up, x = the pelvis x axis on the ground, as DeepMimic and
 DReCon observe) and adds ``dp_com``, so the observation is the same whatever way the clip walks
-and shows the drift the policy must correct. ``MimicConfig.com_offset`` adds ``dp_com`` to the
-world-frame observation alone (a policy trained on ADAPT's layout can be widened to it, see
-:func:`agents.warm_start.widen_inputs`).
+and shows the drift the policy must correct. ``"reference"`` keeps ADAPT's layout but turns its
+axes about z with the reference: x is the reference pelvis's x axis on the ground at the current
+frame. Every clip starts facing +x (the library's convention), so a policy trained in world axes
+has seen most of its states facing about +x and performs a clip walked another way, or a turn
+that comes round, far worse (``bench/heading_frames.py``: the shipped generalist on DeepMimic's
+walk turned 90° survives half as long); in the reference's axes every clip walks towards +x. It
+observes nothing the world frame does not, so a world-frame policy runs in it as it is.
+``MimicConfig.com_offset`` adds ``dp_com`` to the world-frame observation alone (a policy trained
+on ADAPT's layout can be widened to it, see :func:`agents.warm_start.widen_inputs`).
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-OBS_FRAMES = ("world", "heading")
+OBS_FRAMES = ("world", "heading", "reference")
 """Axes the observation's vectors are expressed in (module docstring)."""
+
+SAME_LAYOUT_FRAMES = ("world", "reference")
+"""Frames whose observations have the same layout and meaning up to a turn about z: a policy
+trained in one runs, or is warm-started, in the other as it is."""
 
 
 def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False) -> dict[str, slice]:
@@ -95,13 +105,11 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
         ref_linvel: ``(B, 3)`` the reference's body velocities (world).
         ref_com_vel: ``(3,)`` the reference's CoM velocity (world).
         prev_action: ``(A,)`` smoothed previous action.
-        heading: ``(3, 3)`` world → heading-frame rotation (:func:`heading_rotation` of the
-            character's root); ``None``: world axes, ADAPT's layout.
-        ref_com: ``(3,)`` the reference's CoM (world): given, ``dp_com`` is observed (needed
-            with ``heading``).
+        heading: ``(3, 3)`` world → observation-frame rotation, a turn about z
+            (:func:`heading_rotation` of the character's root, or of the reference's);
+            ``None``: world axes, ADAPT's layout.
+        ref_com: ``(3,)`` the reference's CoM (world): given, ``dp_com`` is observed.
     """
-    if heading is not None and ref_com is None:
-        raise ValueError("mimic_observation: the heading frame needs ref_com, for dp_com")
     lead = np.ndim(com) - 1
     p = pos - com[..., None, :]
     dv_com = com_vel - ref_com_vel

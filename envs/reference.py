@@ -33,6 +33,8 @@ class ReferenceQuantities:
         local: ``(J, 4)`` rotations of the jointed bodies relative to their parents.
         faces_rel_root: ``(B, 6, 3)`` cube face points relative to the root body's origin.
         face_vel: ``(B, 6, 3)`` cube face point velocities.
+        root_x_axis: ``(3,)`` the root body's x axis (its heading, for the ``"reference"``
+            observation frame).
     """
 
     pos: np.ndarray
@@ -42,6 +44,7 @@ class ReferenceQuantities:
     local: np.ndarray
     faces_rel_root: np.ndarray
     face_vel: np.ndarray
+    root_x_axis: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -114,7 +117,8 @@ class ReferenceTrack(ReferenceQuantities):
         return cls(motion=motion, ctrl=motion.qpos[:, actuator_qpos], qvel=qvel, pos=pos,
                    pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
-                   face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32))
+                   face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32),
+                   root_x_axis=axes[:, 0, 0])
 
 
 def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:

@@ -58,6 +58,23 @@ def _cycle_transform(motion: Motion) -> tuple[np.ndarray, np.ndarray]:
     return turn, shift
 
 
+def moved_roots(qpos: np.ndarray, turn: np.ndarray, shift: np.ndarray) -> np.ndarray:
+    """``qpos (T, nq)`` with every frame's root moved by the rigid motion ``x' = turn·x + shift``
+    (``turn (4,)`` a unit quaternion, ``shift (3,)`` m, world); the hinges unchanged (a copy)."""
+    out = qpos.copy()
+    out[:, :3] = rot.rotate(turn, qpos[:, :3]) + shift
+    out[:, 3:7] = rot.normalize(rot.multiply(turn, qpos[:, 3:7]))
+    return out
+
+
+def turned(motion: Motion, angle_rad: float) -> Motion:
+    """``motion`` turned about the world z axis through the origin by ``angle_rad`` (rad,
+    counter-clockwise from above): the same motion walked another way."""
+    turn = rot.from_axis_angle(np.array([0.0, 0.0, 1.0]), angle_rad)
+    return motion.with_qpos(moved_roots(motion.qpos, turn, np.zeros(3)),
+                            name=f"{motion.name} (turned {np.degrees(angle_rad):g}°)")
+
+
 SEAM_BLEND_S = 0.25
 """Duration (s) over which a cyclic clip's end pose is eased onto its start pose before looping."""
 
@@ -82,10 +99,8 @@ def loop(motion: Motion, n_frames: int) -> Motion:
     pieces = [template]
     previous = template
     while sum(len(p) for p in pieces) < n_frames:
-        nxt = template[1:].copy()
         # each cycle is the previous one moved by the cycle transform x' = turn·x + shift
-        nxt[:, :3] = rot.rotate(turn, previous[1:, :3]) + shift
-        nxt[:, 3:7] = rot.normalize(rot.multiply(turn, previous[1:, 3:7]))
+        nxt = moved_roots(previous[1:], turn, shift)
         previous = np.concatenate([previous[:1], nxt])
         pieces.append(nxt)
     qpos = np.concatenate(pieces)[:n_frames]

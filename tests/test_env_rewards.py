@@ -143,8 +143,10 @@ def test_heading_frame_observation_is_the_same_whichever_way_the_character_faces
     turned = mimic_observation(pos @ yaw.T, vel @ yaw.T, yaw @ com, yaw @ com_vel, ref_rel @ yaw.T, ref_vel @ yaw.T,
                                yaw @ ref_com_vel, action, heading_rotation(yaw @ root_x), yaw @ ref_com)
     assert np.allclose(turned, facing_x, atol=1e-5)
-    with pytest.raises(ValueError, match="ref_com"):
-        mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action, heading_rotation(root_x))
+    # a turn without dp_com (the "reference" frame): ADAPT's layout, every vector turned
+    r = heading_rotation(yaw @ root_x)
+    no_offset = mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action, r)
+    assert no_offset.shape == (273,) and np.allclose(no_offset[:3], r @ com_vel, atol=1e-6)
 
 
 def test_world_frame_observation_with_the_com_offset_is_adapts_plus_dp_com():
