@@ -3,7 +3,8 @@
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
 [--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
-[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--out-dir DIR] [--json [OUT]]``
+[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--out-dir DIR] [--only I ...]
+[--json [OUT]]``; ``--merge RUN.json ...`` summarises runs of single takes (``--only``) together.
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
 the split's motions), cut to ``--seconds`` (cyclic clips looped to it; a shorter take is used
@@ -24,6 +25,8 @@ skate, floating and penetration of the cleaned take against the corrupted input 
 from __future__ import annotations
 
 import argparse
+import json
+import math
 import tempfile
 import time
 from dataclasses import asdict
@@ -141,13 +144,27 @@ def main() -> None:
                         "given, the ELR is the adapted policy's on the take it performs (the denoised one)")
     p.add_argument("--out-dir", type=Path, default=None,
                    help="also write each take's input and, per setting K, its simulated and touched-up clips here (.npz)")
+    p.add_argument("--only", nargs="+", type=int, default=None, metavar="I",
+                   help="run only these of the takes (0-based, keeping their seeds seed + I): one process per take "
+                        "on a machine with many cores, summarised together by --merge")
+    p.add_argument("--merge", nargs="+", type=Path, default=None, metavar="JSON",
+                   help="run nothing: summarise the takes of these --json outputs together (one run's settings)")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
+    if args.merge:
+        runs = [json.loads(path.read_text()) for path in args.merge]
+        rows = [{**row, "cleanings": [{k: math.nan if v is None else v for k, v in c.items()}  # JSON null: NaN
+                                      for c in row["cleanings"]]} for run in runs for row in run["takes"]]
+        report(rows, [c["setting"] for c in rows[0]["cleanings"]], {**runs[0], "merged": list(map(str, args.merge))},
+               args.json)
+        return
     frames = int(round(args.seconds * 60)) + 1
     denoiser = load_network(Path(args.denoise), "denoiser") if args.denoise else None
     rows = []
     with tempfile.TemporaryDirectory() as cache:
         for i, clip in enumerate(spread(expand_clips(args.clips), args.takes)):
+            if args.only is not None and i not in args.only:
+                continue
             [(policy, [reference])] = route_clips(args.policy, lambda foot: [corrupted_take(
                 clip, foot, args.seconds, args.strength, args.seed + i)])
             looped = reference.n_frames >= frames
@@ -176,10 +193,21 @@ def main() -> None:
                       f"skate {reduction(c['foot_skate_mps_touched_reduction'])}  "
                       f"float {reduction(c['floating_m_touched_reduction'])}  "
                       f"pen {reduction(c['penetration_max_m_touched_reduction'])}", flush=True)
+    report(rows, [label(c) for c in args.settings],
+           {"policy": args.policy, "denoiser": args.denoise, "seconds": args.seconds, "strength": args.strength,
+            "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
+            "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
+            "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads,
+            "settings": [asdict(c) for c in args.settings]}, args.json)
+
+
+def report(rows: list[dict], settings: list[str], run: dict, target: str | None) -> None:
+    """Print the summary of the takes ``rows`` cleaned with each of ``settings`` (labels) and emit
+    it with ``run`` (what the run was: policy, budgets, settings) as JSON to ``target``."""
     adapt_s = [r["adapt_s"] for r in rows]
     summary = {"takes": len(rows), "ELR_mean": float(np.mean([r["ELR"] for r in rows])),
                "adapt_s_median": float(np.median(adapt_s)), "adapt_s_max": float(np.max(adapt_s)),
-               "cleanings": [summary_of(rows, label(c)) for c in args.settings]}
+               "cleanings": [summary_of(rows, setting) for setting in settings]}
     print(f"\nELR {summary['ELR_mean']:.3f} (goal >= 0.97); adaptation median {summary['adapt_s_median']:.0f} s, "
           f"max {summary['adapt_s_max']:.0f} s (goal <= 300 s)")
     for c in summary["cleanings"]:
@@ -188,12 +216,8 @@ def main() -> None:
               + ", ".join(f"{k} {c[f'{k}_reduction_median']:.0%}" for k in ARTEFACTS)
               + " (goal: the first four >= 80% each); touched up: "
               + ", ".join(f"{k} {c[f'{k}_touched_reduction_median']:.0%}" for k in ARTEFACTS))
-    emit_json({"policy": args.policy, "denoiser": args.denoise, "seconds": args.seconds, "strength": args.strength,
-               "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
-               "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
-               "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads,
-               "settings": [asdict(c) for c in args.settings], "summary": summary,
-               "takes": rows}, args.json)
+    emit_json({**{k: v for k, v in run.items() if k not in ("summary", "takes")}, "summary": summary, "takes": rows},
+              target)
 
 
 if __name__ == "__main__":
