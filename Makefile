@@ -26,7 +26,7 @@ $(VENV)/.video-extra: $(PY)
 # (.npz, .bvh) and a side-by-side video (reference | cleaned, re-anchors framed in red) in out/. Then the
 # same take's foot skate removed by the vGRF-guided cleanup (UnderPressure §6): .npz, .bvh and a speed plot.
 DEMO_POLICY ?= models/mimic_general
-DEMO_ADAPT_S ?= 60
+DEMO_ADAPT_S ?= 90
 demo: setup
 	mkdir -p out
 	$(PY) agents/clean.py deepmimic:walker/turn_left1 --policy $(DEMO_POLICY) --corrupt imu --strength 1 \
