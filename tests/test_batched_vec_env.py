@@ -67,8 +67,9 @@ def test_corrupted_episodes_judged_against_the_clean_clip_batch_alike():
     assert_same_transitions(batched, dummy, steps=60)
 
 
-@pytest.mark.parametrize("config", [MimicConfig(obs_frame="heading"), MimicConfig(com_offset=True),
-                                    MimicConfig(velocity_feedforward=True)], ids=["heading", "com_offset", "feedforward"])
+@pytest.mark.parametrize("config", [MimicConfig(obs_frame="heading"), MimicConfig(obs_frame="reference"),
+                                    MimicConfig(com_offset=True), MimicConfig(velocity_feedforward=True)],
+                         ids=["heading", "reference", "com_offset", "feedforward"])
 def test_every_observation_layout_and_the_velocity_feedforward_batch_alike(config):
     assert_same_transitions(make(BatchedMimicVecEnv, config, n_threads=2), make(DummyVecEnv, config), steps=40)
 
