@@ -241,7 +241,7 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig =
     if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
         h.update(f"|ablation={ablation}".encode())
     frame = policy.record.env.mimic_config().obs_frame
-    if "observed_in" in policy.record.extra:  # the same weights observing in another frame (MimicPolicy.observing)
+    if policy.record.extra.get("observed_in", frame) != frame:  # weights observing in another frame than trained in
         h.update(f"|obs_frame={frame}".encode())
     settings = config.training_settings()
     if settings != _EARLIER_SETTINGS:

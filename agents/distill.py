@@ -195,7 +195,10 @@ class Teachers:
 
 def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> Teachers:
     """The teachers in ``teacher`` (a policy or a policy-set directory) and the clips ``load(foot)``
-    returns (``foot``: the teachers' foot model), each routed to its teacher as the set routes it."""
+    returns (``foot``: the teachers' foot model), each routed to its teacher as the set routes it.
+    The student's environment observes as the default policy does, so a teacher trained in another
+    frame of the same layout observes in that one (:meth:`MimicPolicy.observing`; another layout
+    raises :class:`PolicyError`)."""
     groups = route_clips(teacher, load)
     policies = [policy for policy, _ in groups]
     default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)
@@ -203,6 +206,12 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     if default is None:
         raise PolicyError(f"{teacher}: no clip is routed to its default policy {default_dir}, whose observation "
                           f"statistics the student takes; add clips it performs")
+    frame = policies[default].record.env.mimic_config().obs_frame
+    for i, policy in enumerate(policies):  # one env observes for all: each teacher reads it in its frame
+        if policy.record.env.mimic_config().obs_frame != frame:
+            print(f"note: teacher {policy.path} observes in the {frame!r} frame of the default policy "
+                  f"{policies[default].path} here (MimicPolicy.observing)")
+            policies[i] = policy.observing(frame)
     of_clip: dict[str, int] = {}
     for i, (_, clips) in enumerate(groups):
         for m in clips:

@@ -96,7 +96,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-    runs = []
+    runs, frames = [], set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
         note = policy.denoiser_note(args.denoise)
@@ -104,6 +104,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             print(note)
         if args.obs_frame:
             policy = policy.observing(args.obs_frame)
+        frames.add(policy.record.env.mimic_config().obs_frame)
         if denoiser is None:
             env = policy.make_env(clips, artefacts=None)
         else:
@@ -111,7 +112,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         env.reset(seed=0)
         runs += evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)[1]
     summary = summarize(runs)
-    result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt, "obs_frame": args.obs_frame,
+    result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
+              "obs_frame": ", ".join(sorted(frames)),
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}

@@ -107,14 +107,19 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     ``config``) and return ``venv`` wrapped in ``source``'s observation statistics.
 
     The spaces must match, or differ only by ``dp_com``: ``config`` observes it and the source's
-    environment did not (then the inputs are widened, see the module docstring). ``model``'s hidden
-    layers may be wider than the source's (:func:`widen_hidden`)."""
+    environment did not (then the inputs are widened, see the module docstring). The frames must
+    match too, or both be of :data:`envs.observations.SAME_LAYOUT_FRAMES` (world and reference
+    axes: the weights carry over as they are, and a note says so). ``model``'s hidden layers may be
+    wider than the source's (:func:`widen_hidden`)."""
     sizes = venv.observation_space.shape, source.model.observation_space.shape
     source_config = source.record.env.mimic_config()
     same_layout = {config.obs_frame, source_config.obs_frame} <= set(SAME_LAYOUT_FRAMES)
     if config.obs_frame != source_config.obs_frame and not same_layout:  # heading vs world + dp_com: same sizes
         raise PolicyError(f"{source.path}: observed in the {source_config.obs_frame!r} frame; a warm start cannot "
                           f"change the frame to {config.obs_frame!r}")
+    if config.obs_frame != source_config.obs_frame:
+        print(f"note: {source.path} observes in the {source_config.obs_frame!r} frame; this run trains it in the "
+              f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_new = span.stop - span.start
     gained = config.observes_com_offset and not source_config.observes_com_offset

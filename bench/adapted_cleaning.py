@@ -3,7 +3,7 @@
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
 [--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
-[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--out-dir DIR] [--only I ...]
+[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--obs-frame F] [--out-dir DIR] [--only I ...]
 [--json [OUT]]``; ``--merge RUN.json ...`` summarises runs of single takes (``--only``) together.
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
@@ -40,6 +40,7 @@ from agents.clean import CleanConfig, clean_motion, sr90_target, touched_up
 from clean_settings import label, setting  # bench/clean_settings.py: the scripts run from bench/
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
+from envs.observations import SAME_LAYOUT_FRAMES
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import load_network
@@ -144,6 +145,9 @@ def main() -> None:
                         "given, the ELR is the adapted policy's on the take it performs (the denoised one)")
     p.add_argument("--out-dir", type=Path, default=None,
                    help="also write each take's input and, per setting K, its simulated and touched-up clips here (.npz)")
+    p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES, default=None,
+                   help="adapt and clean with the policy observing in this frame (MimicPolicy.observing; default: "
+                        "the frame its sidecar records)")
     p.add_argument("--only", nargs="+", type=int, default=None, metavar="I",
                    help="run only these of the takes (0-based, keeping their seeds seed + I): one process per take "
                         "on a machine with many cores, summarised together by --merge")
@@ -153,6 +157,10 @@ def main() -> None:
     args = p.parse_args()
     if args.merge:
         runs = [json.loads(path.read_text()) for path in args.merge]
+        differ = [k for k in ("policy", "obs_frame", "denoiser", "settings", "adapt_budget_s", "seconds", "strength")
+                  if any(run.get(k) != runs[0].get(k) for run in runs)]
+        if differ:
+            p.error(f"--merge: the runs differ in {', '.join(differ)}; merge runs of one protocol only")
         rows = [{**row, "cleanings": [{k: math.nan if v is None else v for k, v in c.items()}  # JSON null: NaN
                                       for c in row["cleanings"]]} for run in runs for row in run["takes"]]
         report(rows, [c["setting"] for c in rows[0]["cleanings"]], {**runs[0], "merged": list(map(str, args.merge))},
@@ -160,13 +168,19 @@ def main() -> None:
         return
     frames = int(round(args.seconds * 60)) + 1
     denoiser = load_network(Path(args.denoise), "denoiser") if args.denoise else None
+    takes = spread(expand_clips(args.clips), args.takes)
+    outside = sorted(set(args.only or []) - set(range(len(takes))))
+    if outside:
+        p.error(f"--only {' '.join(map(str, outside))}: there are {len(takes)} takes, 0..{len(takes) - 1}")
     rows = []
     with tempfile.TemporaryDirectory() as cache:
-        for i, clip in enumerate(spread(expand_clips(args.clips), args.takes)):
+        for i, clip in enumerate(takes):
             if args.only is not None and i not in args.only:
                 continue
             [(policy, [reference])] = route_clips(args.policy, lambda foot: [corrupted_take(
                 clip, foot, args.seconds, args.strength, args.seed + i)])
+            if args.obs_frame:
+                policy = policy.observing(args.obs_frame)
             looped = reference.n_frames >= frames
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
@@ -194,7 +208,7 @@ def main() -> None:
                       f"float {reduction(c['floating_m_touched_reduction'])}  "
                       f"pen {reduction(c['penetration_max_m_touched_reduction'])}", flush=True)
     report(rows, [label(c) for c in args.settings],
-           {"policy": args.policy, "denoiser": args.denoise, "seconds": args.seconds, "strength": args.strength,
+           {"policy": args.policy, "obs_frame": args.obs_frame, "denoiser": args.denoise, "seconds": args.seconds, "strength": args.strength,
             "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
             "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
             "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads,

@@ -73,7 +73,7 @@ class MimicConfig:
             towards +x, as the clips a world-frame policy trained on start; such a policy runs
             in it as it is).
         com_offset: the observation also carries ``dp_com``, the character's CoM minus the
-            reference's (m), in world axes too (3 values longer). ADAPT's world-frame state has
+            reference's (m), in the observation's axes (3 values longer). ADAPT's world-frame state has
             no position error at all, so drift from the reference, which the lag termination ends
             episodes on, is invisible to the policy. Always on in the heading frame.
         velocity_feedforward: the PD controllers damp towards the reference's joint velocity

@@ -118,7 +118,7 @@ class ReferenceTrack(ReferenceQuantities):
                    pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32),
-                   root_x_axis=axes[:, 0, 0])
+                   root_x_axis=axes[:, 0, 0].copy())  # not a view: keeps (T, B, 3, 3) alive
 
 
 def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:

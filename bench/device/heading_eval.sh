@@ -7,7 +7,9 @@
 # glfw, pyopengl, gymnasium, stable-baselines3, farama-notifications) and .devpkgs/ (the stand-in
 # pybullet_data, lib/ = data/library's humanoid_1seg takes and manifest).
 # $1: adaptation budget (s, default 300); $2: rollouts per test take (default 5); $3: the takes
-# (default "0 ... 9"). POLICY=DIR adapts another policy; ADAPTED_ONLY=1 runs the adapted protocol alone.
+# (default "0 ... 9"). POLICY=DIR adapts another policy, OBS_FRAME=world|reference observing in that frame;
+# ADAPTED_ONLY=1 runs the adapted protocol alone (the world-axes run of the README: ADAPTED_ONLY=1
+# OBS_FRAME=world, run then with a copy of the generalist whose sidecar said world).
 # Writes $OUT/adapted.json (every take) and $OUT/evaluations.json (ELR and SR90 of each evaluation).
 set -u
 ADAPT_S=${1:-300}; EPISODES=${2:-5}; TAKES=${3:-0 1 2 3 4 5 6 7 8 9}
@@ -21,7 +23,7 @@ fi
 export PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 POLICY=${POLICY:-models/mimic_general}
 for i in $TAKES; do
-  $PY bench/adapted_cleaning.py --policy $POLICY --only $i --denoise --adapt-budget-s $ADAPT_S \
+  $PY bench/adapted_cleaning.py --policy $POLICY ${OBS_FRAME:+--obs-frame $OBS_FRAME} --only $i --denoise --adapt-budget-s $ADAPT_S \
     --json $WORK/adapted_$i.json > $WORK/adapted_$i.log 2>&1 &
 done
 if [ -z "${ADAPTED_ONLY:-}" ]; then
@@ -44,6 +46,6 @@ for name, r in rows.items():
     print(f"{name:<28} ELR {r['ELR_mean']:.3f}  SR90 {r['SR90']:.3f}")
 Path(sys.argv[2]).write_text(json.dumps(rows, indent=1))
 PYEOF
-$PY bench/adapted_cleaning.py --merge $WORK/adapted_?.json
-$PY bench/adapted_cleaning.py --merge $WORK/adapted_?.json --json $OUT/adapted.json > /dev/null
+$PY bench/adapted_cleaning.py --merge $WORK/adapted_*.json
+$PY bench/adapted_cleaning.py --merge $WORK/adapted_*.json --json $OUT/adapted.json > /dev/null
 tail -n 3 $(ls $WORK/adapted_*.log | head -1)
