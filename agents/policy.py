@@ -28,7 +28,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar
 from envs.config import GAIT_ABLATIONS
-from envs.observations import SAME_LAYOUT_FRAMES
+from envs.observations import SAME_LAYOUT_FRAMES, same_layout
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 
@@ -125,7 +125,7 @@ class MimicPolicy:
         config = record.env.mimic_config()
         if config.obs_frame == frame:
             return self
-        if {config.obs_frame, frame} - set(SAME_LAYOUT_FRAMES):
+        if not same_layout(config.obs_frame, frame):
             raise PolicyError(f"{self.path}: observes in the {config.obs_frame!r} frame; only "
                               f"{' and '.join(SAME_LAYOUT_FRAMES)} have the same layout, so it cannot run in {frame!r}")
         task = replace(record.env, config={**record.env.config, "obs_frame": frame})

@@ -25,7 +25,7 @@ from stable_baselines3.common.vec_env import VecEnv, VecNormalize
 
 from agents.policy import MimicPolicy, PolicyError
 from envs.config import MimicConfig
-from envs.observations import SAME_LAYOUT_FRAMES, observation_slices
+from envs.observations import observation_slices, same_layout
 
 FIRST_LAYERS = ("mlp_extractor.policy_net.0.weight", "mlp_extractor.value_net.0.weight")
 """Parameters of SB3's ``MlpPolicy`` that read the observation: ``(hidden, D)`` each."""
@@ -113,8 +113,7 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     wider than the source's (:func:`widen_hidden`)."""
     sizes = venv.observation_space.shape, source.model.observation_space.shape
     source_config = source.record.env.mimic_config()
-    same_layout = {config.obs_frame, source_config.obs_frame} <= set(SAME_LAYOUT_FRAMES)
-    if config.obs_frame != source_config.obs_frame and not same_layout:  # heading vs world + dp_com: same sizes
+    if not same_layout(source_config.obs_frame, config.obs_frame):  # heading vs world + dp_com: same sizes
         raise PolicyError(f"{source.path}: observed in the {source_config.obs_frame!r} frame; a warm start cannot "
                           f"change the frame to {config.obs_frame!r}")
     if config.obs_frame != source_config.obs_frame:

@@ -208,7 +208,8 @@ def main() -> None:
                       f"float {reduction(c['floating_m_touched_reduction'])}  "
                       f"pen {reduction(c['penetration_max_m_touched_reduction'])}", flush=True)
     report(rows, [label(c) for c in args.settings],
-           {"policy": args.policy, "obs_frame": args.obs_frame, "denoiser": args.denoise, "seconds": args.seconds, "strength": args.strength,
+           {"policy": args.policy, "obs_frame": args.obs_frame, "denoiser": args.denoise, "seconds": args.seconds,
+            "strength": args.strength,
             "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
             "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,
             "adapt_keep": args.adapt_keep, "physics_threads": args.physics_threads,

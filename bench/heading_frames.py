@@ -23,6 +23,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.policy import load_policy
 from agents.rollout import run_episode
+from envs.config import FOOT_MODELS
 from envs.observations import SAME_LAYOUT_FRAMES
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.library import load_motion
@@ -53,7 +54,7 @@ def main() -> None:
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     base = load_policy(args.policy)
-    model = f"humanoid_{'1' if base.foot == 'one' else '2'}seg"
+    model = FOOT_MODELS[base.foot]
     starts = np.linspace(0, CLIP_FRAMES - 1 - 2 * args.frames, args.starts).round()
     result = {"policy": args.policy, "frames": args.frames, "starts": starts.tolist(), "clips": {}}
     print(f"{args.policy}: share of {args.frames} frames survived from {args.starts} starts, clip turned by")

@@ -511,7 +511,7 @@ class MimicEnv(gym.Env):
         if self.config.obs_frame == "heading":
             heading = heading_rotation(state.axes[..., 0, 0, :])
         elif self.config.obs_frame == "reference":
-            heading = heading_rotation(ref.root_x_axis)
+            heading = ref.to_heading
         if self.config.observes_com_offset:
             ref_com = ref.pos[..., 0, :] - ref.pos_rel_com[..., 0, :]
         return mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,

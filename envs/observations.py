@@ -49,6 +49,12 @@ SAME_LAYOUT_FRAMES = ("world", "reference")
 trained in one runs, or is warm-started, in the other as it is."""
 
 
+def same_layout(frame: str, other: str) -> bool:
+    """Whether a policy observing in ``frame`` can observe in ``other`` as it is: the same frame,
+    or two of :data:`SAME_LAYOUT_FRAMES`."""
+    return frame == other or {frame, other} <= set(SAME_LAYOUT_FRAMES)
+
+
 def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False) -> dict[str, slice]:
     """Named slices of the observation vector (the module table, in order); ``com_offset``: with
     ``dp_com`` (the ``heading`` frame's layout)."""

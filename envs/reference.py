@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from envs.bodies import read_body_state, update_kinematics
+from envs.observations import heading_rotation
 from envs.rewards import cube_face_points, cube_face_velocities
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import HumanoidModel
@@ -33,8 +34,8 @@ class ReferenceQuantities:
         local: ``(J, 4)`` rotations of the jointed bodies relative to their parents.
         faces_rel_root: ``(B, 6, 3)`` cube face points relative to the root body's origin.
         face_vel: ``(B, 6, 3)`` cube face point velocities.
-        root_x_axis: ``(3,)`` the root body's x axis (its heading, for the ``"reference"``
-            observation frame).
+        to_heading: ``(3, 3)`` world → the reference root's heading axes, a turn about z
+            (:func:`envs.observations.heading_rotation`; the ``"reference"`` observation frame).
     """
 
     pos: np.ndarray
@@ -44,7 +45,7 @@ class ReferenceQuantities:
     local: np.ndarray
     faces_rel_root: np.ndarray
     face_vel: np.ndarray
-    root_x_axis: np.ndarray
+    to_heading: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -118,7 +119,7 @@ class ReferenceTrack(ReferenceQuantities):
                    pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32),
-                   root_x_axis=axes[:, 0, 0].copy())  # not a view: keeps (T, B, 3, 3) alive
+                   to_heading=heading_rotation(axes[:, 0, 0]))
 
 
 def pd_targets(angles: np.ndarray, rates: np.ndarray, lead_s: np.ndarray | None) -> np.ndarray:
