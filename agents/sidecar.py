@@ -110,6 +110,7 @@ class TrainingRecord:
         denoiser: the IMU denoiser the corrupted references passed through (:attr:`envs.ArtefactMix.denoiser`),
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
         mirror, speeds: augmentation.
+        reversed_clips: the clips also trained on played backwards in time (``train_ppo.py --reverse``).
         init_from: the policy it was warm-started from, if any.
         commands: every command that trained the run, in order.
         seed, steps, wall_s: the seed, control steps and training wall time (s) at this checkpoint.
@@ -123,6 +124,7 @@ class TrainingRecord:
     denoiser: str | None = None
     mirror: bool = False
     speeds: list[float] = field(default_factory=lambda: [1.0])
+    reversed_clips: list[str] = field(default_factory=list)
     init_from: str | None = None
     commands: list[str] = field(default_factory=list)
     seed: int = 0

@@ -17,6 +17,7 @@ is not learned), observations normalised by running statistics (saved with every
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import json
 import math
 import re
@@ -58,6 +59,7 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
 from reference_motion.library import augmented, expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
+from reference_motion.transforms import reversed_in_time
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -112,6 +114,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--mirror", action="store_true", help="also train on every clip mirrored left/right")
     g.add_argument("--speeds", type=positive_float, nargs="+", default=[1.0],
                    help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
+    g.add_argument("--reverse", nargs="+", default=[], metavar="GLOB",
+                   help="also train on the training clips whose SOURCE matches a GLOB (fnmatch, e.g. "
+                        "'*_walk_*') played backwards in time: the same torques and contact forces perform them "
+                        "(reference_motion.transforms.reversed_in_time), so a forward walk becomes a backward one")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=None,
@@ -284,17 +290,31 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     time-warped copies."""
     clips = training_clips(args)
     mocap = mocap_options(args)
-    if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions():
+    reverse = getattr(args, "reverse", [])  # absent from the args.json of runs older than --reverse
+    if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not reverse:
         return clips
-    return load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap)
+    return load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
+                                 reversed_clips(clips, reverse))
+
+
+def reversed_clips(clips: list[str], globs: list[str]) -> list[str]:
+    """The clips of ``clips`` whose SOURCE matches one of ``globs`` (:func:`fnmatch.fnmatchcase`);
+    a glob that matches none is an error, so a typo does not silently train on nothing new."""
+    for pattern in globs:
+        if not any(fnmatch.fnmatchcase(c, pattern) for c in clips):
+            raise ValueError(f"--reverse {pattern!r} matches none of the {len(clips)} training clips "
+                             f"(e.g. {clips[0]!r}); quote the glob so that the shell leaves it alone")
+    return [c for c in clips if any(fnmatch.fnmatchcase(c, p) for p in globs)]
 
 
 def load_training_motions(clips: list[str], model: str, mirror: bool, speeds: list[float] = (1.0,),
-                          mocap: MocapOptions = MocapOptions()) -> list[Motion]:
+                          mocap: MocapOptions = MocapOptions(), reverse: list[str] = ()) -> list[Motion]:
     """``clips`` loaded for ``model`` (each at least two episodes long at the slowest warp, looped
-    if need be), then augmented: time-warped to each of ``speeds`` and, if ``mirror``, mirrored."""
+    if need be), those named in ``reverse`` also played backwards in time, then augmented:
+    time-warped to each of ``speeds`` and, if ``mirror``, mirrored."""
     frames = 2 * (MimicConfig().episode_frames + 1)
     motions = [load_motion(c, model, min_frames=int(frames * max(speeds)) + 2, mocap=mocap) for c in clips]
+    motions += [reversed_in_time(m) for c, m in zip(clips, motions) if c in reverse]
     return augmented(motions, mirrored=mirror, speeds=speeds)
 
 
@@ -396,7 +416,9 @@ class CheckpointAndEvaluate(BaseCallback):
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
             denoiser=args.denoise,
-            mirror=args.mirror, speeds=list(args.speeds), init_from=str(args.init_from) if args.init_from else None,
+            mirror=args.mirror, speeds=list(args.speeds),
+            reversed_clips=reversed_clips(training_clips(args), getattr(args, "reverse", [])),
+            init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None

@@ -1,4 +1,5 @@
-"""Whole-clip transforms of a :class:`Motion`: resampling, time warping, looping, left/right mirroring.
+"""Whole-clip transforms of a :class:`Motion`: resampling, time warping, time reversal, looping, left/right
+mirroring.
 
 All are pure: they return a new Motion and never modify their input.
 """
@@ -45,6 +46,20 @@ def time_warp(motion: Motion, speed: float) -> Motion:
     played = motion.with_qpos(motion.qpos, fps=motion.fps * speed, name=f"{motion.name} (x{speed:g} speed)",
                               source=dict(motion.source, speed=speed * motion.source.get("speed", 1.0)))
     return resample(played, motion.fps)
+
+
+def reversed_in_time(motion: Motion) -> Motion:
+    """``motion`` played backwards: frame ``t`` becomes frame ``T - 1 - t``, at the same frame rate.
+
+    Every velocity changes sign and every acceleration stays as it was. Rigid-body inverse dynamics,
+    ``M(q) q̈ + C(q, q̇) q̇ + g(q) = τ + Jᵀ f``, is quadratic in ``q̇``, so the reversed clip needs the same
+    joint torques and the same contact forces at every pose: a clip a body can perform stays one it
+    can perform (joint damping, linear in ``q̇``, aside). A forward walk played backwards is a backward
+    walk with the walk's posture, stride and timing (human backward walking is close to forward walking
+    reversed in time: Thorstensson 1986, Grasso et al. 1998). Applied twice, the clip itself."""
+    name = motion.name[:-len(" (reversed)")] if motion.name.endswith(" (reversed)") else motion.name + " (reversed)"
+    return motion.with_qpos(motion.qpos[::-1].copy(), name=name,
+                            source=dict(motion.source, reversed=not motion.source.get("reversed", False)))
 
 
 def _cycle_transform(motion: Motion) -> tuple[np.ndarray, np.ndarray]:

@@ -8,7 +8,7 @@ from reference_motion.library import augmented, load_motion, named_set
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 from reference_motion.retarget import bone_direction_error, retarget
-from reference_motion.transforms import loop, mirror, resample, time_warp
+from reference_motion.transforms import loop, mirror, resample, reversed_in_time, time_warp
 
 CLIPS = deepmimic.clip_names()
 
@@ -101,6 +101,41 @@ def test_time_warp_scales_duration_and_speed(walk):
     assert np.allclose(fast.qpos[-1, :2], walk.qpos[-1, :2], atol=0.02)  # same path, walked faster
     with pytest.raises(ValueError, match="speed must be a finite number > 0"):
         time_warp(walk, 0.0)
+
+
+def test_reversed_in_time_walks_backwards_with_the_same_torques_and_ground_forces(walk):
+    """Played backwards, walk moves the other way with every velocity negated; rigid-body inverse
+    dynamics (contacts off, so the root's row is the wrench the ground must supply) is the same at
+    every pose, as M(q)q̈ + C(q, q̇)q̇ + g(q) is even in q̇; twice reversed is the walk again."""
+    import copy
+
+    import mujoco
+
+    back = reversed_in_time(walk)
+    assert back.name == "deepmimic:walk (reversed)" and back.source["reversed"] and back.fps == walk.fps
+    np.testing.assert_array_equal(back.qpos, walk.qpos[::-1])
+    heading = rot.yaw(walk.root_quat[0])
+    assert np.median(walk.qvel[:, 0] * np.cos(heading)) > 0.5 > -0.5 > np.median(back.qvel[:, 0] * np.cos(heading))
+    np.testing.assert_allclose(back.qvel[::-1], -walk.qvel, atol=1e-9)
+    again = reversed_in_time(back)
+    assert again.name == walk.name and not again.source["reversed"]
+    np.testing.assert_array_equal(again.qpos, walk.qpos)
+
+    model = copy.copy(load_model(walk.model).model)
+    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_CONTACT
+    assert not model.dof_damping.any()  # no velocity-linear passive force to flip sign
+    data = mujoco.MjData(model)
+
+    def inverse_dynamics(motion, t):
+        data.qpos[:], data.qvel[:] = motion.qpos[t], motion.qvel[t]
+        data.qacc[:] = np.gradient(motion.qvel, 1.0 / motion.fps, axis=0)[t]
+        mujoco.mj_inverse(model, data)
+        return data.qfrc_inverse.copy()
+
+    for t in (40, 150, 260):
+        forward, backward = inverse_dynamics(walk, t), inverse_dynamics(back, walk.n_frames - 1 - t)
+        assert np.abs(forward[2]) > 400  # the ground carries the body's weight (N)
+        np.testing.assert_allclose(backward, forward, rtol=1e-6, atol=1e-6)
 
 
 def test_augmented_set_mirrors_and_warps(walk):

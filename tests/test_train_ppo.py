@@ -62,6 +62,19 @@ def test_mirror_and_speed_augmentation_of_training_clips():
     assert training_motions(plain) == ["deepmimic:walk"]  # no augmentation: the envs load the sources
 
 
+def test_reverse_adds_the_matching_clips_played_backwards():
+    args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "deepmimic:run",
+                                      "--reverse", "*:walk", "--mirror"])
+    clips = training_motions(args)
+    assert [c.name for c in clips] == ["deepmimic:walk", "deepmimic:walk (mirrored)", "deepmimic:run",
+                                       "deepmimic:run (mirrored)", "deepmimic:walk (reversed)",
+                                       "deepmimic:walk (reversed) (mirrored)"]
+    np.testing.assert_array_equal(clips[4].qpos, clips[0].qpos[::-1])
+    typo = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "--reverse", "*walk_*"])
+    with pytest.raises(ValueError, match=r"--reverse '\*walk_\*' matches none of the 1 training clips"):
+        training_motions(typo)
+
+
 def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
     with pytest.raises(SystemExit, match="no run to resume"):
         main(["--run-dir", str(tmp_path / "none"), "--resume"])
