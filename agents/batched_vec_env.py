@@ -135,6 +135,8 @@ class BatchedMimicVecEnv(VecEnv):
         smoothed actions and the control step's PD targets ``(N, frames_per_control, nu)``."""
         first = self.envs[0]
         self._smoothed = smoothed_action(actions, np.stack([env._action for env in self.envs]), first.config)
+        for env in self.envs:
+            env._push()
         self._controls = np.stack([env._advance() for env in self.envs])
         self._controls[:, :, first.driven] += self._smoothed[:, None, :]
         for env, action in zip(self.envs, self._smoothed):

@@ -111,6 +111,7 @@ class TrainingRecord:
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
         mirror, speeds: augmentation.
         reversed_clips: the clips also trained on played backwards in time (``train_ppo.py --reverse``).
+        pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
         commands: every command that trained the run, in order.
         seed, steps, wall_s: the seed, control steps and training wall time (s) at this checkpoint.
@@ -125,6 +126,7 @@ class TrainingRecord:
     mirror: bool = False
     speeds: list[float] = field(default_factory=lambda: [1.0])
     reversed_clips: list[str] = field(default_factory=list)
+    pushes: dict | None = None
     init_from: str | None = None
     commands: list[str] = field(default_factory=list)
     seed: int = 0

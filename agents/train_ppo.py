@@ -48,7 +48,7 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
-from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, GaitConfig, MimicConfig
+from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, GaitConfig, MimicConfig, Pushes
 from envs.observations import OBS_FRAMES
 from perception.imu_denoiser import DEFAULT_DENOISER
 from perception.weights import shared_network
@@ -114,6 +114,14 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--mirror", action="store_true", help="also train on every clip mirrored left/right")
     g.add_argument("--speeds", type=positive_float, nargs="+", default=[1.0],
                    help="time-warp speeds each training clip is played at (e.g. 0.8 1.0 1.2)")
+    g.add_argument("--push-force", type=non_negative_float, nargs=2, default=None, metavar=("LOW", "HIGH"),
+                   help="shove the pelvis during training episodes with a horizontal force drawn from LOW..HIGH N "
+                        "(envs.config.Pushes: DeepMimic's perturbations, to learn recoveries; e.g. 40 120); "
+                        "default: no pushes")
+    g.add_argument("--push-rate", type=non_negative_float, default=Pushes.rate_hz,
+                   help="--push-force: pushes started per second, on average")
+    g.add_argument("--push-duration", type=positive_float, default=Pushes.duration_s,
+                   help="--push-force: how long each push lasts (s)")
     g.add_argument("--reverse", nargs="+", default=[], metavar="GLOB",
                    help="also train on the training clips whose SOURCE matches a GLOB (fnmatch, e.g. "
                         "'*_walk_*') played backwards in time: the same torques and contact forces perform them "
@@ -184,6 +192,16 @@ def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float)
     if args.env_id == GAIT_ENV_ID:
         kwargs.update(contacts=args.contacts, gait=gait_config(args))
     return kwargs
+
+
+def pushes(args: argparse.Namespace) -> Pushes | None:
+    """The training envs' random pushes (``--push-force``), or ``None``; never the evaluation's."""
+    force = getattr(args, "push_force", None)  # absent from the args.json of runs older than --push-force
+    if force is None:
+        return None
+    if args.env_id == GAIT_ENV_ID:
+        raise ValueError(f"--push-force shoves MimicEnv's character; {GAIT_ENV_ID} does not take pushes")
+    return Pushes(force_n=tuple(force), duration_s=args.push_duration, rate_hz=args.push_rate)
 
 
 def variant_seed(args: argparse.Namespace) -> int | None:
@@ -418,6 +436,7 @@ class CheckpointAndEvaluate(BaseCallback):
             denoiser=args.denoise,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(training_clips(args), getattr(args, "reverse", [])),
+            pushes=asdict(pushes(args)) if pushes(args) is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
@@ -525,8 +544,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)
+    training_kwargs = env_kwargs(args, clips, args.corrupted_fraction)
+    if pushes(args) is not None:
+        training_kwargs["pushes"] = pushes(args)
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
-                        env_kwargs=env_kwargs(args, clips, args.corrupted_fraction))
+                        env_kwargs=training_kwargs)
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,

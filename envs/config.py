@@ -175,6 +175,37 @@ class ArtefactMix:
             raise ValueError(f"ArtefactMix.judge must be one of {JUDGES}, got {self.judge!r}")
 
 
+@dataclass(frozen=True)
+class Pushes:
+    """Random shoves of the pelvis during training episodes, so that the policy meets, and learns to
+    recover from, states off the reference that no clip shows (DeepMimic's perturbations: Peng et
+    al. 2018, §9; the generalist's zero-shot failures are falls in progress).
+
+    While no push is on, each control step starts one with probability ``rate_hz /
+    control_rate_hz``: a horizontal force at the pelvis's origin (world, direction uniform) held for
+    ``duration_s``. Training only: evaluation, cleaning and adaptation never push.
+
+    Attributes:
+        force_n: ``(low, high)`` N; each push's magnitude is drawn uniformly from it (the humanoid
+            weighs 70 kg: 120 N for 0.2 s changes its speed by 0.34 m/s).
+        duration_s: how long each push lasts (s; whole control steps, at least one).
+        rate_hz: pushes started per second, on average, while none is on.
+    """
+
+    force_n: tuple[float, float] = (40.0, 120.0)
+    duration_s: float = 0.2
+    rate_hz: float = 0.4
+
+    def __post_init__(self) -> None:
+        lo, hi = self.force_n
+        if not (math.isfinite(lo) and math.isfinite(hi) and 0.0 <= lo <= hi):
+            raise ValueError(f"Pushes.force_n must be (low, high) with 0 <= low <= high (N), got {self.force_n}")
+        if not (math.isfinite(self.duration_s) and self.duration_s > 0):
+            raise ValueError(f"Pushes.duration_s must be > 0 (s), got {self.duration_s}")
+        if not (math.isfinite(self.rate_hz) and self.rate_hz >= 0):
+            raise ValueError(f"Pushes.rate_hz must be >= 0 (pushes per second), got {self.rate_hz}")
+
+
 CONTACT_MODES = ("vgrf", "keypoints")
 """Named sources of ``MimicGait-v0``'s contact targets: VGRFNet + Γ on the reference's joints, or
 the ContactTransformer on 2D keypoints of the reference filmed from the side."""

@@ -22,7 +22,7 @@ import numpy as np
 
 from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, region_contacts, update_kinematics
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
-                         ArtefactMix, MimicConfig)
+                         ArtefactMix, MimicConfig, Pushes)
 from envs.observations import heading_rotation, mimic_observation, observation_slices
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
@@ -76,6 +76,8 @@ class MimicEnv(gym.Env):
             given, when the clip is a denoised copy of it (``agents/evaluate.py --denoise``). As
             many clips as ``clips``, each with as many frames; not with ``artefacts``. ``None``
             (default): the clips themselves.
+        pushes: random shoves of the pelvis (:class:`envs.config.Pushes`), for training; ``None``
+            (default): none.
 
     Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``) — layout in :mod:`envs.observations`,
     named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
@@ -101,7 +103,8 @@ class MimicEnv(gym.Env):
                  foot: str = "one", episode_frames: int | None = None, obs_mode: str = "adapt",
                  action_mode: str = "key", config: MimicConfig | None = None,
                  sampling: SamplingConfig = SamplingConfig(), render_mode: str | None = None,
-                 width: int = 480, height: int = 360, judged_clips: Sequence[ClipSpec] | None = None):
+                 width: int = 480, height: int = 360, judged_clips: Sequence[ClipSpec] | None = None,
+                 pushes: Pushes | None = None):
         _check_choice("foot", foot, tuple(FOOT_MODELS))
         _check_choice("obs_mode", obs_mode, OBS_MODES)
         _check_choice("action_mode", action_mode, ACTION_MODES)
@@ -111,11 +114,17 @@ class MimicEnv(gym.Env):
             raise ValueError(f"render_mode must be None or 'rgb_array', got {render_mode!r}")
         if artefacts is not None and not isinstance(artefacts, ArtefactMix):
             raise TypeError(f"artefacts must be an envs.ArtefactMix or None, got {type(artefacts).__name__}")
+        if pushes is not None and not isinstance(pushes, Pushes):
+            raise TypeError(f"pushes must be an envs.config.Pushes or None, got {type(pushes).__name__}")
         config = config or MimicConfig()
         if episode_frames is not None:
             config = replace(config, episode_frames=int(episode_frames))
         self.config = config
         self.artefacts = artefacts
+        self.pushes = pushes
+        self._push_steps_left = 0
+        """Control steps the current push (:meth:`_push`) still lasts; 0: none on."""
+        self._push_force = np.zeros(3)
         self.render_mode = render_mode
         self._size = (width, height)
 
@@ -159,6 +168,7 @@ class MimicEnv(gym.Env):
                                                 dtype=np.float32)
 
         self._floor = m.geom("floor").id
+        self._pelvis = m.body("pelvis").id
         spinal = {names.index(b) + 1 for b in SPINAL_BODIES}
         self._geom_spinal_body = np.where(np.isin(m.geom_bodyid, list(spinal)), m.geom_bodyid, -1)
 
@@ -318,6 +328,7 @@ class MimicEnv(gym.Env):
         else:
             self._judge = self.track(clip, -1) if variant >= 0 and self.artefacts.judge == "clean" else track
         self._start = self._frame = start
+        self._push_steps_left = 0  # mj_resetData below clears the push's force
         fpc = self.config.frames_per_control
         self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
         m, d = self.model, self.data
@@ -397,9 +408,22 @@ class MimicEnv(gym.Env):
         """Take the policy's ``action``: clip and smooth it, advance the reference by one control
         step and return the PD targets ``(frames_per_control, nu)`` (rad) of its frames."""
         self._action = smoothed_action(action, self._action, self.config)
+        self._push()
         ctrl = np.array(self._advance())  # a copy: the track is read-only
         ctrl[:, self.driven] += self._action
         return ctrl
+
+    def _push(self) -> None:
+        """Start, hold or end a random push of the pelvis (:attr:`pushes`) for this control step:
+        its force (N, world) in ``data.xfrc_applied`` while it lasts, zero otherwise."""
+        if self.pushes is None:
+            return
+        if self._push_steps_left == 0 and self.np_random.random() < self.pushes.rate_hz / self.config.control_rate_hz:
+            self._push_steps_left = max(1, round(self.pushes.duration_s * self.config.control_rate_hz))
+            angle = self.np_random.uniform(0.0, 2.0 * np.pi)
+            self._push_force = self.np_random.uniform(*self.pushes.force_n) * np.array([np.cos(angle), np.sin(angle), 0.0])
+        self.data.xfrc_applied[self._pelvis, :3] = self._push_force if self._push_steps_left > 0 else 0.0
+        self._push_steps_left = max(0, self._push_steps_left - 1)
 
     def _advance(self) -> np.ndarray:
         """Advance the reference by one control step: the open-loop PD targets ``(frames_per_control,

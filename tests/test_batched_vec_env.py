@@ -15,12 +15,15 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.train_ppo import UpdateThreads, build_parser, vec_env_settings, vec_kind
 from agents.vec_env import ShardedVecEnv
 from envs import ArtefactMix, MimicConfig, MimicEnv
+from envs.config import Pushes
 
 CLIPS = ["deepmimic:walk", "deepmimic:run"]
 
 
-def make(vec_env_cls, config: MimicConfig = MimicConfig(), n_envs: int = 3, judge: str = "corrupted", **vec_kwargs):
-    kwargs = {"clips": CLIPS, "artefacts": ArtefactMix(seed=0, variants_per_clip=1, judge=judge), "config": config}
+def make(vec_env_cls, config: MimicConfig = MimicConfig(), n_envs: int = 3, judge: str = "corrupted",
+         pushes: Pushes | None = None, **vec_kwargs):
+    kwargs = {"clips": CLIPS, "artefacts": ArtefactMix(seed=0, variants_per_clip=1, judge=judge), "config": config,
+              "pushes": pushes}
     return make_vec_env("MimicIMU-v0", n_envs=n_envs, seed=7, vec_env_cls=vec_env_cls, env_kwargs=kwargs,
                         vec_env_kwargs=vec_kwargs or None)
 
@@ -72,6 +75,11 @@ def test_corrupted_episodes_judged_against_the_clean_clip_batch_alike():
                          ids=["heading", "reference", "com_offset", "feedforward"])
 def test_every_observation_layout_and_the_velocity_feedforward_batch_alike(config):
     assert_same_transitions(make(BatchedMimicVecEnv, config, n_threads=2), make(DummyVecEnv, config), steps=40)
+
+
+def test_random_pushes_batch_alike():
+    pushes = Pushes(force_n=(150.0, 300.0), rate_hz=3.0)  # often and hard: the pushes decide who falls
+    assert_same_transitions(make(BatchedMimicVecEnv, pushes=pushes), make(DummyVecEnv, pushes=pushes), steps=60)
 
 
 def test_an_unstable_simulation_ends_its_episode_in_the_batch_as_alone():

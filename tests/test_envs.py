@@ -11,7 +11,7 @@ from gymnasium.utils.env_checker import check_env
 import envs
 from envs import ArtefactMix
 from envs.bodies import read_body_state
-from envs.config import MimicConfig
+from envs.config import MimicConfig, Pushes
 from envs.reference import pd_targets
 from reference_motion import rotations as rot
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
@@ -116,6 +116,33 @@ def test_open_loop_walk_falls_behind_and_ends_by_lagging():
             break
     assert term and info["ended_by"] == "lagging" and info["e_discount"] < 0.025
     assert 10 <= steps < 150  # the PD controllers alone keep it up a while, not a whole episode
+
+
+def test_random_pushes_shove_the_pelvis_for_their_duration_and_change_its_velocity():
+    pushes = Pushes(force_n=(200.0, 200.0), duration_s=0.1, rate_hz=30.0)  # one push right away, 3 steps long
+    env = gym.make("MimicIMU-v0", clips=WALK, pushes=pushes, artefacts=None).unwrapped
+    still = gym.make("MimicIMU-v0", clips=WALK, artefacts=None).unwrapped
+    for e in (env, still):
+        e.reset(seed=0, options={"start_frame": 0})
+    forces = []
+    for _ in range(3):
+        env.step(np.zeros(20, np.float32))
+        still.step(np.zeros(20, np.float32))
+        forces.append(env.data.xfrc_applied[env._pelvis].copy())
+    np.testing.assert_allclose([np.linalg.norm(f) for f in forces], 200.0)  # held 0.1 s = 3 control steps
+    assert all(f[2] == 0.0 and not f[3:].any() and np.array_equal(f, forces[0]) for f in forces)  # horizontal, one way
+    # 200 N on 70 kg for 0.1 s: ~0.29 m/s along the push (the feet's friction takes some of it)
+    gained = (env.data.subtree_linvel[1] - still.data.subtree_linvel[1]) @ (forces[0][:3] / 200.0)
+    assert 0.1 < gained < 0.35
+    env.step(np.zeros(20, np.float32))  # the next push (rate 30 Hz: at once), another way
+    assert np.linalg.norm(env.data.xfrc_applied[env._pelvis]) == pytest.approx(200.0)
+    assert not np.array_equal(env.data.xfrc_applied[env._pelvis], forces[0])
+    env.reset(seed=0, options={"start_frame": 0})
+    assert not env.data.xfrc_applied.any()  # a reset ends any push
+    with pytest.raises(ValueError, match=r"Pushes.force_n must be \(low, high\)"):
+        Pushes(force_n=(100.0, 50.0))
+    with pytest.raises(TypeError, match="pushes must be an envs.config.Pushes"):
+        gym.make("MimicIMU-v0", clips=WALK, pushes={"force_n": (1, 2)})
 
 
 def test_pd_targets_lead_a_moving_reference_by_kv_over_kp():
