@@ -196,12 +196,11 @@ def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float)
 
 def pushes(args: argparse.Namespace) -> Pushes | None:
     """The training envs' random pushes (``--push-force``), or ``None``; never the evaluation's."""
-    force = getattr(args, "push_force", None)  # absent from the args.json of runs older than --push-force
-    if force is None:
+    if args.push_force is None:
         return None
     if args.env_id == GAIT_ENV_ID:
         raise ValueError(f"--push-force shoves MimicEnv's character; {GAIT_ENV_ID} does not take pushes")
-    return Pushes(force_n=tuple(force), duration_s=args.push_duration, rate_hz=args.push_rate)
+    return Pushes(force_n=tuple(args.push_force), duration_s=args.push_duration, rate_hz=args.push_rate)
 
 
 def variant_seed(args: argparse.Namespace) -> int | None:
@@ -308,11 +307,10 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     time-warped copies."""
     clips = training_clips(args)
     mocap = mocap_options(args)
-    reverse = getattr(args, "reverse", [])  # absent from the args.json of runs older than --reverse
-    if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not reverse:
+    if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not args.reverse:
         return clips
     return load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
-                                 reversed_clips(clips, reverse))
+                                 reversed_clips(clips, args.reverse))
 
 
 def reversed_clips(clips: list[str], globs: list[str]) -> list[str]:
@@ -429,14 +427,15 @@ class CheckpointAndEvaluate(BaseCallback):
         """How the best policy was made and how it scored (``agents/policy.py`` reads it)."""
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
+        push = pushes(args)
         training = TrainingRecord(
             clips=training_clips(args),
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
             denoiser=args.denoise,
             mirror=args.mirror, speeds=list(args.speeds),
-            reversed_clips=reversed_clips(training_clips(args), getattr(args, "reverse", [])),
-            pushes=asdict(pushes(args)) if pushes(args) is not None else None,
+            reversed_clips=reversed_clips(training_clips(args), args.reverse),
+            pushes=asdict(push) if push is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
@@ -545,8 +544,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)
     training_kwargs = env_kwargs(args, clips, args.corrupted_fraction)
-    if pushes(args) is not None:
-        training_kwargs["pushes"] = pushes(args)
+    push = pushes(args)
+    if push is not None:  # MimicGait-v0 takes no pushes argument (pushes() refuses it)
+        training_kwargs["pushes"] = push
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
                         env_kwargs=training_kwargs)
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
