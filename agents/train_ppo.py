@@ -105,6 +105,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--velocity-feedforward", action="store_true",
                    help="PD controllers damp towards the reference's joint velocity, not towards rest, so the body "
                         "does not trail the reference (MimicConfig.velocity_feedforward)")
+    g.add_argument("--lookahead", type=positive_int, nargs="+", default=[], metavar="STEPS",
+                   help="the observation also shows the reference this many control steps ahead, each "
+                        "(e.g. 1 4 10; MimicConfig.lookahead; --init-from a policy without it widens its inputs)")
     g.add_argument("--contacts", choices=CONTACT_MODES, default="vgrf",
                    help="MimicGait-v0: contact targets from VGRFNet on the reference's joints or from the "
                         "ContactTransformer on its 2D keypoints")
@@ -283,9 +286,10 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
-    ``--com-offset`` and ``--velocity-feedforward``)."""
+    ``--com-offset``, ``--velocity-feedforward`` and ``--lookahead``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
-                       com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward)
+                       com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
+                       lookahead=tuple(args.lookahead))
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:

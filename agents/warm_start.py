@@ -2,10 +2,13 @@
 observation that gained inputs or onto wider hidden layers.
 
 A policy trained on ADAPT's world-frame observation (:mod:`envs.observations`) can be carried to
-the same observation with ``dp_com`` (``MimicConfig.com_offset``): the first layer of actor and
-critic gets zero weights for the new inputs, so the widened network computes exactly what the
-source did until training gives those inputs weight, and the observation statistics get a
-neutral entry for them. Any other mismatch of spaces is an error.
+the same observation with ``dp_com`` (``MimicConfig.com_offset``) or with the future reference
+(``MimicConfig.lookahead``): the first layer of actor and critic gets zero weights for the new
+inputs, so the widened network computes exactly what the source did until training gives those
+inputs weight, and the observation statistics get an entry for them (a fixed scale for
+``dp_com``; for the lookahead, which is the reference's alone, the mean and variance of the run's
+own environments over :data:`LOOKAHEAD_SAMPLE_RESETS` resets). Any other mismatch of spaces is an
+error.
 
 A policy can also seed a run with wider hidden layers (``--net 512,512`` from a ``256,256``
 policy), to give a network that underfits its data more capacity without starting over: the
@@ -35,6 +38,22 @@ COM_OFFSET_STD_M = 0.2
 0–0.9 m (the lag termination is at ~0.9 m of head distance), so normalised inputs are near unit
 size. The statistics keep the source's count (tens of millions of steps), so this scale stays
 all but fixed for the rest of the run (0.200 / 0.200 / 0.192 m after 2.4 M steps)."""
+
+
+LOOKAHEAD_SAMPLE_RESETS = 64
+"""Resets of the run's environments whose observations give the new lookahead inputs' running mean
+and variance (64 × the number of envs start states, at random clips and frames)."""
+
+LOOKAHEAD_MIN_STD = 1e-3
+"""Smallest running std (m or m/s) given to a new lookahead input, so that a nearly constant one
+is not scaled up without bound."""
+
+
+def sampled_statistics(venv: VecEnv, columns: slice, resets: int) -> tuple[np.ndarray, np.ndarray]:
+    """Mean and variance ``(D,)`` of observation ``columns`` over ``resets`` resets of every env of
+    ``venv`` (raw observations, before normalisation)."""
+    samples = np.concatenate([venv.reset()[:, columns] for _ in range(resets)])
+    return samples.mean(axis=0), np.maximum(samples.var(axis=0), LOOKAHEAD_MIN_STD**2)
 
 
 def observation_normalizer(venv: VecEnv, gamma: float) -> VecNormalize:
@@ -106,8 +125,9 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     """Load ``source``'s weights into ``model`` (a new run on ``venv``, whose environments use
     ``config``) and return ``venv`` wrapped in ``source``'s observation statistics.
 
-    The spaces must match, or differ only by ``dp_com``: ``config`` observes it and the source's
-    environment did not (then the inputs are widened, see the module docstring). The frames must
+    The spaces must match, or differ only by ``dp_com`` and/or the lookahead: ``config`` observes
+    them and the source's environment did not (then the inputs are widened, see the module
+    docstring). The frames must
     match too, or both be of :data:`envs.observations.SAME_LAYOUT_FRAMES` (world and reference
     axes: the weights carry over as they are, and a note says so). ``model``'s hidden layers may be
     wider than the source's (:func:`widen_hidden`)."""
@@ -120,16 +140,23 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
         print(f"note: {source.path} observes in the {source_config.obs_frame!r} frame; this run trains it in the "
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
-    n_new = span.stop - span.start
-    gained = config.observes_com_offset and not source_config.observes_com_offset
+    n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
+    n_ahead = sizes[0][0] - sizes[1][0] - n_com if config.lookahead and not source_config.lookahead else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
-    widen = (gained and sizes[0][0] == sizes[1][0] + n_new
+    widen = ((n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead and n_ahead >= 0
              and venv.action_space.shape == source.model.action_space.shape)
-    if widen:
-        state = widen_inputs(state, span.start, n_new)
-        rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_new, COM_OFFSET_STD_M**2))
+    if widen and n_com:
+        state = widen_inputs(state, span.start, n_com)
+        rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_com, COM_OFFSET_STD_M**2))
         print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
-    else:
+    if widen and n_ahead:
+        start = sizes[1][0] + n_com  # the lookahead ends the observation
+        state = widen_inputs(state, start, n_ahead)
+        mean, var = sampled_statistics(venv, slice(start, None), LOOKAHEAD_SAMPLE_RESETS)
+        rms.mean, rms.var = np.concatenate([rms.mean, mean]), np.concatenate([rms.var, var])
+        print(f"widening {source.path}'s inputs by the lookahead {config.lookahead} (zero weights at "
+              f"{start}:{start + n_ahead}; statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
+    if not widen:
         source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
     fresh = model.policy.state_dict()
     wide = widen_hidden(state, fresh)

@@ -13,6 +13,8 @@ import math
 from dataclasses import dataclass, field, replace
 from pathlib import Path
 
+import numpy as np
+
 from envs.observations import OBS_FRAMES
 from reference_motion.artefacts import ArtefactRecipe
 
@@ -79,6 +81,13 @@ class MimicConfig:
         velocity_feedforward: the PD controllers damp towards the reference's joint velocity
             instead of towards rest (False: ADAPT's PD, whose damping makes the body trail a
             moving reference; see :func:`envs.reference.pd_targets`).
+        lookahead: future control steps (each ``frames_per_control`` frames ahead, clamped to the
+            clip's last frame) whose reference the observation also shows: per step, the
+            reference CoM's displacement from its current position, its CoM velocity and its body
+            origins relative to its CoM (``6 + 3·B`` values, in the observation's axes; layout in
+            :mod:`envs.observations`). ADAPT's state shows the reference at the current frame
+            only, so a change of step or direction is seen once it has begun. Empty (default):
+            ADAPT's observation. Strictly increasing positive integers.
     """
 
     frame_rate_hz: float = 60.0
@@ -99,8 +108,14 @@ class MimicConfig:
     obs_frame: str = "world"
     com_offset: bool = False
     velocity_feedforward: bool = False
+    lookahead: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
+        ahead = tuple(self.lookahead)  # a sidecar's JSON list arrives as a list
+        if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in ahead) or any(
+                k < 1 for k in ahead) or list(ahead) != sorted(set(ahead)):
+            raise ValueError(f"lookahead must be strictly increasing positive whole control steps, got {self.lookahead!r}")
+        object.__setattr__(self, "lookahead", tuple(int(k) for k in ahead))
         if self.obs_frame not in OBS_FRAMES:
             raise ValueError(f"obs_frame must be one of {', '.join(map(repr, OBS_FRAMES))}, got {self.obs_frame!r}")
         ratio = self.frame_rate_hz / self.control_rate_hz

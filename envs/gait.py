@@ -236,6 +236,9 @@ class MimicGaitEnv(MimicEnv):
         if judged_clips is not None:
             raise ValueError("MimicGait-v0 takes no judged_clips: its reward compares the simulation with the clips "
                              "it follows and their contact targets")
+        if config is not None and config.lookahead:
+            raise ValueError(f"MimicGait-v0 previews its contact and toe targets instead (GaitConfig.preview_frames); "
+                             f"MimicConfig.lookahead must be empty, got {config.lookahead}")
         if foot not in ("one", "two"):
             raise ValueError(f"MimicGait-v0: foot must be 'two' (humanoid_2seg, toe hinges following the "
                              f"ToeRefEstimator) or 'one' (the one-segment-foot ablation), got {foot!r}")

@@ -23,7 +23,7 @@ import numpy as np
 from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, region_contacts, update_kinematics
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig, Pushes)
-from envs.observations import heading_rotation, mimic_observation, observation_slices
+from envs.observations import heading_rotation, lookahead_observation, mimic_observation, observation_slices
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
@@ -79,7 +79,8 @@ class MimicEnv(gym.Env):
         pushes: random shoves of the pelvis (:class:`envs.config.Pushes`), for training; ``None``
             (default): none.
 
-    Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``) — layout in :mod:`envs.observations`,
+    Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``,
+    ``K·(6 + 3B)`` more with ``K`` steps of ``config.lookahead``) — layout in :mod:`envs.observations`,
     named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
     added to the reference PD targets of the driven hinges.
 
@@ -522,14 +523,31 @@ class MimicEnv(gym.Env):
     def _observation_slices(self, n_bodies: int, n_action: int) -> dict[str, slice]:
         """Layout of the observation (:func:`envs.observations.observation_slices`); the observation
         space's size is the end of the last slice."""
-        return observation_slices(n_bodies, n_action, com_offset=self.config.observes_com_offset)
+        return observation_slices(n_bodies, n_action, com_offset=self.config.observes_com_offset,
+                                  lookahead_steps=len(self.config.lookahead))
 
     def _observe(self, state) -> np.ndarray:
-        return self._tracking_observation(state, self._track.frame(self._frame), self._action)
+        return self._tracking_observation(state, self._track.frame(self._frame), self._action, self._ahead())
 
-    def _tracking_observation(self, state, ref: ReferenceFrame, action: np.ndarray) -> np.ndarray:
+    def _ahead(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """What the observation's ``lookahead`` reads of the running track (``config.lookahead``
+        steps past the current frame, clamped to its last): the reference CoM ``(K, 3)``, its
+        velocity ``(K, 3)`` and the observed body origins relative to it ``(K, B, 3)`` (world);
+        ``None`` without lookahead."""
+        if not self.config.lookahead:
+            return None
+        track = self._track
+        frames = np.minimum(self._frame + self.config.frames_per_control * np.asarray(self.config.lookahead),
+                            track.n_frames - 1)
+        pos_rel = track.pos_rel_com[frames]
+        return track.pos[frames, 0] - pos_rel[:, 0], track.com_vel[frames], pos_rel[:, self.observed]
+
+    def _tracking_observation(self, state, ref: ReferenceFrame, action: np.ndarray,
+                              ahead: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """The mimic observation of body state(s) ``state`` against reference frame(s) ``ref`` with the
-        smoothed action(s) ``action`` (one, or a batch with a leading axis on each)."""
+        smoothed action(s) ``action`` (one, or a batch with a leading axis on each), and with
+        ``config.lookahead`` the future reference ``ahead`` (:meth:`_ahead`, with the same leading
+        axes)."""
         obs = self.observed
         heading = ref_com = None
         if self.config.obs_frame == "heading":
@@ -538,9 +556,15 @@ class MimicEnv(gym.Env):
             heading = ref.to_heading
         if self.config.observes_com_offset:
             ref_com = ref.pos[..., 0, :] - ref.pos_rel_com[..., 0, :]
-        return mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,
-                                 ref.pos_rel_com[..., obs, :], ref.linvel[..., obs, :], ref.com_vel, action,
-                                 heading, ref_com)
+        observation = mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,
+                                        ref.pos_rel_com[..., obs, :], ref.linvel[..., obs, :], ref.com_vel, action,
+                                        heading, ref_com)
+        if not self.config.lookahead:
+            return observation
+        if ahead is None:
+            raise ValueError("config.lookahead is set: the observation needs the future reference (ahead)")
+        ref_com = ref.pos[..., 0, :] - ref.pos_rel_com[..., 0, :]
+        return np.concatenate([observation, lookahead_observation(ref_com, *ahead, heading)], axis=-1)
 
     def _spinal_contacts(self, touching: np.ndarray) -> int:
         """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""

@@ -16,6 +16,9 @@ v             3B    body origin velocities
 dp            3B    p − the reference's body origins relative to its CoM
 dv            3B    v − the reference's body velocities
 prev_action   A     the smoothed action of the previous step
+lookahead     K·L   (``MimicConfig.lookahead``, K future control steps; L = 6 + 3B) per step:
+                    the reference CoM's displacement from its current position (3), its
+                    CoM velocity (3) and its body origins relative to its CoM (3B)
 ============  ====  =====================================================================
 
 With all 20 bodies and the 20-D key-joint action this is the 273-D state of ADAPT.
@@ -55,12 +58,14 @@ def same_layout(frame: str, other: str) -> bool:
     return frame == other or {frame, other} <= set(SAME_LAYOUT_FRAMES)
 
 
-def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False) -> dict[str, slice]:
+def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False,
+                       lookahead_steps: int = 0) -> dict[str, slice]:
     """Named slices of the observation vector (the module table, in order); ``com_offset``: with
-    ``dp_com`` (the ``heading`` frame's layout)."""
+    ``dp_com`` (the ``heading`` frame's layout); ``lookahead_steps``: how many future reference
+    steps it shows (``lookahead``, absent for 0)."""
     sizes = {"v_com": 3, "ref_v_com": 3, "dv_com": 3, "ref_v_hor": 2, "dv_hor": 2,
              **({"dp_com": 3} if com_offset else {}), "p": 3 * n_bodies, "v": 3 * n_bodies, "dp": 3 * n_bodies, "dv": 3 * n_bodies,
-             "prev_action": n_action}
+             "prev_action": n_action, **({"lookahead": lookahead_steps * (6 + 3 * n_bodies)} if lookahead_steps else {})}
     out, start = {}, 0
     for name, size in sizes.items():
         out[name] = slice(start, start + size)
@@ -68,9 +73,9 @@ def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False) -
     return out
 
 
-def observation_size(n_bodies: int, n_action: int, com_offset: bool = False) -> int:
-    """Length of the observation: 13 + 12·B + A (+ 3 with ``dp_com``)."""
-    return 13 + 12 * n_bodies + n_action + (3 if com_offset else 0)
+def observation_size(n_bodies: int, n_action: int, com_offset: bool = False, lookahead_steps: int = 0) -> int:
+    """Length of the observation: 13 + 12·B + A (+ 3 with ``dp_com``, + K·(6 + 3B) for K lookahead steps)."""
+    return 13 + 12 * n_bodies + n_action + (3 if com_offset else 0) + lookahead_steps * (6 + 3 * n_bodies)
 
 
 def heading_rotation(root_x_axis: np.ndarray) -> np.ndarray:
@@ -128,6 +133,30 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
         p.reshape(flat), linvel.reshape(flat), (p - ref_pos_rel).reshape(flat), (linvel - ref_linvel).reshape(flat),
         prev_action,
     ], axis=-1).astype(np.float32)
+
+
+def lookahead_observation(ref_com: np.ndarray, ahead_com: np.ndarray, ahead_com_vel: np.ndarray,
+                          ahead_pos_rel: np.ndarray, heading: np.ndarray | None = None) -> np.ndarray:
+    """The ``lookahead`` part of the observation ``(K·(6 + 3B),)`` float32: for each of ``K`` future
+    reference frames, in order, the reference CoM's displacement from ``ref_com``, its CoM
+    velocity and its body origins relative to its CoM, each in the observation's axes. Every
+    argument may have leading batch axes (the same on all), which the result then has too.
+
+    Args:
+        ref_com: ``(3,)`` the reference's CoM now (world, m).
+        ahead_com: ``(K, 3)`` the reference's CoM at each future frame (world, m).
+        ahead_com_vel: ``(K, 3)`` its CoM velocity there (world, m/s).
+        ahead_pos_rel: ``(K, B, 3)`` its observed body origins relative to its CoM there (world axes, m).
+        heading: ``(3, 3)`` world → observation-frame rotation (as in :func:`mimic_observation`);
+            ``None``: world axes.
+    """
+    lead = np.ndim(ref_com) - 1
+    rotate = (lambda v: v) if heading is None else (lambda v: np.einsum("...ij,...kj->...ki", heading, v))
+    shift, velocity = rotate(ahead_com - ref_com[..., None, :]), rotate(ahead_com_vel)
+    bodies = np.shape(ahead_pos_rel)
+    pos_rel = rotate(np.reshape(ahead_pos_rel, bodies[:-3] + (-1, 3))).reshape(bodies[:-2] + (-1,))
+    per_step = np.concatenate([shift, velocity, pos_rel], axis=-1)
+    return per_step.reshape(np.shape(ref_com)[:lead] + (-1,)).astype(np.float32)
 
 
 # --------------------------------------------------------------------------- MimicGait-v0

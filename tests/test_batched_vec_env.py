@@ -71,8 +71,9 @@ def test_corrupted_episodes_judged_against_the_clean_clip_batch_alike():
 
 
 @pytest.mark.parametrize("config", [MimicConfig(obs_frame="heading"), MimicConfig(obs_frame="reference"),
-                                    MimicConfig(com_offset=True), MimicConfig(velocity_feedforward=True)],
-                         ids=["heading", "reference", "com_offset", "feedforward"])
+                                    MimicConfig(com_offset=True), MimicConfig(velocity_feedforward=True),
+                                    MimicConfig(obs_frame="reference", lookahead=(1, 4, 10))],
+                         ids=["heading", "reference", "com_offset", "feedforward", "lookahead"])
 def test_every_observation_layout_and_the_velocity_feedforward_batch_alike(config):
     assert_same_transitions(make(BatchedMimicVecEnv, config, n_threads=2), make(DummyVecEnv, config), steps=40)
 

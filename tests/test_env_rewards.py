@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from envs.config import GaitConfig
-from envs.observations import (gait_observation, gait_observation_slices, heading_rotation, mimic_observation,
-                               observation_size, observation_slices)
+from envs.observations import (gait_observation, gait_observation_slices, heading_rotation, lookahead_observation,
+                               mimic_observation, observation_size, observation_slices)
 from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, contact_mismatches, contact_reward, cube_face_points,
                           cube_face_velocities, end_effector_reward, fall_discount, fallen, gait_reward,
                           joint_pose_reward, joint_velocity_reward, lagging, local_pose_reward, mimic_reward,
@@ -161,6 +161,26 @@ def test_world_frame_observation_with_the_com_offset_is_adapts_plus_dp_com():
     offset = mimic_observation(pos, vel, com, com_vel, ref_rel, ref_vel, ref_com_vel, action, ref_com=ref_com)
     assert offset.shape == (276,) and np.allclose(offset[slices["dp_com"]], [0.3, -0.4, 0.05], atol=1e-6)
     assert np.array_equal(np.delete(offset, slices["dp_com"]), world)
+
+
+def test_lookahead_by_hand():
+    """Two future frames of a 2-body reference, in world axes and in axes turned 90° (x ← world y)."""
+    slices = observation_slices(20, 20, lookahead_steps=3)
+    assert slices["lookahead"] == slice(273, 273 + 3 * 66) and observation_size(20, 20, lookahead_steps=3) == 471
+    ref_com = np.array([1.0, 2.0, 0.9])
+    ahead_com = np.array([[1.1, 2.0, 0.9], [1.5, 2.2, 0.8]])  # 0.1 m then 0.5 m ahead in x
+    ahead_com_vel = np.array([[1.0, 0.0, 0.0], [1.2, 0.4, -0.1]])
+    ahead_pos_rel = np.array([[[0.0, 0.0, 0.1], [0.2, 0.0, -0.8]], [[0.0, 0.1, 0.0], [0.0, -0.2, -0.8]]])
+    world = lookahead_observation(ref_com, ahead_com, ahead_com_vel, ahead_pos_rel)
+    assert world.dtype == np.float32 and world.shape == (2 * 12,)
+    assert np.allclose(world[:12], [0.1, 0, 0, 1.0, 0, 0, 0, 0, 0.1, 0.2, 0, -0.8], atol=1e-6)
+    assert np.allclose(world[12:], [0.5, 0.2, -0.1, 1.2, 0.4, -0.1, 0, 0.1, 0, 0, -0.2, -0.8], atol=1e-6)
+    turn = heading_rotation(np.array([0.0, 1.0, 0.0]))  # facing +y: world y becomes x, world x becomes −y
+    turned = lookahead_observation(ref_com, ahead_com, ahead_com_vel, ahead_pos_rel, turn)
+    assert np.allclose(turned[12:], [0.2, -0.5, -0.1, 0.4, -1.2, -0.1, 0.1, 0, 0, -0.2, 0, -0.8], atol=1e-6)
+    batch = lookahead_observation(np.stack([ref_com] * 3), np.stack([ahead_com] * 3), np.stack([ahead_com_vel] * 3),
+                                  np.stack([ahead_pos_rel] * 3), np.stack([turn] * 3))
+    assert batch.shape == (3, 24) and np.allclose(batch, turned)
 
 
 # ----------------------------------------------------------------------------- MimicGait-v0 terms

@@ -63,6 +63,32 @@ def test_observation_slices_at_reference_state_initialisation():
     assert np.allclose(obs[s["prev_action"]], 0.2 * action, atol=1e-6)
 
 
+def test_the_lookahead_shows_the_reference_steps_ahead_clamped_to_the_last_frame():
+    """kick (92 frames), reference axes, lookahead 1 and 30 control steps: at frame 10 the
+    observation shows frames 12 and 70; at frame 40, 42 and the last frame (91, not 100)."""
+    config = MimicConfig(obs_frame="reference", lookahead=[1, 30])  # a sidecar's list is accepted
+    env = gym.make("MimicIMU-v0", clips=["deepmimic:kick"], artefacts=None, config=config)
+    base, plain = env.unwrapped, gym.make("MimicIMU-v0", clips=["deepmimic:kick"], artefacts=None,
+                                          config=MimicConfig(obs_frame="reference"))
+    assert config.lookahead == (1, 30) and env.observation_space.shape == (273 + 2 * 66,)
+    track = base.track(0)
+    com = track.pos[:, 0] - track.pos_rel_com[:, 0]
+    for start, ahead in ((10, (12, 70)), (40, (42, 91))):
+        obs, _ = env.reset(seed=0, options={"start_frame": start})
+        assert np.array_equal(obs[:273], plain.reset(seed=0, options={"start_frame": start})[0])
+        turn = track.to_heading[start]
+        for k, frame in enumerate(ahead):
+            part = obs[base.obs_slices["lookahead"]].reshape(2, 66)[k]
+            assert np.allclose(part[:3], turn @ (com[frame] - com[start]), atol=1e-5)
+            assert np.allclose(part[3:6], turn @ track.com_vel[frame], atol=1e-5)
+            assert np.allclose(part[6:].reshape(20, 3), track.pos_rel_com[frame] @ turn.T, atol=1e-5)
+    for bad in ((0,), (4, 1), (2, 2), (True,)):
+        with pytest.raises(ValueError, match="lookahead must be strictly increasing positive"):
+            MimicConfig(lookahead=bad)
+    with pytest.raises(ValueError, match=r"MimicGait-v0 previews .*MimicConfig.lookahead must be empty"):
+        gym.make("MimicGait-v0", clips=WALK, config=MimicConfig(lookahead=(1,)))
+
+
 def test_first_step_tracks_the_reference_closely_and_reports_everything():
     env = gym.make("MimicIMU-v0", clips=WALK, artefacts=None)
     env.reset(seed=0, options={"start_frame": 0})
