@@ -111,6 +111,8 @@ class TrainingRecord:
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
         mirror, speeds: augmentation.
         reversed_clips: the clips also trained on played backwards in time (``train_ppo.py --reverse``).
+        postures, posture_seed: random posture copies of each training reference and the seed they
+            were drawn with (``train_ppo.py --postures``; :func:`reference_motion.transforms.random_posture`).
         pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
         commands: every command that trained the run, in order.
@@ -126,6 +128,8 @@ class TrainingRecord:
     mirror: bool = False
     speeds: list[float] = field(default_factory=lambda: [1.0])
     reversed_clips: list[str] = field(default_factory=list)
+    postures: int = 0
+    posture_seed: int = 0
     pushes: dict | None = None
     init_from: str | None = None
     commands: list[str] = field(default_factory=list)

@@ -33,6 +33,7 @@ if __package__ in (None, ""):  # `python agents/train_ppo.py` puts agents/ first
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import gymnasium as gym
+import numpy as np
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList
@@ -55,11 +56,11 @@ from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
-                                  one_line_errors, output_dir, positive_float, positive_int)
-from reference_motion.library import augmented, expand_clips, load_motion
+                                  non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
+from reference_motion.library import augmented, expand_clips, load_motion, postured
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
-from reference_motion.transforms import reversed_in_time
+from reference_motion.transforms import random_posture, reversed_in_time
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -129,6 +130,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="also train on the training clips whose SOURCE matches a GLOB (fnmatch, e.g. "
                         "'*_walk_*') played backwards in time: the same torques and contact forces perform them "
                         "(reference_motion.transforms.reversed_in_time), so a forward walk becomes a backward one")
+    g.add_argument("--postures", type=non_negative_int, default=0, metavar="N",
+                   help="also train on N copies of every training reference (mirrored and time-warped ones "
+                        "included), each carried with a random posture: a stoop, bent knees, a wide stance "
+                        "(reference_motion.transforms.random_posture, drawn with --seed); default 0")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=None,
@@ -311,10 +316,24 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     time-warped copies."""
     clips = training_clips(args)
     mocap = mocap_options(args)
-    if not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not args.reverse:
+    if (not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not args.reverse
+            and not args.postures):
         return clips
-    return load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
-                                 reversed_clips(clips, args.reverse))
+    motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
+                                    reversed_clips(clips, args.reverse))
+    return motions + posture_copies(motions, args.postures, args.seed)
+
+
+def posture_copies(motions: list[Motion], copies: int, seed: int) -> list[Motion]:
+    """``copies`` copies of each of ``motions``, each carried with its own random posture
+    (:func:`reference_motion.transforms.random_posture`, :func:`reference_motion.library.postured`),
+    drawn from ``seed``: the same on resume."""
+    rng = np.random.default_rng([seed, POSTURE_STREAM])
+    return [postured(m, random_posture(m.model, rng), f"posture {k}") for m in motions for k in range(copies)]
+
+
+POSTURE_STREAM = 7
+"""Stream of ``--seed``'s random numbers that draws the posture copies (apart from PPO's)."""
 
 
 def reversed_clips(clips: list[str], globs: list[str]) -> list[str]:
@@ -439,6 +458,7 @@ class CheckpointAndEvaluate(BaseCallback):
             denoiser=args.denoise,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(training_clips(args), args.reverse),
+            postures=args.postures, posture_seed=args.seed,
             pushes=asdict(push) if push is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
             commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],

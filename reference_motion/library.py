@@ -20,6 +20,8 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from pathlib import Path
 
+import numpy as np
+
 from reference_motion import asf_amc, bvh, deepmimic
 from reference_motion.footskate import pin_contacts
 from reference_motion.motion import Motion
@@ -27,7 +29,7 @@ from reference_motion.motion_library import PREFIX as LIBRARY_PREFIX, is_library
 from reference_motion.retarget import retarget
 from reference_motion.rigs import MocapOptions
 from reference_motion.source import SourceClip
-from reference_motion.transforms import ENV_FPS, loop, mirror, resample, time_warp
+from reference_motion.transforms import ENV_FPS, loop, mirror, resample, time_warp, with_posture
 
 NAMED_SETS: dict[str, Callable[[], list[str]]] = {
     "deepmimic": lambda: [f"deepmimic:{n}" for n in deepmimic.clip_names()],
@@ -122,6 +124,13 @@ def warped(motion: Motion, speed: float) -> Motion:
     and footskate-cleaned again, since resampling the warped poses lets pinned feet slide by up to
     one frame's interpolation error; ``motion`` itself at speed 1."""
     return motion if speed == 1.0 else pin_contacts(time_warp(motion, speed))
+
+
+def postured(motion: Motion, offsets: np.ndarray, label: str) -> Motion:
+    """``motion`` carried with the posture ``offsets`` (:func:`~reference_motion.transforms.with_posture`,
+    named ``label``) and footskate-cleaned again, since the changed leg angles let the stance feet
+    slide as the pelvis turns over them."""
+    return pin_contacts(with_posture(motion, offsets, label))
 
 
 def augmented(motions: Sequence[Motion], mirrored: bool = False, speeds: Sequence[float] = (1.0,)) -> list[Motion]:

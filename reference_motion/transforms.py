@@ -1,11 +1,14 @@
 """Whole-clip transforms of a :class:`Motion`: resampling, time warping, time reversal, looping, left/right
-mirroring.
+mirroring, posture changes.
 
 All are pure: they return a new Motion and never modify their input.
 """
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
+import mujoco
 import numpy as np
 
 from reference_motion import rotations as rot
@@ -147,3 +150,92 @@ def mirror(motion: Motion) -> Motion:
     qpos = motion.qpos[:, perm] * sign
     name = motion.name[:-len(" (mirrored)")] if motion.name.endswith(" (mirrored)") else motion.name + " (mirrored)"
     return motion.with_qpos(qpos, name=name, source=dict(motion.source, mirrored=not motion.source.get("mirrored", False)))
+
+
+@dataclass(frozen=True)
+class PostureRanges:
+    """Ranges (degrees, low and high) of the constant posture changes :func:`random_posture` draws:
+    ways people carry themselves that the same steps can be walked with (a stoop, bent knees, a
+    wide stance), in the model's hinge conventions (y hinges: + bends the trunk and neck forward
+    and the knee; x hinges: + moves the left leg out).
+
+    Attributes:
+        trunk_flexion_deg: forward bend of the trunk, spread evenly over the three spine hinges
+            (spine_lower_y, spine_mid_y, chest_y); negative leans back.
+        neck_flexion_deg: forward bend of the neck (neck_y).
+        crouch_deg: hip flexion ``a`` of a crouch: the knees bend ``2a`` and the ankles ``a``, so
+            each foot stays under its hip with its sole as it was.
+        stance_width_deg: abduction of each hip (the ankle rolls back by as much, sole as it was);
+            negative narrows the stance.
+        elbow_flexion_deg: extra bend of both elbows.
+    """
+
+    trunk_flexion_deg: tuple[float, float] = (-10.0, 30.0)
+    neck_flexion_deg: tuple[float, float] = (-10.0, 20.0)
+    crouch_deg: tuple[float, float] = (0.0, 12.0)
+    stance_width_deg: tuple[float, float] = (-3.0, 6.0)
+    elbow_flexion_deg: tuple[float, float] = (0.0, 30.0)
+
+    def __post_init__(self) -> None:
+        for name, (low, high) in vars(self).items():
+            if not (np.isfinite(low) and np.isfinite(high) and low <= high):
+                raise ValueError(f"PostureRanges.{name} must be (low, high) with low <= high (degrees), "
+                                 f"got {(low, high)}")
+
+
+def posture_offsets(model_name: str, trunk_flexion: float = 0.0, neck_flexion: float = 0.0, crouch: float = 0.0,
+                    stance_width: float = 0.0, elbow_flexion: float = 0.0) -> np.ndarray:
+    """Hinge-angle offsets ``(nq,)`` (rad; zero on the root) of one posture, the angles of
+    :class:`PostureRanges`'s fields in radians, symmetric between the sides."""
+    hm = load_model(model_name)
+    offsets = np.zeros(hm.nq)
+    changes = {"spine_lower_y": trunk_flexion / 3, "spine_mid_y": trunk_flexion / 3, "chest_y": trunk_flexion / 3,
+               "neck_y": neck_flexion}
+    for side, out in (("l", 1.0), ("r", -1.0)):
+        changes.update({f"{side}_thigh_y": -crouch, f"{side}_shin_y": 2 * crouch, f"{side}_foot_y": -crouch,
+                        f"{side}_thigh_x": out * stance_width, f"{side}_foot_x": -out * stance_width,
+                        f"{side}_forearm_y": elbow_flexion})
+    for hinge, angle in changes.items():
+        offsets[hm.qpos_index(hinge)] += angle
+    return offsets
+
+
+def random_posture(model_name: str, rng: np.random.Generator, ranges: PostureRanges = PostureRanges()) -> np.ndarray:
+    """The offsets (:func:`posture_offsets`) of a posture drawn uniformly from ``ranges``."""
+    angles = {f"{name[:-4]}": np.radians(rng.uniform(*bounds)) for name, bounds in vars(ranges).items()}
+    return posture_offsets(model_name, **angles)
+
+
+def with_posture(motion: Motion, offsets: np.ndarray, label: str = "posture") -> Motion:
+    """``motion`` performed with a different carriage: every frame's hinges moved by ``offsets``
+    (``(nq,)`` rad, :func:`posture_offsets`; kept within the joint ranges), the pelvis then moved so
+    that the body's centre of mass keeps its path over the ground and the lowest point of the body
+    keeps its height, frame by frame. The steps, their timing and the support the feet give are
+    those of the clip (a stoop puts the hips back, as people do); ``label`` names the copy."""
+    hm = load_model(motion.model)
+    offsets = np.asarray(offsets, dtype=float)
+    if offsets.shape != (hm.nq,) or np.any(offsets[:7] != 0) or not np.all(np.isfinite(offsets)):
+        raise ValueError(f"posture offsets must be finite, shape ({hm.nq},) for {motion.model} and zero on the "
+                         f"root (qpos 0..6), got shape {offsets.shape}")
+    qpos = motion.qpos + offsets
+    limited, ranges = hm.hinge_ranges  # a hinge the clip already takes past its range stays where it was
+    given = motion.qpos[:, limited]
+    qpos[:, limited] = np.clip(qpos[:, limited], np.minimum(ranges[:, 0], given), np.maximum(ranges[:, 1], given))
+    (com, lowest), (new_com, new_lowest) = (_com_and_lowest(hm, q) for q in (motion.qpos, qpos))
+    qpos[:, :2] -= new_com[:, :2] - com[:, :2]
+    qpos[:, 2] += lowest - new_lowest
+    return motion.with_qpos(qpos, name=f"{motion.name} ({label})",
+                            source=dict(motion.source, posture_rad=np.round(offsets[7:], 4).tolist()))
+
+
+def _com_and_lowest(hm, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Per frame of ``qpos (T, nq)``: the whole body's centre of mass ``(T, 3)`` and the lowest
+    point of its floor-colliding geoms ``(T,)`` (world, m)."""
+    m = hm.model
+    data = mujoco.MjData(m)
+    com = np.empty((len(qpos), 3))
+    for t, q in enumerate(qpos):
+        data.qpos[:] = q
+        mujoco.mj_kinematics(m, data)
+        com[t] = m.body_mass @ data.xipos / m.body_mass.sum()
+    return com, hm.forward_kinematics(qpos).lowest

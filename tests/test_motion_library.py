@@ -8,7 +8,8 @@ from reference_motion.library import augmented, load_motion, named_set
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 from reference_motion.retarget import bone_direction_error, retarget
-from reference_motion.transforms import loop, mirror, resample, reversed_in_time, time_warp
+from reference_motion.transforms import (PostureRanges, loop, mirror, posture_offsets, random_posture, resample,
+                                        reversed_in_time, time_warp, with_posture)
 
 CLIPS = deepmimic.clip_names()
 
@@ -136,6 +137,58 @@ def test_reversed_in_time_walks_backwards_with_the_same_torques_and_ground_force
         forward, backward = inverse_dynamics(walk, t), inverse_dynamics(back, walk.n_frames - 1 - t)
         assert np.abs(forward[2]) > 400  # the ground carries the body's weight (N)
         np.testing.assert_allclose(backward, forward, rtol=1e-6, atol=1e-6)
+
+
+def test_posture_offsets_by_hand():
+    hm = load_model("humanoid_1seg")
+    off = posture_offsets("humanoid_1seg", trunk_flexion=0.3, neck_flexion=0.1, crouch=0.2, stance_width=0.05,
+                          elbow_flexion=0.4)
+    at = {name: off[hm.qpos_index(name)] for name in hm.hinge_names}
+    assert at["spine_lower_y"] == at["spine_mid_y"] == at["chest_y"] == pytest.approx(0.1) and at["neck_y"] == 0.1
+    for side, out in (("l", 1), ("r", -1)):  # knee 2a, hip and ankle -a: the sole keeps its pitch
+        assert (at[f"{side}_thigh_y"], at[f"{side}_shin_y"], at[f"{side}_foot_y"]) == pytest.approx((-0.2, 0.4, -0.2))
+        assert (at[f"{side}_thigh_x"], at[f"{side}_foot_x"]) == pytest.approx((0.05 * out, -0.05 * out))
+        assert at[f"{side}_forearm_y"] == 0.4
+    assert np.count_nonzero(off) == 4 + 2 * 6 and not off[:7].any()
+    draws = np.array([random_posture("humanoid_1seg", np.random.default_rng(s))[hm.qpos_index("l_shin_y")]
+                      for s in range(50)])
+    assert 0 <= draws.min() and draws.max() <= 2 * np.radians(12) and draws.std() > 0.05
+    with pytest.raises(ValueError, match=r"PostureRanges.crouch_deg must be \(low, high\)"):
+        PostureRanges(crouch_deg=(10.0, 0.0))
+
+
+def test_a_posture_keeps_the_centre_of_mass_path_and_the_floor_contact(walk):
+    """walk with a 30° stoop and a 10° crouch: the centre of mass walks the same path (the hips go
+    back, the pelvis lower), the lowest point of the body is as high as before in every frame,
+    and the stance feet still hold their ground within a few cm/s."""
+    import mujoco
+
+    hm = load_model(walk.model)
+    off = posture_offsets(walk.model, trunk_flexion=np.radians(30), crouch=np.radians(10))
+    stooped = with_posture(walk, off, "stoop")
+    assert stooped.name == "deepmimic:walk (stoop)" and len(stooped.source["posture_rad"]) == hm.nq - 7
+    data = mujoco.MjData(hm.model)
+
+    def com(qpos):
+        out = []
+        for q in qpos:
+            data.qpos[:] = q
+            mujoco.mj_kinematics(hm.model, data)
+            out.append(hm.model.body_mass @ data.xipos / hm.model.body_mass.sum())
+        return np.array(out)
+
+    np.testing.assert_allclose(com(stooped.qpos)[:, :2], com(walk.qpos)[:, :2], atol=1e-9)
+    before, after = hm.forward_kinematics(walk.qpos), hm.forward_kinematics(stooped.qpos)
+    np.testing.assert_allclose(after.lowest, before.lowest, atol=1e-9)
+    shift = stooped.qpos[:, :3] - walk.qpos[:, :3]
+    assert np.median(shift[:, 0] * np.cos(rot.yaw(walk.root_quat[0]))) < -0.02 and np.median(shift[:, 2]) < -0.01
+    moved = stooped.qpos[:, 7:] - walk.qpos[:, 7:]
+    np.testing.assert_allclose(moved, np.broadcast_to(off[7:], moved.shape), atol=1e-12)  # all within their ranges
+    planted = after.foot_points[1:, :, 2] < 0.03
+    slide = np.linalg.norm(np.diff(after.foot_points[..., :2], axis=0), axis=-1)[planted] * walk.fps
+    assert np.median(slide) < 0.08
+    with pytest.raises(ValueError, match=r"posture offsets must be finite, shape \(50,\) .* zero on the root"):
+        with_posture(walk, np.ones(hm.nq))
 
 
 def test_augmented_set_mirrors_and_warps(walk):

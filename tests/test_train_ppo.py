@@ -75,6 +75,21 @@ def test_reverse_adds_the_matching_clips_played_backwards():
         training_motions(typo)
 
 
+def test_postures_add_seeded_copies_of_every_reference_carried_differently():
+    args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "deepmimic:run",
+                                      "--mirror", "--postures", "2", "--seed", "3"])
+    clips = training_motions(args)
+    assert [c.name for c in clips[4:6]] == ["deepmimic:walk (posture 0)", "deepmimic:walk (posture 1)"]
+    assert len(clips) == 4 * 3 and clips[-1].name == "deepmimic:run (mirrored) (posture 1)"
+    postures = [np.array(c.source["posture_rad"]) for c in clips[4:]]
+    assert all(np.abs(a - b).max() > 0.01 for i, a in enumerate(postures) for b in postures[:i])
+    again = training_motions(args)  # a resumed run trains on the same copies
+    assert all(np.array_equal(a.qpos, b.qpos) for a, b in zip(clips, again))
+    other = training_motions(build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk",
+                                                        "--postures", "1", "--seed", "4"]))
+    assert not np.array_equal(other[1].qpos, clips[4].qpos)
+
+
 def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
     with pytest.raises(SystemExit, match="no run to resume"):
         main(["--run-dir", str(tmp_path / "none"), "--resume"])
