@@ -67,8 +67,9 @@ def take_path(directory: str | Path, name: str, model: str) -> Path:
     return Path(directory) / model / f"{name}.npz"
 
 
-LIBRARY_FORMAT = "physmimic.library/2"
-"""Format of the libraries this code writes and reads (2: feet levelled in stance by the retargeter)."""
+LIBRARY_FORMAT = "physmimic.library/3"
+"""Format of the libraries this code writes and reads (2: feet levelled in stance by the retargeter;
+3: no shuffling foot dragged across its steps by the footskate pinning, ``PinningConfig.max_correction_m``)."""
 
 
 def read_manifest(directory: str | Path) -> dict:
@@ -83,7 +84,8 @@ def read_manifest(directory: str | Path) -> dict:
         raise ValueError(f"{path}: damaged manifest ({err})") from None
     if manifest.get("format") != LIBRARY_FORMAT:
         raise ValueError(f"{path}: a library of format {manifest.get('format')!r}, made by an older import "
-                         f"(before feet were levelled in stance); expected {LIBRARY_FORMAT!r}: import again with "
+                         f"(format 2 dragged shuffling feet across their steps, 1 had unlevelled feet); expected "
+                         f"{LIBRARY_FORMAT!r}: import again with "
                          f"python -m reference_motion import PATH... --out {directory}")
     return manifest
 

@@ -3,7 +3,7 @@ import pytest
 
 from reference_motion import rotations as rot
 from reference_motion.artefacts import ArtefactRecipe, corrupt
-from reference_motion.footskate import (LegIK, contact_windows, drop_fast_windows, fade_between_windows,
+from reference_motion.footskate import (LegIK, PinningConfig, contact_windows, drop_fast_windows, fade_between_windows,
                                         knee_flexion_for_reach, pin_contacts, pin_corrections, smoothstep)
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
@@ -95,6 +95,21 @@ def test_pinning_removes_synthetic_foot_skate_without_moving_the_body():
     moved = np.linalg.norm(hm.forward_kinematics(pinned.qpos).body_pos - hm.forward_kinematics(skating.qpos).body_pos, axis=-1)
     assert moved.mean() < 0.02
     assert np.array_equal(pinned.qpos[:, :7], skating.qpos[:, :7])  # only the legs move
+
+
+def test_a_shuffling_foot_is_not_dragged_across_its_steps():
+    """A foot point that never rises above the contact height while it walks 1.2 m in 2 s (0.6 m/s,
+    a shuffle: slower than a swing skimming the floor) is one window by height alone; pinning it
+    would hold it 0.6 m away at each end, so by default the window is left alone. A planted foot
+    sliding 10 cm is still pinned."""
+    t = np.arange(121) / 60.0
+    shuffle = np.stack([np.stack([0.6 * t, np.zeros_like(t)], -1)] * 2, axis=1)  # (T, 2 points, xy)
+    planted = np.ones((121, 2), bool)
+    assert np.abs(pin_corrections(shuffle, planted, None)).max() == pytest.approx(0.6)
+    assert not pin_corrections(shuffle, planted, PinningConfig().max_correction_m).any()
+    slide = shuffle / 12  # 10 cm over the same 2 s
+    np.testing.assert_allclose(pin_corrections(slide, planted, PinningConfig().max_correction_m)[:, 0],
+                               0.05 - slide[:, 0, 0], atol=1e-9)
 
 
 def test_pinning_fixes_the_sliding_in_deepmimic_run():

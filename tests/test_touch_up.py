@@ -52,7 +52,7 @@ def test_no_contact_window_spans_a_break(walk):
     qpos = walk.qpos.copy()
     qpos[150:, 1] += 0.5
     jumped = walk.with_qpos(qpos)
-    unlimited = PinningConfig()  # retargeting's pinning: no limit on how far a foot is moved
+    unlimited = PinningConfig(max_correction_m=None)  # no limit on how far a foot is moved
     _, split = touch_up(jumped, breaks=[150], pinning=unlimited)
     _, whole = touch_up(jumped, pinning=unlimited)
     assert split.body_shift_max_m < 0.1 < whole.body_shift_max_m
