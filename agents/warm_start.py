@@ -141,16 +141,17 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
-    n_ahead = sizes[0][0] - sizes[1][0] - n_com if config.lookahead and not source_config.lookahead else 0
+    ahead = venv.get_attr("obs_slices", indices=[0])[0].get("lookahead") if config.lookahead else None
+    n_ahead = ahead.stop - ahead.start if ahead is not None and not source_config.lookahead else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
-    widen = ((n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead and n_ahead >= 0
+    widen = ((n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead
              and venv.action_space.shape == source.model.action_space.shape)
     if widen and n_com:
         state = widen_inputs(state, span.start, n_com)
         rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_com, COM_OFFSET_STD_M**2))
         print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
     if widen and n_ahead:
-        start = sizes[1][0] + n_com  # the lookahead ends the observation
+        start = ahead.start  # the lookahead ends the observation
         state = widen_inputs(state, start, n_ahead)
         mean, var = sampled_statistics(venv, slice(start, None), LOOKAHEAD_SAMPLE_RESETS)
         rms.mean, rms.var = np.concatenate([rms.mean, mean]), np.concatenate([rms.var, var])
