@@ -539,8 +539,7 @@ class MimicEnv(gym.Env):
         track = self._track
         frames = np.minimum(self._frame + self.config.frames_per_control * np.asarray(self.config.lookahead),
                             track.n_frames - 1)
-        pos_rel = track.pos_rel_com[frames]
-        return track.pos[frames, 0] - pos_rel[:, 0], track.com_vel[frames], pos_rel[:, self.observed]
+        return track.com[frames], track.com_vel[frames], track.pos_rel_com[frames][:, self.observed]
 
     def _tracking_observation(self, state, ref: ReferenceFrame, action: np.ndarray,
                               ahead: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
@@ -549,22 +548,19 @@ class MimicEnv(gym.Env):
         ``config.lookahead`` the future reference ``ahead`` (:meth:`_ahead`, with the same leading
         axes)."""
         obs = self.observed
-        heading = ref_com = None
+        heading = None
         if self.config.obs_frame == "heading":
             heading = heading_rotation(state.axes[..., 0, 0, :])
         elif self.config.obs_frame == "reference":
             heading = ref.to_heading
-        if self.config.observes_com_offset:
-            ref_com = ref.pos[..., 0, :] - ref.pos_rel_com[..., 0, :]
         observation = mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,
                                         ref.pos_rel_com[..., obs, :], ref.linvel[..., obs, :], ref.com_vel, action,
-                                        heading, ref_com)
+                                        heading, ref.com if self.config.observes_com_offset else None)
         if not self.config.lookahead:
             return observation
         if ahead is None:
             raise ValueError("config.lookahead is set: the observation needs the future reference (ahead)")
-        ref_com = ref.pos[..., 0, :] - ref.pos_rel_com[..., 0, :]
-        return np.concatenate([observation, lookahead_observation(ref_com, *ahead, heading)], axis=-1)
+        return np.concatenate([observation, lookahead_observation(ref.com, *ahead, heading)], axis=-1)
 
     def _spinal_contacts(self, touching: np.ndarray) -> int:
         """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""

@@ -29,6 +29,7 @@ class ReferenceQuantities:
     Attributes:
         pos: ``(B, 3)`` body origins.
         pos_rel_com: ``(B, 3)`` body origins relative to the reference CoM.
+        com: ``(3,)`` the reference's centre of mass.
         linvel: ``(B, 3)`` body origin velocities.
         com_vel: ``(3,)`` CoM velocity.
         local: ``(J, 4)`` rotations of the jointed bodies relative to their parents.
@@ -40,6 +41,7 @@ class ReferenceQuantities:
 
     pos: np.ndarray
     pos_rel_com: np.ndarray
+    com: np.ndarray
     linvel: np.ndarray
     com_vel: np.ndarray
     local: np.ndarray
@@ -116,7 +118,7 @@ class ReferenceTrack(ReferenceQuantities):
         faces = cube_face_points(pos, axes, cube_size) - pos[:, :1, None, :]
         f32 = np.float32  # the bulky per-body arrays: half the memory, errors ~1e-6 m
         return cls(motion=motion, ctrl=motion.qpos[:, actuator_qpos], qvel=qvel, pos=pos,
-                   pos_rel_com=(pos - com[:, None, :]).astype(f32), linvel=linvel.astype(f32), com_vel=com_vel,
+                   pos_rel_com=(pos - com[:, None, :]).astype(f32), com=com, linvel=linvel.astype(f32), com_vel=com_vel,
                    local=rot.relative_to_parent(quat, parent)[:, jointed].astype(f32), faces_rel_root=faces.astype(f32),
                    face_vel=cube_face_velocities(linvel, angvel, axes, cube_size).astype(f32),
                    to_heading=heading_rotation(axes[:, 0, 0]))

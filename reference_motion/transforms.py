@@ -8,7 +8,6 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-import mujoco
 import numpy as np
 
 from reference_motion import rotations as rot
@@ -202,7 +201,7 @@ def posture_offsets(model_name: str, trunk_flexion: float = 0.0, neck_flexion: f
 
 def random_posture(model_name: str, rng: np.random.Generator, ranges: PostureRanges = PostureRanges()) -> np.ndarray:
     """The offsets (:func:`posture_offsets`) of a posture drawn uniformly from ``ranges``."""
-    angles = {f"{name[:-4]}": np.radians(rng.uniform(*bounds)) for name, bounds in vars(ranges).items()}
+    angles = {name.removesuffix("_deg"): np.radians(rng.uniform(*bounds)) for name, bounds in vars(ranges).items()}
     return posture_offsets(model_name, **angles)
 
 
@@ -221,21 +220,9 @@ def with_posture(motion: Motion, offsets: np.ndarray, label: str = "posture") ->
     limited, ranges = hm.hinge_ranges  # a hinge the clip already takes past its range stays where it was
     given = motion.qpos[:, limited]
     qpos[:, limited] = np.clip(qpos[:, limited], np.minimum(ranges[:, 0], given), np.maximum(ranges[:, 1], given))
-    (com, lowest), (new_com, new_lowest) = (_com_and_lowest(hm, q) for q in (motion.qpos, qpos))
-    qpos[:, :2] -= new_com[:, :2] - com[:, :2]
-    qpos[:, 2] += lowest - new_lowest
+    before, after = hm.forward_kinematics(motion.qpos), hm.forward_kinematics(qpos)
+    qpos[:, :2] -= after.com[:, :2] - before.com[:, :2]
+    qpos[:, 2] += before.lowest - after.lowest
     return motion.with_qpos(qpos, name=f"{motion.name} ({label})",
                             source=dict(motion.source, posture_rad=np.round(offsets[7:], 4).tolist()))
 
-
-def _com_and_lowest(hm, qpos: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Per frame of ``qpos (T, nq)``: the whole body's centre of mass ``(T, 3)`` and the lowest
-    point of its floor-colliding geoms ``(T,)`` (world, m)."""
-    m = hm.model
-    data = mujoco.MjData(m)
-    com = np.empty((len(qpos), 3))
-    for t, q in enumerate(qpos):
-        data.qpos[:] = q
-        mujoco.mj_kinematics(m, data)
-        com[t] = m.body_mass @ data.xipos / m.body_mass.sum()
-    return com, hm.forward_kinematics(qpos).lowest

@@ -110,7 +110,8 @@ class HumanoidModel:
 
     # ------------------------------------------------------------ kinematics
     def forward_kinematics(self, qpos: np.ndarray) -> "Kinematics":
-        """World-frame body and foot-point positions for every frame of ``qpos (T, nq)``."""
+        """World-frame body and foot-point positions, lowest points and centre of mass for every
+        frame of ``qpos (T, nq)``."""
         qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
         if qpos.shape[1] != self.nq:
             raise ValueError(f"qpos has {qpos.shape[1]} columns but model {self.name} has nq={self.nq}")
@@ -122,6 +123,8 @@ class HumanoidModel:
         geoms = self._floor_colliding_geoms
         geom_z = np.empty((T, len(geoms)))
         geom_zrow = np.empty((T, len(geoms), 3))  # third row of each geom's rotation matrix
+        com = np.empty((T, 3))
+        mass = m.body_mass / m.body_mass.sum()
         for t in range(T):
             d.qpos[:] = qpos[t]
             mujoco.mj_kinematics(m, d)
@@ -130,7 +133,8 @@ class HumanoidModel:
             points[t] = d.site_xpos[self.foot_point_sites]
             geom_z[t] = d.geom_xpos[geoms, 2]
             geom_zrow[t] = d.geom_xmat[geoms, 6:9]
-        return Kinematics(body_pos, body_quat, points, self._lowest_geom_points(geom_z, geom_zrow))
+            com[t] = mass @ d.xipos
+        return Kinematics(body_pos, body_quat, points, self._lowest_geom_points(geom_z, geom_zrow), com)
 
     def _lowest_geom_points(self, geom_z: np.ndarray, geom_zrow: np.ndarray) -> np.ndarray:
         """Lowest z (m) per frame over the floor-colliding geoms, analytic per geom type, from their
@@ -253,12 +257,14 @@ class Kinematics:
         foot_points: ``(T, 4, 3)`` sole points in :data:`CONTACT_CHANNELS` order.
         lowest: ``(T,)`` lowest z of the geometry that can touch the floor (the sole spheres stand
             in for the soles; the foot boxes only collide with the other leg).
+        com: ``(T, 3)`` the whole body's centre of mass.
     """
 
     body_pos: np.ndarray
     body_quat: np.ndarray
     foot_points: np.ndarray
     lowest: np.ndarray
+    com: np.ndarray
 
 
 @functools.lru_cache(maxsize=None)
