@@ -228,7 +228,8 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig =
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
     resolved path, the bytes of its ``model.zip`` and, for the same weights in a gait-ablated task
     (:meth:`MimicPolicy.ablated`), the ablation, or observing in another frame than they were
-    trained in (:meth:`MimicPolicy.observing`), that frame: it adapts to another policy), and of ``config``'s
+    trained in (:meth:`MimicPolicy.observing`), that frame, or simulated at another physics rate
+    (:meth:`MimicPolicy.simulating`), that rate: it adapts to another policy), and of ``config``'s
     training settings (:meth:`AdaptConfig.training_settings`, the chunk-keeping rule included)
     where they differ from those every entry was made with before they counted
     (:data:`_EARLIER_SETTINGS`: those entries keep their keys), so runs made otherwise live beside
@@ -240,9 +241,11 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig =
     ablation = policy.record.extra.get("ablation")
     if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
         h.update(f"|ablation={ablation}".encode())
-    frame = policy.record.env.mimic_config().obs_frame
-    if policy.record.extra.get("observed_in", frame) != frame:  # weights observing in another frame than trained in
-        h.update(f"|obs_frame={frame}".encode())
+    task = policy.record.env.mimic_config()
+    if policy.record.extra.get("observed_in", task.obs_frame) != task.obs_frame:  # observing in another frame than trained in
+        h.update(f"|obs_frame={task.obs_frame}".encode())
+    if policy.record.extra.get("simulated_at", task.physics_rate_hz) != task.physics_rate_hz:  # another physics rate
+        h.update(f"|physics_rate_hz={task.physics_rate_hz!r}".encode())
     settings = config.training_settings()
     if settings != _EARLIER_SETTINGS:
         h.update(f"|training={settings!r}".encode())

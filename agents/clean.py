@@ -472,6 +472,10 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                    help="after a failure, try again from this long before it (s)")
     g.add_argument("--retries", type=non_negative_int, default=CleanConfig.retries,
                    help="with --search off: stochastic retries before re-anchoring to the reference")
+    p.add_argument("--physics-rate-hz", type=positive_float, default=None, metavar="HZ",
+                   help="adapt and perform with the physics stepped at this rate, a multiple of 60 "
+                        "(MimicConfig.physics_rate_hz: finer steps, stiffer contacts, so soles sink and slide less; "
+                        "default: the rate the policy trained at, recorded in its sidecar)")
     g = p.add_argument_group("per-clip adaptation (PPO fine-tuning on the clip before cleaning)")
     g.add_argument("--no-adapt", action="store_true", help="clean with the policy as given (zero-shot)")
     g.add_argument("--adapt-budget-s", type=positive_float, default=AdaptConfig.budget_s,
@@ -521,6 +525,12 @@ def print_performance(cleaned: Motion, out: Path) -> None:
               f"{r['failed_at']}, {r['retries']} {tries} failed (best reached frame {r['best_reached']}){jump}")
 
 
+def performing_policy(policy: MimicPolicy, args: argparse.Namespace) -> MimicPolicy:
+    """``policy`` at the physics rate ``--physics-rate-hz`` asks for (:meth:`MimicPolicy.simulating`),
+    or as it is."""
+    return policy.simulating(args.physics_rate_hz) if args.physics_rate_hz else policy
+
+
 def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> CleanConfig:
     """The :class:`CleanConfig` of the command line, checked against ``policy``'s task before any work."""
     search = None if args.search == "off" else SearchConfig(beam=args.search_beam, samples=args.search_samples,
@@ -566,6 +576,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         reference, cleaned, extra = clean_from_args(args, parser)
     else:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
+        policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
         note = policy.denoiser_note(args.denoise)
         if note:

@@ -33,7 +33,7 @@ from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
-                                  one_line_errors, output_file, positive_int, require_frames)
+                                  one_line_errors, output_file, positive_float, positive_int, require_frames)
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
@@ -56,6 +56,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES,
                    help="run a world-frame policy observing in this frame (envs.observations; default: the frame its "
                         "sidecar records)")
+    p.add_argument("--physics-rate-hz", type=positive_float, metavar="HZ",
+                   help="step the physics at this rate, a multiple of 60 (MimicConfig.physics_rate_hz: finer steps, "
+                        "stiffer contacts; default: the rate its sidecar records, 120 for every shipped policy)")
     p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
     p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
     p.add_argument("--per-clip", action="store_true",
@@ -96,7 +99,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-    runs, frames = [], set()
+    runs, frames, rates = [], set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
         note = policy.denoiser_note(args.denoise)
@@ -104,7 +107,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             print(note)
         if args.obs_frame:
             policy = policy.observing(args.obs_frame)
+        if args.physics_rate_hz:
+            policy = policy.simulating(args.physics_rate_hz)
         frames.add(policy.record.env.mimic_config().obs_frame)
+        rates.add(policy.record.env.mimic_config().physics_rate_hz)
         if denoiser is None:
             env = policy.make_env(clips, artefacts=None)
         else:
@@ -113,7 +119,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         runs += evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)[1]
     summary = summarize(runs)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
-              "obs_frame": ", ".join(sorted(frames)),
+              "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}

@@ -132,6 +132,21 @@ class MimicPolicy:
         sidecar = replace(record, env=task, extra={"observed_in": config.obs_frame, **record.extra}).to_dict()
         return replace(self, sidecar=sidecar)
 
+    def simulating(self, rate_hz: float) -> MimicPolicy:
+        """This policy, its task's physics stepped at ``rate_hz`` (:attr:`envs.config.MimicConfig.physics_rate_hz`):
+        the same weights, but :meth:`make_env` builds its task with the finer step and stiffer
+        contacts, so its rollouts (evaluation, the cleaned clip) sink less into the floor and slide
+        less; adapting the copy fine-tunes it there. The sidecar records the change
+        (``simulated_at``: the rate it was given at first); the files on disk are not touched."""
+        record = self.record
+        config = record.env.mimic_config()
+        if abs(config.physics_rate_hz - rate_hz) <= 1e-6 * rate_hz:
+            return self
+        replace(config, physics_rate_hz=float(rate_hz))  # validates the rate
+        task = replace(record.env, config={**record.env.config, "physics_rate_hz": float(rate_hz)})
+        sidecar = replace(record, env=task, extra={"simulated_at": config.physics_rate_hz, **record.extra}).to_dict()
+        return replace(self, sidecar=sidecar)
+
     def denoiser_note(self, denoiser: str | Path | None) -> str | None:
         """A warning when the policy's corrupted training references passed through an IMU denoiser
         (``train_ppo.py --denoise``, :attr:`~agents.sidecar.TrainingRecord.denoiser`) and the takes

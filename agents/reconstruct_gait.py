@@ -35,7 +35,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import AdaptConfig
 from agents.clean import (adapt_to_clip, build_parser as clean_parser, clean_config, clean_motion, load_clip,
-                          print_performance, reanchor_marks)
+                          performing_policy, print_performance, reanchor_marks)
 from agents.gait_metrics import (PushOff, contact_f1, forward_displacement_error, joint_angle_rmse_deg,
                                  simulated_contacts, summarize_push_offs, toe_push_off)
 from agents.policy import MimicPolicy, PolicyError, load_policy
@@ -174,6 +174,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     if policy.env_id != GAIT_ENV_ID:
         raise PolicyError(f"{args.policy}: a {policy.env_id} policy; gait reconstruction needs a {GAIT_ENV_ID} "
                           f"policy (agents/train_ppo.py --env-id {GAIT_ENV_ID})")
+    policy = performing_policy(policy, args)
     reference = load_clip(FOOT_MODELS[policy.foot], args)
     config = clean_config(policy, reference, args)
     targets, toe_targets, gait_reference = gait_targets(policy, reference)

@@ -109,6 +109,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--lookahead", type=positive_int, nargs="+", default=[], metavar="STEPS",
                    help="the observation also shows the reference this many control steps ahead, each "
                         "(e.g. 1 4 10; MimicConfig.lookahead; --init-from a policy without it widens its inputs)")
+    g.add_argument("--physics-rate-hz", type=positive_float, default=MimicConfig.physics_rate_hz, metavar="HZ",
+                   help="physics steps per second, a multiple of 60 (MimicConfig.physics_rate_hz: above the model's "
+                        "120, finer steps and stiffer contacts, so soles sink and slide less, for more physics time)")
     g.add_argument("--contacts", choices=CONTACT_MODES, default="vgrf",
                    help="MimicGait-v0: contact targets from VGRFNet on the reference's joints or from the "
                         "ContactTransformer on its 2D keypoints")
@@ -291,10 +294,10 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
-    ``--com-offset``, ``--velocity-feedforward`` and ``--lookahead``)."""
+    ``--com-offset``, ``--velocity-feedforward``, ``--lookahead`` and ``--physics-rate-hz``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
                        com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
-                       lookahead=tuple(args.lookahead))
+                       lookahead=tuple(args.lookahead), physics_rate_hz=args.physics_rate_hz)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:

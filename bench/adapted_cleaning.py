@@ -3,7 +3,8 @@
 Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes 10]
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
 [--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
-[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--obs-frame F] [--out-dir DIR] [--only I ...]
+[--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--obs-frame F] [--physics-rate-hz HZ]
+[--out-dir DIR] [--only I ...]
 [--json [OUT]]``; ``--merge RUN.json ...`` summarises runs of single takes (``--only``) together.
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
@@ -148,6 +149,9 @@ def main() -> None:
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES, default=None,
                    help="adapt and clean with the policy observing in this frame (MimicPolicy.observing; default: "
                         "the frame its sidecar records)")
+    p.add_argument("--physics-rate-hz", type=float, default=None, metavar="HZ",
+                   help="adapt and clean with the physics at this rate (MimicPolicy.simulating; default: the rate "
+                        "its sidecar records)")
     p.add_argument("--only", nargs="+", type=int, default=None, metavar="I",
                    help="run only these of the takes (0-based, keeping their seeds seed + I): one process per take "
                         "on a machine with many cores, summarised together by --merge")
@@ -157,7 +161,7 @@ def main() -> None:
     args = p.parse_args()
     if args.merge:
         runs = [json.loads(path.read_text()) for path in args.merge]
-        differ = [k for k in ("policy", "obs_frame", "denoiser", "settings", "adapt_budget_s", "seconds", "strength")
+        differ = [k for k in ("policy", "obs_frame", "physics_rate_hz", "denoiser", "settings", "adapt_budget_s", "seconds", "strength")
                   if any(run.get(k) != runs[0].get(k) for run in runs)]
         if differ:
             p.error(f"--merge: the runs differ in {', '.join(differ)}; merge runs of one protocol only")
@@ -181,6 +185,8 @@ def main() -> None:
                 clip, foot, args.seconds, args.strength, args.seed + i)])
             if args.obs_frame:
                 policy = policy.observing(args.obs_frame)
+            if args.physics_rate_hz:
+                policy = policy.simulating(args.physics_rate_hz)
             looped = reference.n_frames >= frames
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
@@ -208,7 +214,8 @@ def main() -> None:
                       f"float {reduction(c['floating_m_touched_reduction'])}  "
                       f"pen {reduction(c['penetration_max_m_touched_reduction'])}", flush=True)
     report(rows, [label(c) for c in args.settings],
-           {"policy": args.policy, "obs_frame": args.obs_frame, "denoiser": args.denoise, "seconds": args.seconds,
+           {"policy": args.policy, "obs_frame": args.obs_frame, "physics_rate_hz": args.physics_rate_hz,
+            "denoiser": args.denoise, "seconds": args.seconds,
             "strength": args.strength,
             "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
             "adapt_target_kl": args.adapt_target_kl, "adapt_target": args.adapt_target,

@@ -50,8 +50,14 @@ class MimicConfig:
     """Constants of a mimic task (defaults: ADAPT).
 
     Attributes:
-        frame_rate_hz: rate of simulation frames = reference frames (60 Hz; the physics substeps
-            inside a frame follow from the model's 1/120 s timestep).
+        frame_rate_hz: rate of simulation frames = reference frames (60 Hz).
+        physics_rate_hz: rate of the physics steps (Hz), a whole multiple of ``frame_rate_hz``.
+            120 (default): the model's own 1/120 s timestep, on which every shipped policy
+            trained. MuJoCo's soft contacts cannot be stiffer than a time constant of two steps,
+            so at 120 Hz a loaded sole sinks up to ~3 cm into the floor and slides while it
+            rocks; above 120 Hz the contact time constant is set to two steps of the finer rate
+            (:func:`envs.physics.at_physics_rate`), which cuts both (``bench/physics_rate.py``)
+            for 2× (240 Hz) to 4× (480 Hz) the physics time.
         control_rate_hz: policy rate (30 Hz: one action per two frames).
         episode_frames: longest episode, in reference frames (300 = 5 s).
         action_smoothing: β of ``a_t = β·a_raw + (1 − β)·a_{t−1}`` (adapt eq. 5).
@@ -91,6 +97,7 @@ class MimicConfig:
     """
 
     frame_rate_hz: float = 60.0
+    physics_rate_hz: float = 120.0
     control_rate_hz: float = 30.0
     episode_frames: int = 300
     action_smoothing: float = 0.2
@@ -116,6 +123,10 @@ class MimicConfig:
                 k < 1 for k in ahead) or list(ahead) != sorted(set(ahead)):
             raise ValueError(f"lookahead must be strictly increasing positive whole control steps, got {self.lookahead!r}")
         object.__setattr__(self, "lookahead", tuple(int(k) for k in ahead))
+        steps = self.physics_rate_hz / self.frame_rate_hz
+        if not steps >= 1 or abs(steps - round(steps)) > 1e-6:
+            raise ValueError(f"physics_rate_hz must be a whole multiple of frame_rate_hz ({self.frame_rate_hz:g} Hz), "
+                             f"got {self.physics_rate_hz!r}")
         if self.obs_frame not in OBS_FRAMES:
             raise ValueError(f"obs_frame must be one of {', '.join(map(repr, OBS_FRAMES))}, got {self.obs_frame!r}")
         ratio = self.frame_rate_hz / self.control_rate_hz

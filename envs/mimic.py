@@ -24,6 +24,7 @@ from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, r
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig, Pushes)
 from envs.observations import heading_rotation, lookahead_observation, mimic_observation, observation_slices
+from envs.physics import at_physics_rate
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
@@ -130,7 +131,8 @@ class MimicEnv(gym.Env):
         self._size = (width, height)
 
         self.humanoid = load_model(FOOT_MODELS[foot])
-        self.model = self.humanoid.model
+        self.model = at_physics_rate(self.humanoid.model, config.physics_rate_hz)
+        """The simulated model: the humanoid's, stepped at ``config.physics_rate_hz``."""
         self.data = mujoco.MjData(self.model)
         m = self.model
         frame_dt = 1.0 / config.frame_rate_hz
