@@ -84,3 +84,10 @@ def test_the_shipped_generalist_observes_in_the_reference_frame():
     general = load_policy(MODELS / "mimic_general")
     assert general.record.env.mimic_config().obs_frame == "reference"
     assert general.record.extra["observed_in"] == "world"
+
+
+def test_the_480_hz_generalist_trained_observing_in_the_reference_frame_at_480_hz():
+    fine = load_policy(MODELS / "mimic_general_480")
+    task = fine.record.env.mimic_config()
+    assert task.obs_frame == "reference" and "observed_in" not in fine.record.extra
+    assert task.physics_rate_hz == 480.0 and fine.make_env(["deepmimic:walk"]).unwrapped.substeps == 8
