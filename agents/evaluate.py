@@ -109,8 +109,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             policy = policy.observing(args.obs_frame)
         if args.physics_rate_hz:
             policy = policy.simulating(args.physics_rate_hz)
-        frames.add(policy.record.env.mimic_config().obs_frame)
-        rates.add(policy.record.env.mimic_config().physics_rate_hz)
+        task = policy.record.env.mimic_config()
+        frames.add(task.obs_frame)
+        rates.add(task.physics_rate_hz)
         if denoiser is None:
             env = policy.make_env(clips, artefacts=None)
         else:

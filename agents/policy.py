@@ -128,9 +128,7 @@ class MimicPolicy:
         if not same_layout(config.obs_frame, frame):
             raise PolicyError(f"{self.path}: observes in the {config.obs_frame!r} frame; only "
                               f"{' and '.join(SAME_LAYOUT_FRAMES)} have the same layout, so it cannot run in {frame!r}")
-        task = replace(record.env, config={**record.env.config, "obs_frame": frame})
-        sidecar = replace(record, env=task, extra={"observed_in": config.obs_frame, **record.extra}).to_dict()
-        return replace(self, sidecar=sidecar)
+        return self._reconfigured("obs_frame", frame, "observed_in")
 
     def simulating(self, rate_hz: float) -> MimicPolicy:
         """This policy, its task's physics stepped at ``rate_hz`` (:attr:`envs.config.MimicConfig.physics_rate_hz`):
@@ -138,13 +136,18 @@ class MimicPolicy:
         contacts, so its rollouts (evaluation, the cleaned clip) sink less into the floor and slide
         less; adapting the copy fine-tunes it there. The sidecar records the change
         (``simulated_at``: the rate it was given at first); the files on disk are not touched."""
-        record = self.record
-        config = record.env.mimic_config()
-        if abs(config.physics_rate_hz - rate_hz) <= 1e-6 * rate_hz:
+        if abs(self.record.env.mimic_config().physics_rate_hz - rate_hz) <= 1e-6 * rate_hz:
             return self
-        replace(config, physics_rate_hz=float(rate_hz))  # validates the rate
-        task = replace(record.env, config={**record.env.config, "physics_rate_hz": float(rate_hz)})
-        sidecar = replace(record, env=task, extra={"simulated_at": config.physics_rate_hz, **record.extra}).to_dict()
+        return self._reconfigured("physics_rate_hz", float(rate_hz), "simulated_at")
+
+    def _reconfigured(self, name: str, value: Any, given_as: str) -> MimicPolicy:
+        """This policy, its task's :class:`~envs.config.MimicConfig` field ``name`` set to ``value``
+        (checked by the config), the sidecar's extra ``given_as`` keeping the value it had first."""
+        record = self.record
+        task = replace(record.env, config={**record.env.config, name: value})
+        first = getattr(record.env.mimic_config(), name)
+        task.mimic_config()  # raises for a value the config refuses
+        sidecar = replace(record, env=task, extra={given_as: first, **record.extra}).to_dict()
         return replace(self, sidecar=sidecar)
 
     def denoiser_note(self, denoiser: str | Path | None) -> str | None:

@@ -20,13 +20,13 @@ import copy
 import time
 
 import mujoco
-import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import artefact_table, reference_clips
 from agents.evaluation import evaluate, summarize
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
+from envs.physics import contact_time_constants
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 
 METRICS = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "jitter")
@@ -83,9 +83,8 @@ def main() -> None:
         t0 = time.perf_counter()
         runs = evaluate(env, performer, episodes=args.episodes)[1]
         summary, artefacts = summarize(runs), artefact_table(runs)
-        model = env.unwrapped.model
-        timeconst = float(model.geom_solref[0, 0]) if stiff else max(float(model.geom_solref[0, 0]), 2 * model.opt.timestep)
-        row = {"setting": label, "physics_rate_hz": rate, "contact_timeconst_s": timeconst,
+        row = {"setting": label, "physics_rate_hz": rate,
+               "contact_timeconst_s": float(contact_time_constants(env.unwrapped.model)[0]),
                "refsafe": stiff is None, "physics_control_steps_per_s": cost, "rollouts": len(runs),
                "ELR": summary["ELR_mean"], "SR90": summary["SR90"], "wall_s": time.perf_counter() - t0,
                **{k: artefacts[k]["output"] for k in METRICS}, "input": {k: artefacts[k]["input"] for k in METRICS}}

@@ -21,6 +21,15 @@ def model_rate_hz(model: mujoco.MjModel) -> float:
     return 1.0 / model.opt.timestep
 
 
+def contact_time_constants(model: mujoco.MjModel) -> np.ndarray:
+    """``(ngeom,)`` the contact time constant (s) MuJoCo uses for each geom of ``model``: its
+    ``solref[0]``, raised to two physics steps unless the ``refsafe`` guard is switched off."""
+    asked = model.geom_solref[:, 0]
+    if model.opt.disableflags & int(mujoco.mjtDisableBit.mjDSBL_REFSAFE):
+        return asked.copy()
+    return np.maximum(asked, 2.0 * model.opt.timestep)
+
+
 def at_physics_rate(model: mujoco.MjModel, rate_hz: float) -> mujoco.MjModel:
     """``model`` stepped at ``rate_hz``: itself when that is its own rate (within 1e-6), else a copy
     whose timestep is ``1 / rate_hz`` s and whose geoms' contact time constants are two of those
@@ -33,6 +42,5 @@ def at_physics_rate(model: mujoco.MjModel, rate_hz: float) -> mujoco.MjModel:
         return model
     fine = copy.deepcopy(model)
     fine.opt.timestep = 1.0 / rate_hz
-    effective = np.maximum(model.geom_solref[:, 0], 2.0 * model.opt.timestep)  # what MuJoCo used
-    fine.geom_solref[:, 0] = np.minimum(effective, 2.0 * fine.opt.timestep)
+    fine.geom_solref[:, 0] = np.minimum(contact_time_constants(model), 2.0 * fine.opt.timestep)
     return fine

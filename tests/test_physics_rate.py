@@ -1,8 +1,10 @@
 """The physics rate of a mimic task (MimicConfig.physics_rate_hz, envs.physics): finer steps, stiffer contacts."""
 
+import copy
 from pathlib import Path
 
 import gymnasium as gym
+import mujoco
 import numpy as np
 import pytest
 
@@ -10,7 +12,7 @@ import envs  # noqa: F401  (registers the environments)
 from agents.adaptation import adaptation_key
 from agents.policy import load_policy
 from envs.config import MimicConfig
-from envs.physics import at_physics_rate, model_rate_hz
+from envs.physics import at_physics_rate, contact_time_constants, model_rate_hz
 from reference_motion.humanoid.model import load_model
 
 
@@ -18,6 +20,14 @@ def test_the_models_own_rate_is_the_model_itself():
     model = load_model("humanoid_1seg").model
     assert model_rate_hz(model) == pytest.approx(120.0, rel=1e-5)
     assert at_physics_rate(model, 120.0) is model
+
+
+def test_mujoco_raises_a_contact_time_constant_to_two_steps_unless_its_guard_is_off():
+    model = copy.deepcopy(load_model("humanoid_1seg").model)
+    assert np.allclose(model.geom_solref[:, 0], 0.01)
+    assert np.allclose(contact_time_constants(model), 2 / 120)  # the 0.01 s asked for is under two steps
+    model.opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_REFSAFE)
+    assert np.allclose(contact_time_constants(model), 0.01)
 
 
 def test_a_finer_rate_copies_the_model_with_contacts_two_steps_stiff():
