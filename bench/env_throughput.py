@@ -27,6 +27,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from physics_timer import timing_mj_step  # bench/physics_timer.py
 from reference_motion.cli import positive_int
 
 
@@ -49,21 +50,9 @@ def mimic_rate(env: gym.Env, actions: np.ndarray) -> tuple[float, float]:
 def floor_rate(env: gym.Env, actions: np.ndarray) -> float:
     """Control steps/s of the physics alone: the same episodes as :func:`mimic_rate` (same seed,
     same actions, so the same states and contacts), timing only the ``mj_step`` calls."""
-    raw_step = mujoco.mj_step
-    busy = 0.0
-
-    def timed_step(model, data, nstep=1):
-        nonlocal busy
-        start = time.perf_counter()
-        raw_step(model, data, nstep=nstep)
-        busy += time.perf_counter() - start
-
-    mujoco.mj_step = timed_step
-    try:
+    with timing_mj_step() as physics:
         mimic_rate(env, actions)
-    finally:
-        mujoco.mj_step = raw_step
-    return len(actions) / busy
+    return len(actions) / physics.busy_s
 
 
 def humanoid_v5_rate(n_steps: int) -> float:

@@ -36,7 +36,6 @@ import statistics
 import time
 from dataclasses import dataclass
 
-import mujoco
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.env_util import make_vec_env
@@ -48,6 +47,7 @@ from agents.train_ppo import UpdateThreads
 from agents.vec_env import ShardedVecEnv, shard_count
 from envs import ArtefactMix
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from physics_timer import timing_mj_step  # bench/physics_timer.py
 
 CORES = len(os.sched_getaffinity(0))
 CLIPS = ["deepmimic:walk"]
@@ -135,22 +135,11 @@ def rate(setting: Setting, steps: int) -> tuple[float, float, float]:
 
 def physics_floor(steps: int) -> float:
     """Control steps/s of the ``mj_step`` calls alone on one core, timed inside an in-process run."""
-    raw_step, busy = mujoco.mj_step, 0.0
-
-    def timed_step(model, data, nstep=1):
-        nonlocal busy
-        start = time.perf_counter()
-        raw_step(model, data, nstep=nstep)
-        busy += time.perf_counter() - start
-
     model = build(Setting("256,256", 8, "dummy", 2))
-    mujoco.mj_step = timed_step
-    try:
+    with timing_mj_step() as physics:
         model.learn(steps, reset_num_timesteps=False)
-    finally:
-        mujoco.mj_step = raw_step
     model.get_env().close()
-    return steps / busy
+    return steps / physics.busy_s
 
 
 def parameters(net: list[int], n_obs: int = 273, n_act: int = 20) -> int:
