@@ -112,6 +112,12 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--physics-rate-hz", type=positive_float, default=MimicConfig.physics_rate_hz, metavar="HZ",
                    help="physics steps per second, a multiple of 60 (MimicConfig.physics_rate_hz: above the model's "
                         "120, finer steps and stiffer contacts, so soles sink and slide less, for more physics time)")
+    g.add_argument("--still-feet-weight", type=non_negative_float, default=MimicConfig.still_feet_weight,
+                   metavar="W", help="weight of the still-feet term in the reward (MimicConfig.still_feet_weight: "
+                                     "exp(-alpha * summed horizontal speed of the foot points on the floor); "
+                                     "0: ADAPT's reward)")
+    g.add_argument("--still-feet-alpha", type=positive_float, default=MimicConfig.still_feet_alpha, metavar="ALPHA",
+                   help="its scale, per m/s (MimicConfig.still_feet_alpha)")
     g.add_argument("--contacts", choices=CONTACT_MODES, default="vgrf",
                    help="MimicGait-v0: contact targets from VGRFNet on the reference's joints or from the "
                         "ContactTransformer on its 2D keypoints")
@@ -294,10 +300,12 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
-    ``--com-offset``, ``--velocity-feedforward``, ``--lookahead`` and ``--physics-rate-hz``)."""
+    ``--com-offset``, ``--velocity-feedforward``, ``--lookahead``, ``--physics-rate-hz`` and
+    ``--still-feet-*``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
                        com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
-                       lookahead=tuple(args.lookahead), physics_rate_hz=args.physics_rate_hz)
+                       lookahead=tuple(args.lookahead), physics_rate_hz=args.physics_rate_hz,
+                       still_feet_weight=args.still_feet_weight, still_feet_alpha=args.still_feet_alpha)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:

@@ -94,6 +94,15 @@ class MimicConfig:
             :mod:`envs.observations`). ADAPT's state shows the reference at the current frame
             only, so a change of step or direction is seen once it has begun. Empty (default):
             ADAPT's observation. Strictly increasing positive integers.
+        still_feet_weight: w_still, the weight of the still-feet term r_still in the reward
+            (:func:`envs.rewards.still_feet_reward`; the reward is then e_discount·(r_local + r_p +
+            r_v + w_still·r_still) and a step's largest reward 3 + w_still). 0 (default): ADAPT's
+            reward. ADAPT's terms ask a stance foot to stay still only through r_v, one of 15
+            bodies' face velocities at α_v = 0.1, so a policy's feet rock, turn and scuff on the
+            floor (foot skate several times the take's).
+        still_feet_alpha: α of r_still, per m/s of summed horizontal foot-point speed.
+        still_feet_height_m: a foot point lower than this above the floor counts in r_still (the
+            contact height of ``reference_motion.quality.QualityConfig``, whose foot skate it is).
     """
 
     frame_rate_hz: float = 60.0
@@ -116,8 +125,14 @@ class MimicConfig:
     com_offset: bool = False
     velocity_feedforward: bool = False
     lookahead: tuple[int, ...] = ()
+    still_feet_weight: float = 0.0
+    still_feet_alpha: float = 5.0
+    still_feet_height_m: float = 0.02
 
     def __post_init__(self) -> None:
+        if not (self.still_feet_weight >= 0 and self.still_feet_alpha > 0 and self.still_feet_height_m > 0):
+            raise ValueError("still_feet_weight must be >= 0 and still_feet_alpha, still_feet_height_m > 0, got "
+                             f"{self.still_feet_weight!r}, {self.still_feet_alpha!r}, {self.still_feet_height_m!r}")
         ahead = tuple(self.lookahead)  # a sidecar's JSON list arrives as a list
         if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in ahead) or any(
                 k < 1 for k in ahead) or list(ahead) != sorted(set(ahead)):

@@ -28,8 +28,8 @@ from envs.physics import at_physics_rate
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
-from envs.rewards import (MAX_STEP_REWARD, RewardTerms, cube_face_points, cube_face_velocities, fallen, lagging, mimic_reward,
-                          unstable)
+from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, cube_face_points, cube_face_velocities, fallen,
+                          lagging, mimic_reward, still_feet_reward, unstable)
 from reference_motion import rotations as rot
 from reference_motion.artefacts import corrupt
 from reference_motion.humanoid.model import load_model
@@ -170,6 +170,11 @@ class MimicEnv(gym.Env):
         self.observation_space = gym.spaces.Box(-np.inf, np.inf, (max(s.stop for s in self.obs_slices.values()),),
                                                 dtype=np.float32)
 
+        sites = self.humanoid.foot_point_sites
+        self._foot_point_bodies = m.site_bodyid[sites] - 1
+        """Index in a :class:`envs.bodies.BodyState` of the body each foot point (LT, RT, LH, RH) is on."""
+        self._foot_point_offsets = m.site_pos[sites].copy()
+        """``(4, 3)`` each foot point in its body's frame (m)."""
         self._floor = m.geom("floor").id
         self._pelvis = m.body("pelvis").id
         spinal = {names.index(b) + 1 for b in SPINAL_BODIES}
@@ -481,8 +486,11 @@ class MimicEnv(gym.Env):
                     ended_by=ended_by or ("time_limit" if truncated else ""))
         return obs, reward, bool(ended_by), truncated, info
 
-    max_step_reward: float = MAX_STEP_REWARD
-    """The most one step's reward can be (ADAPT: 3; the MRR metric divides by it)."""
+    @property
+    def max_step_reward(self) -> float:
+        """The most one step's reward can be (ADAPT: 3, plus ``config.still_feet_weight``; the MRR
+        metric divides by it)."""
+        return MAX_STEP_REWARD + self.config.still_feet_weight
 
     reward_info_keys: tuple[str, ...] = tuple(RewardTerms.__dataclass_fields__)
     """The ``info`` entries :meth:`_reward` fills (all 0 after an unstable step); they include
@@ -491,7 +499,8 @@ class MimicEnv(gym.Env):
     def _reward(self, state) -> tuple[float, dict[str, float]]:
         """Reward of the current frame and its terms for ``info`` (keys :attr:`reward_info_keys`),
         from the simulated body state (:class:`envs.bodies.BodyState`, current) and the running
-        track: ADAPT's r = e_discount·(r_local + r_p + r_v) (adapt eq. 10)."""
+        track: ADAPT's r = e_discount·(r_local + r_p + r_v) (adapt eq. 10), plus
+        ``config.still_feet_weight``·r_still inside the bracket."""
         terms = self._tracking_terms(state, self._judge.frame(self._frame))
         return terms.total, terms.as_dict()
 
@@ -499,11 +508,16 @@ class MimicEnv(gym.Env):
         """ADAPT's reward terms of simulated body state(s) ``state`` against reference frame(s) ``ref``
         (one, or a batch with a leading axis on both)."""
         cfg = self.config
+        b = self._foot_point_bodies
+        feet, feet_vel = body_points(state.pos[..., b, :], state.axes[..., b, :, :], state.linvel[..., b, :],
+                                     state.angvel[..., b, :], self._foot_point_offsets)
         return mimic_reward(
             rot.relative_to_parent(state.quat, self.parent)[..., self.jointed, :], ref.local,
             cube_face_points(state.pos - state.pos[..., :1, :], state.axes, cfg.cube_size_m), ref.faces_rel_root,
             cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), ref.face_vel,
-            state.pos[..., self.head, :], ref.pos[..., self.head, :], cfg.alpha_local, cfg.alpha_p, cfg.alpha_v)
+            state.pos[..., self.head, :], ref.pos[..., self.head, :],
+            still_feet_reward(feet_vel, feet[..., 2], cfg.still_feet_height_m, cfg.still_feet_alpha),
+            cfg.alpha_local, cfg.alpha_p, cfg.alpha_v, cfg.still_feet_weight)
 
     @property
     def judging_track(self) -> ReferenceTrack:

@@ -62,14 +62,51 @@ def fall_discount(head: np.ndarray, ref_head: np.ndarray) -> float | np.ndarray:
     return np.clip(1.3 - 1.4 * np.sqrt(np.einsum("...k,...k->...", diff, diff)), 0.0, 1.0)
 
 
+def body_points(pos: np.ndarray, axes: np.ndarray, linvel: np.ndarray, angvel: np.ndarray,
+                offsets: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """World positions and velocities of points fixed on bodies.
+
+    Args:
+        pos, axes, linvel, angvel: ``(..., K, 3)``, ``(..., K, 3, 3)``, ``(..., K, 3)``, ``(..., K, 3)``:
+            origin, axes (rows, world), origin velocity (m/s) and angular velocity (rad/s) of the
+            body each of the ``K`` points is fixed on.
+        offsets: ``(K, 3)`` each point in its body's frame (m).
+
+    Returns:
+        ``(points, velocities)``, each ``(..., K, 3)`` (m, m/s): ``p = o + R·r`` and ``v + ω × (p − o)``.
+    """
+    arm = np.einsum("kj,...kji->...ki", offsets, axes)
+    return pos + arm, linvel + np.cross(angvel, arm)
+
+
+def still_feet_reward(point_vel: np.ndarray, point_height: np.ndarray, contact_height: float,
+                      alpha: float) -> float | np.ndarray:
+    """r_still = exp(−α · Σ_k ‖v_xy,k‖ · [z_k < contact_height]): 1 when every foot point within
+    ``contact_height`` (m) of the floor stands still, lower the faster those points slide or turn
+    horizontally (foot skate, the speed ``reference_motion.quality.foot_skate`` measures).
+
+    Args:
+        point_vel: ``(..., K, 3)`` world velocities (m/s) of the ``K`` foot points.
+        point_height: ``(..., K)`` their heights above the floor (m).
+        alpha: scale (1/(m/s)).
+
+    Returns:
+        One value per leading index.
+    """
+    speed = np.sqrt(np.einsum("...k,...k->...", point_vel[..., :2], point_vel[..., :2]))
+    return np.exp(-alpha * np.where(point_height < contact_height, speed, 0.0).sum(axis=-1))
+
+
 @dataclass(frozen=True)
 class RewardTerms:
-    """The terms of r = e_discount · (r_local + r_p + r_v) (adapt eq. 10); ``total`` is r. Each is
-    a float, or ``(N,)`` for a batch of ``N`` states."""
+    """The terms of r = e_discount · (r_local + r_p + r_v + w_still · r_still) (adapt eq. 10 with
+    ADAPT's weight w_still = 0); ``total`` is r. Each is a float, or ``(N,)`` for a batch of ``N``
+    states."""
 
     r_local: float | np.ndarray
     r_p: float | np.ndarray
     r_v: float | np.ndarray
+    r_still: float | np.ndarray
     e_discount: float | np.ndarray
     total: float | np.ndarray
 
@@ -78,12 +115,14 @@ class RewardTerms:
 
 
 MAX_STEP_REWARD = 3.0
-"""Largest possible r (all terms 1): the R_max of the max-reward ratio is this per step."""
+"""Largest possible r of ADAPT's reward (all terms 1, w_still = 0): the R_max of the max-reward
+ratio is this per step (``MimicEnv.max_step_reward`` adds w_still)."""
 
 
 def mimic_reward(local: np.ndarray, ref_local: np.ndarray, faces: np.ndarray, ref_faces: np.ndarray,
                  face_vel: np.ndarray, ref_face_vel: np.ndarray, head: np.ndarray, ref_head: np.ndarray,
-                 alpha_local: float = 2.5, alpha_p: float = 1.0, alpha_v: float = 0.1) -> RewardTerms:
+                 r_still: float | np.ndarray = 1.0, alpha_local: float = 2.5, alpha_p: float = 1.0,
+                 alpha_v: float = 0.1, still_weight: float = 0.0) -> RewardTerms:
     """All reward terms of one step, or of a batch of ``N`` steps (every array with a leading
     ``(N,)`` axis; each term then ``(N,)``).
 
@@ -92,13 +131,15 @@ def mimic_reward(local: np.ndarray, ref_local: np.ndarray, faces: np.ndarray, re
         faces, ref_faces: ``(B, 6, 3)`` cube face points relative to the root body's origin.
         face_vel, ref_face_vel: ``(B, 6, 3)`` their world velocities.
         head, ref_head: ``(3,)`` head positions (world).
+        r_still: :func:`still_feet_reward` of the state.
         alpha_local, alpha_p, alpha_v: scales of adapt Table 2.
+        still_weight: w_still, the weight of ``r_still`` in the total (0: ADAPT's reward).
     """
     r_local = local_pose_reward(local, ref_local, alpha_local)
     r_p = point_reward(faces, ref_faces, alpha_p)
     r_v = point_reward(face_vel, ref_face_vel, alpha_v)
     e = fall_discount(head, ref_head)
-    return RewardTerms(r_local, r_p, r_v, e, e * (r_local + r_p + r_v))
+    return RewardTerms(r_local, r_p, r_v, r_still, e, e * (r_local + r_p + r_v + still_weight * r_still))
 
 
 def fallen(spinal_contacts: int, threshold: int = 3) -> bool:

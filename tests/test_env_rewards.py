@@ -8,11 +8,11 @@ import pytest
 from envs.config import GaitConfig
 from envs.observations import (gait_observation, gait_observation_slices, heading_rotation, lookahead_observation,
                                mimic_observation, observation_size, observation_slices)
-from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, contact_mismatches, contact_reward, cube_face_points,
-                          cube_face_velocities, end_effector_reward, fall_discount, fallen, gait_reward,
-                          joint_pose_reward, joint_velocity_reward, lagging, local_pose_reward, mimic_reward,
-                          point_reward, root_orientation_reward, torque_reward, unstable, upper_body_reward,
-                          upper_body_tilt)
+from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, body_points, contact_mismatches, contact_reward,
+                          cube_face_points, cube_face_velocities, end_effector_reward, fall_discount, fallen,
+                          gait_reward, joint_pose_reward, joint_velocity_reward, lagging, local_pose_reward,
+                          mimic_reward, point_reward, root_orientation_reward, still_feet_reward, torque_reward,
+                          unstable, upper_body_reward, upper_body_tilt)
 from reference_motion import rotations as rot
 
 Z = np.array([0.0, 0.0, 1.0])
@@ -67,6 +67,35 @@ def test_known_offsets_give_the_hand_computed_rewards():
     terms = mimic_reward(turned, ident, moved, ref, v1, v0, np.zeros(3), np.array([0.0, 0.5, 0.0]))
     assert terms.e_discount == pytest.approx(0.6)
     assert terms.total == pytest.approx(0.6 * (math.exp(-0.5) + math.exp(-0.3) + math.exp(-0.3)))
+
+
+def test_body_points_by_hand():
+    # a body at (1, 0, 0) yawed 90 deg, spinning at 2 rad/s about z and moving at (0, 0, 1) m/s; a point
+    # 0.5 m along its x axis sits at (1, 0.5, 0) and moves at (0, 0, 1) + 2 z x (0, 0.5, 0) = (-1, 0, 1)
+    axes = rot.to_matrix(rot.from_axis_angle(Z, np.pi / 2)).T[None]
+    points, vel = body_points(np.array([[1.0, 0, 0]]), axes, np.array([[0, 0, 1.0]]), np.array([[0, 0, 2.0]]),
+                              np.array([[0.5, 0, 0]]))
+    assert np.allclose(points, [[1, 0.5, 0]]) and np.allclose(vel, [[-1, 0, 1]])
+
+
+def test_still_feet_reward_counts_the_horizontal_speed_of_points_near_the_floor():
+    vel = np.array([[0.3, 0.4, 0.0],    # 0.5 m/s sliding, 1 cm up: counts
+                    [0.0, 0.2, -0.9],   # 0.2 m/s sliding (its vertical speed does not count), on the floor
+                    [2.0, 0.0, 0.0],    # swinging 3 cm up: does not count
+                    [0.0, 0.0, 0.0]])   # standing still
+    height = np.array([0.01, 0.0, 0.03, 0.0])
+    assert still_feet_reward(vel, height, 0.02, 5.0) == pytest.approx(math.exp(-5.0 * 0.7))
+    assert still_feet_reward(np.zeros((4, 3)), height, 0.02, 5.0) == 1.0
+    assert np.allclose(still_feet_reward(np.stack([vel, np.zeros((4, 3))]), np.stack([height] * 2), 0.02, 5.0),
+                       [math.exp(-3.5), 1.0])
+    # weighted into the total inside e_discount's bracket
+    pos, quat, axes = _pose()
+    faces = cube_face_points(pos - pos[0], axes)
+    face_vel = cube_face_velocities(np.ones((3, 3)), np.zeros((3, 3)), axes)
+    local = rot.relative_to_parent(quat, np.array([-1, 0, 1]))
+    terms = mimic_reward(local, local, faces, faces, face_vel, face_vel, pos[2], pos[2] + [0, 0.5, 0],
+                         r_still=0.25, still_weight=2.0)
+    assert terms.r_still == 0.25 and terms.total == pytest.approx(0.6 * (3.0 + 2.0 * 0.25))
 
 
 def test_fall_discount_of_eq_9():
@@ -298,10 +327,14 @@ def test_a_batch_of_states_gets_the_rewards_and_observations_of_each_state_alone
     ref_faces = np.stack([cube_face_points(r[0] - r[0][0], r[2]) for r in refs])
     vel, ref_vel = rng.standard_normal(faces.shape), rng.standard_normal(faces.shape)
     head, ref_head = rng.standard_normal((3, 3)), rng.standard_normal((3, 3)) * 0.3
-    batch = mimic_reward(quat, ref_quat, faces, ref_faces, vel, ref_vel, head, ref_head)
+    feet_vel, feet_height = rng.standard_normal((3, 4, 3)) * 0.2, rng.uniform(-0.01, 0.04, (3, 4))
+    still = still_feet_reward(feet_vel, feet_height, 0.02, 5.0)
+    batch = mimic_reward(quat, ref_quat, faces, ref_faces, vel, ref_vel, head, ref_head, still, still_weight=1.5)
     assert batch.total.shape == (3,)
     for i in range(3):
-        alone = mimic_reward(quat[i], ref_quat[i], faces[i], ref_faces[i], vel[i], ref_vel[i], head[i], ref_head[i])
+        assert still[i] == pytest.approx(still_feet_reward(feet_vel[i], feet_height[i], 0.02, 5.0), rel=1e-12)
+        alone = mimic_reward(quat[i], ref_quat[i], faces[i], ref_faces[i], vel[i], ref_vel[i], head[i], ref_head[i],
+                             still[i], still_weight=1.5)
         for name, value in alone.as_dict().items():
             assert getattr(batch, name)[i] == pytest.approx(value, rel=1e-12), name
 

@@ -104,6 +104,42 @@ def test_first_step_tracks_the_reference_closely_and_reports_everything():
     assert np.any(later)  # the heel strikes at frame 3–4
 
 
+@pytest.mark.parametrize("foot", ["one", "two"])
+def test_still_feet_term_is_the_skate_of_the_simulated_foot_points(foot):
+    """r_still from the env's body states equals the one from MuJoCo's own site kinematics, and
+    w_still weighs it into the reward and its maximum; with w_still = 0 the reward is ADAPT's."""
+    import mujoco
+
+    config = MimicConfig(still_feet_weight=2.0)
+    env = gym.make("MimicIMU-v0", clips=WALK, artefacts=None, foot=foot, config=config).unwrapped
+    plain = gym.make("MimicIMU-v0", clips=WALK, artefacts=None, foot=foot).unwrapped
+    assert env.max_step_reward == 5.0 and plain.max_step_reward == 3.0
+    n_act = env.action_space.shape[0]
+    for e in (env, plain):
+        e.reset(seed=0, options={"start_frame": 0})
+    rng = np.random.default_rng(0)
+    sliding = []
+    for _ in range(12):
+        action = rng.uniform(-0.3, 0.3, n_act).astype(np.float32)
+        _, reward, term, _, info = env.step(action)
+        _, plain_reward, _, _, plain_info = plain.step(action)
+        m, d = env.model, env.data
+        speed = []
+        for site in env.humanoid.foot_point_sites:
+            vel = np.zeros(6)
+            mujoco.mj_objectVelocity(m, d, mujoco.mjtObj.mjOBJ_SITE, site, vel, 0)
+            near = d.site_xpos[site, 2] < config.still_feet_height_m
+            speed.append(np.linalg.norm(vel[3:5]) if near else 0.0)
+        sliding.append(sum(speed))
+        assert info["r_still"] == pytest.approx(np.exp(-config.still_feet_alpha * sum(speed)), rel=1e-6, abs=1e-9)
+        assert reward == pytest.approx(info["e_discount"] * (info["r_local"] + info["r_p"] + info["r_v"]
+                                                              + 2.0 * info["r_still"]))
+        assert plain_reward == pytest.approx(plain_info["e_discount"] * (plain_info["r_local"] + plain_info["r_p"]
+                                                                          + plain_info["r_v"]))
+        assert term is False
+    assert max(sliding) > 0.05  # the random actions did move feet on the floor
+
+
 def test_same_seed_same_trajectory_and_corrupted_variants():
     def rollout():
         env = gym.make("MimicIMU-v0", clips=["deepmimic:walk", "deepmimic:run"],
