@@ -97,7 +97,7 @@ class MimicConfig:
         still_feet_weight: w_still, the weight of the still-feet term r_still in the reward
             (:func:`envs.rewards.still_feet_reward`; the reward is then e_discount·(r_local + r_p +
             r_v + w_still·r_still) and a step's largest reward 3 + w_still). 0 (default): ADAPT's
-            reward. ADAPT's terms ask a stance foot to stay still only through r_v, one of 15
+            reward. ADAPT's terms ask a stance foot to stay still only through r_v, one of 20
             bodies' face velocities at α_v = 0.1, so a policy's feet rock, turn and scuff on the
             floor (foot skate several times the take's).
         still_feet_alpha: α of r_still, per m/s of summed horizontal foot-point speed.
