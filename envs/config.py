@@ -17,6 +17,7 @@ import numpy as np
 
 from envs.observations import OBS_FRAMES
 from reference_motion.artefacts import ArtefactRecipe
+from reference_motion.quality import QualityConfig
 
 FOOT_MODELS = {"one": "humanoid_1seg", "two": "humanoid_2seg"}
 """``foot`` argument → humanoid model."""
@@ -101,8 +102,11 @@ class MimicConfig:
             bodies' face velocities at α_v = 0.1, so a policy's feet rock, turn and scuff on the
             floor (foot skate several times the take's).
         still_feet_alpha: α of r_still, per m/s of summed horizontal foot-point speed.
-        still_feet_height_m: a foot point lower than this above the floor counts in r_still (the
-            contact height of ``reference_motion.quality.QualityConfig``, whose foot skate it is).
+        still_feet_height_m: a foot point at most this high above the floor (m) counts in r_still
+            (default: the contact height of ``reference_motion.quality.QualityConfig``, whose foot
+            skate r_still is). With a weight above 0 the reward's units change (MRR, the search's
+            ranking and ``clean.py``'s reward ratio divide by 3 + w_still), so those figures do not
+            compare with an ADAPT-reward policy's.
     """
 
     frame_rate_hz: float = 60.0
@@ -127,11 +131,13 @@ class MimicConfig:
     lookahead: tuple[int, ...] = ()
     still_feet_weight: float = 0.0
     still_feet_alpha: float = 5.0
-    still_feet_height_m: float = 0.02
+    still_feet_height_m: float = QualityConfig.contact_height
 
     def __post_init__(self) -> None:
-        if not (self.still_feet_weight >= 0 and self.still_feet_alpha > 0 and self.still_feet_height_m > 0):
-            raise ValueError("still_feet_weight must be >= 0 and still_feet_alpha, still_feet_height_m > 0, got "
+        still = (self.still_feet_weight, self.still_feet_alpha, self.still_feet_height_m)
+        if not (all(map(math.isfinite, still)) and still[0] >= 0 and still[1] > 0 and still[2] > 0):
+            raise ValueError("still_feet_weight must be finite and >= 0, still_feet_alpha and still_feet_height_m finite "
+                             "and > 0, got "
                              f"{self.still_feet_weight!r}, {self.still_feet_alpha!r}, {self.still_feet_height_m!r}")
         ahead = tuple(self.lookahead)  # a sidecar's JSON list arrives as a list
         if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in ahead) or any(

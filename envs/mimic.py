@@ -92,7 +92,8 @@ class MimicEnv(gym.Env):
     (:attr:`smoothed`), which the next step's smoothing continues from and the observation shows
     (default zeros, as at a reference start).
 
-    ``info``: ``r_local``, ``r_p``, ``r_v``, ``e_discount``, ``reward``; ``contacts`` (4 bools,
+    ``info``: ``r_local``, ``r_p``, ``r_v``, ``r_still``, ``e_discount``, ``total`` (= ``reward``),
+    ``reward``; ``contacts`` (4 bools,
     order LT, RT, LH, RH: a sole region touching the floor); ``frame`` (reference frame index)
     and ``episode_frame`` (frames since the start); ``clip``, ``corrupted``, ``artefact_seed``;
     ``unstable`` (the simulation blew up); ``ended_by``: ``""`` while running, else one of
@@ -505,8 +506,9 @@ class MimicEnv(gym.Env):
         return terms.total, terms.as_dict()
 
     def _tracking_terms(self, state, ref: ReferenceFrame) -> RewardTerms:
-        """ADAPT's reward terms of simulated body state(s) ``state`` against reference frame(s) ``ref``
-        (one, or a batch with a leading axis on both)."""
+        """The reward terms of simulated body state(s) ``state`` against reference frame(s) ``ref``
+        (one, or a batch with a leading axis on both): ADAPT's, and r_still of the state's foot points
+        (weighted by ``config.still_feet_weight``)."""
         cfg = self.config
         b = self._foot_point_bodies
         feet, feet_vel = body_points(state.pos[..., b, :], state.axes[..., b, :, :], state.linvel[..., b, :],

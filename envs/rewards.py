@@ -76,12 +76,12 @@ def body_points(pos: np.ndarray, axes: np.ndarray, linvel: np.ndarray, angvel: n
         ``(points, velocities)``, each ``(..., K, 3)`` (m, m/s): ``p = o + R·r`` and ``v + ω × (p − o)``.
     """
     arm = np.einsum("kj,...kji->...ki", offsets, axes)
-    return pos + arm, linvel + np.cross(angvel, arm)
+    return pos + arm, linvel + rot.cross(angvel, arm)
 
 
 def still_feet_reward(point_vel: np.ndarray, point_height: np.ndarray, contact_height: float,
                       alpha: float) -> float | np.ndarray:
-    """r_still = exp(−α · Σ_k ‖v_xy,k‖ · [z_k < contact_height]): 1 when every foot point within
+    """r_still = exp(−α · Σ_k ‖v_xy,k‖ · [z_k ≤ contact_height]): 1 when every foot point within
     ``contact_height`` (m) of the floor stands still, lower the faster those points slide or turn
     horizontally (foot skate, the speed ``reference_motion.quality.foot_skate`` measures).
 
@@ -94,7 +94,7 @@ def still_feet_reward(point_vel: np.ndarray, point_height: np.ndarray, contact_h
         One value per leading index.
     """
     speed = np.sqrt(np.einsum("...k,...k->...", point_vel[..., :2], point_vel[..., :2]))
-    return np.exp(-alpha * np.where(point_height < contact_height, speed, 0.0).sum(axis=-1))
+    return np.exp(-alpha * np.where(point_height <= contact_height, speed, 0.0).sum(axis=-1))
 
 
 @dataclass(frozen=True)

@@ -1,5 +1,6 @@
 """The registered mimic environments on real clips: API, layout, determinism, endings, errors."""
 
+import math
 import warnings
 from dataclasses import replace
 
@@ -138,6 +139,15 @@ def test_still_feet_term_is_the_skate_of_the_simulated_foot_points(foot):
                                                                           + plain_info["r_v"]))
         assert term is False
     assert max(sliding) > 0.05  # the random actions did move feet on the floor
+
+
+def test_still_feet_settings_are_checked_and_the_gait_task_refuses_the_term():
+    for bad in (dict(still_feet_weight=-1.0), dict(still_feet_weight=math.inf), dict(still_feet_alpha=0.0),
+                dict(still_feet_alpha=math.nan), dict(still_feet_height_m=0.0)):
+        with pytest.raises(ValueError, match="still_feet_weight must be finite and >= 0"):
+            MimicConfig(**bad)
+    with pytest.raises(ValueError, match="MimicGait-v0 has ContactVision's own reward.*still_feet_weight must be 0"):
+        gym.make("MimicGait-v0", clips=WALK, config=MimicConfig(still_feet_weight=1.0))
 
 
 def test_same_seed_same_trajectory_and_corrupted_variants():
