@@ -25,7 +25,7 @@ from agents.evaluation import evaluate, summarize
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from reference_motion.quality import QualityConfig, kinematic_contacts, replay_on_ground
+from reference_motion.quality import QualityConfig, held_contact_speeds, kinematic_contacts, replay_on_ground
 
 METRICS = ("foot_skate_mps", "penetration_max_m", "penetration_mean_m", "floating_m", "jitter")
 BEARING_HEIGHT_M = 0.002
@@ -33,16 +33,15 @@ BEARING_HEIGHT_M = 0.002
 
 
 def skate_by_height(runs: list, config: QualityConfig = QualityConfig()) -> dict[str, float]:
-    """Share of the summed foot skate (horizontal speed of foot points in contact in two
-    consecutive frames, as :func:`reference_motion.quality.foot_skate`) from points lower than
+    """Share of the summed foot skate (the speeds :func:`reference_motion.quality.foot_skate`
+    averages, :func:`~reference_motion.quality.held_contact_speeds`) from points lower than
     :data:`BEARING_HEIGHT_M` (``bearing``) and from the rest of the contact band (``rolling``), and
     each band's mean speed (m/s), over the simulated motions of ``runs``."""
     speed, low = [], []
     for r in runs:
         kin, ground = replay_on_ground(r.simulated, config)
         contacts = kinematic_contacts(kin.foot_points, ground, config.contact_height)
-        step = np.linalg.norm(np.diff(kin.foot_points[..., :2], axis=0), axis=-1) * r.simulated.fps
-        held = contacts[1:] & contacts[:-1]
+        step, held = held_contact_speeds(kin.foot_points, contacts, r.simulated.fps)
         speed.append(step[held])
         low.append((kin.foot_points[1:, :, 2] - ground[1:, None])[held] < BEARING_HEIGHT_M)
     speed, low = np.concatenate(speed), np.concatenate(low)

@@ -134,11 +134,10 @@ class MimicConfig:
     still_feet_height_m: float = QualityConfig.contact_height
 
     def __post_init__(self) -> None:
-        still = (self.still_feet_weight, self.still_feet_alpha, self.still_feet_height_m)
-        if not (all(map(math.isfinite, still)) and still[0] >= 0 and still[1] > 0 and still[2] > 0):
-            raise ValueError("still_feet_weight must be finite and >= 0, still_feet_alpha and still_feet_height_m finite "
-                             "and > 0, got "
-                             f"{self.still_feet_weight!r}, {self.still_feet_alpha!r}, {self.still_feet_height_m!r}")
+        weight, alpha, height = self.still_feet_weight, self.still_feet_alpha, self.still_feet_height_m
+        if not (all(map(math.isfinite, (weight, alpha, height))) and weight >= 0 and alpha > 0 and height > 0):
+            raise ValueError("still_feet_weight must be finite and >= 0, still_feet_alpha and still_feet_height_m "
+                             f"finite and > 0, got {weight!r}, {alpha!r}, {height!r}")
         ahead = tuple(self.lookahead)  # a sidecar's JSON list arrives as a list
         if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in ahead) or any(
                 k < 1 for k in ahead) or list(ahead) != sorted(set(ahead)):

@@ -92,9 +92,9 @@ class MimicEnv(gym.Env):
     (:attr:`smoothed`), which the next step's smoothing continues from and the observation shows
     (default zeros, as at a reference start).
 
-    ``info``: ``r_local``, ``r_p``, ``r_v``, ``r_still``, ``e_discount``, ``total`` (= ``reward``),
-    ``reward``; ``contacts`` (4 bools,
-    order LT, RT, LH, RH: a sole region touching the floor); ``frame`` (reference frame index)
+    ``info``: ``r_local``, ``r_p``, ``r_v``, ``r_still``, ``e_discount``, ``total`` and ``reward``
+    (the same value); ``contacts`` (4 bools, order LT, RT, LH, RH: a sole region touching the
+    floor); ``frame`` (reference frame index)
     and ``episode_frame`` (frames since the start); ``clip``, ``corrupted``, ``artefact_seed``;
     ``unstable`` (the simulation blew up); ``ended_by``: ``""`` while running, else one of
     ``"lagging"``, ``"fallen"``, ``"unstable"``, ``"time_limit"``.

@@ -94,12 +94,19 @@ def horizontal_speed(points: np.ndarray, fps: float) -> np.ndarray:
     return np.linalg.norm(np.gradient(points[..., :2], axis=0), axis=-1) * fps
 
 
+def held_contact_speeds(points: np.ndarray, contacts: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:
+    """Horizontal speed ``(T-1, 4)`` (m/s) of foot points ``(T, 4, 3)`` from each frame to the next,
+    and the ``(T-1, 4)`` bool mask of the (frame, point) pairs in contact ``(T, 4)`` in both frames:
+    the pairs :func:`foot_skate` averages."""
+    step = np.linalg.norm(np.diff(points[..., :2], axis=0), axis=-1) * fps
+    return step, contacts[1:] & contacts[:-1]
+
+
 def foot_skate(points: np.ndarray, contacts: np.ndarray, fps: float) -> float:
     """Mean horizontal speed (m/s) of foot points ``(T, 4, 3)`` over (frame, point) pairs in
     contact ``(T, 4)``; a pair counts when the point is in contact in two consecutive frames.
     0.0 when nothing is in contact."""
-    step = np.linalg.norm(np.diff(points[..., :2], axis=0), axis=-1) * fps  # (T-1, 4)
-    held = contacts[1:] & contacts[:-1]
+    step, held = held_contact_speeds(points, contacts, fps)
     return float(step[held].mean()) if held.any() else 0.0
 
 

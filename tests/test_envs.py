@@ -5,6 +5,7 @@ import warnings
 from dataclasses import replace
 
 import gymnasium as gym
+import mujoco
 import numpy as np
 import pytest
 from gymnasium.utils.env_checker import check_env
@@ -109,8 +110,6 @@ def test_first_step_tracks_the_reference_closely_and_reports_everything():
 def test_still_feet_term_is_the_skate_of_the_simulated_foot_points(foot):
     """r_still from the env's body states equals the one from MuJoCo's own site kinematics, and
     w_still weighs it into the reward and its maximum; with w_still = 0 the reward is ADAPT's."""
-    import mujoco
-
     config = MimicConfig(still_feet_weight=2.0)
     env = gym.make("MimicIMU-v0", clips=WALK, artefacts=None, foot=foot, config=config).unwrapped
     plain = gym.make("MimicIMU-v0", clips=WALK, artefacts=None, foot=foot).unwrapped
