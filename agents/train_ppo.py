@@ -545,6 +545,16 @@ def newest_checkpoint(run_dir: Path) -> Path | None:
     return max(found)[1] if found else None
 
 
+def run_args(run_dir: Path, parser: CliParser | None = None) -> argparse.Namespace:
+    """The settings the run in ``run_dir`` trained with: its ``args.json`` over ``parser``'s
+    defaults (default: :func:`build_parser`'s), so options newer than the run keep their defaults."""
+    saved = Path(run_dir) / "args.json"
+    if not saved.exists():
+        raise FileNotFoundError(f"{saved}: not found: no run in {run_dir} to resume or read")
+    defaults = (parser or build_parser()).parse_args(["--run-dir", str(run_dir)])
+    return argparse.Namespace(**{**vars(defaults), **json.loads(saved.read_text()), "run_dir": Path(run_dir)})
+
+
 @one_line_errors
 def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``): train, or resume, a run."""
@@ -552,15 +562,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     parser = build_parser(prog)
     args = parser.parse_args(argv)
     run_dir: Path = args.run_dir
-    if args.resume:  # the stored settings (defaults for options newer than the run), except what this
-        # command line sets explicitly
-        saved = run_dir / "args.json"
-        if not saved.exists():
-            raise FileNotFoundError(f"{saved}: not found: no run to resume in {run_dir} (--resume)")
-        stored = json.loads(saved.read_text())
+    if args.resume:  # the stored settings, except what this command line sets explicitly
+        stored = vars(run_args(run_dir, parser))
         history = stored.get("commands", [stored["command"]] if "command" in stored else [])
         explicit = {a.dest for a in parser._actions if any(o in argv for o in a.option_strings)}
-        args = argparse.Namespace(**{**vars(args), **stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
+        args = argparse.Namespace(**{**stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
                                      "resume": True})
     elif (run_dir / "args.json").exists():
         raise ValueError(f"{run_dir}: already holds a run; pass --resume to continue it or pick a new --run-dir")

@@ -11,7 +11,7 @@ from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy
 from agents.train_ppo import (build_parser, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
-                              training_motions)
+                              run_args, training_motions)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
@@ -90,8 +90,22 @@ def test_postures_add_seeded_copies_of_every_reference_carried_differently():
     assert not np.array_equal(other[1].qpos, clips[4].qpos)
 
 
+def test_run_args_are_the_stored_settings_over_the_defaults(tmp_path):
+    with pytest.raises(FileNotFoundError, match="no run in"):
+        run_args(tmp_path)
+    (tmp_path / "args.json").write_text(json.dumps({"strength": [0.75, 1.25], "variants_per_clip": 6,
+                                                    "run_dir": "elsewhere"}))
+    args = run_args(tmp_path)
+    assert args.strength == [0.75, 1.25] and args.variants_per_clip == 6  # stored
+    defaults = build_parser().parse_args(["--run-dir", "x"])
+    assert args.corrupted_fraction == defaults.corrupted_fraction and args.lr == defaults.lr  # not stored: defaults
+    assert args.run_dir == tmp_path  # where it is now, not where it was written
+    mix = env_kwargs(args, [], 0.5)["artefacts"]  # the run's corrupted variants can be rebuilt from it
+    assert mix.strength == (0.75, 1.25) and mix.variants_per_clip == 6 and mix.seed == args.seed
+
+
 def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
-    with pytest.raises(SystemExit, match="no run to resume"):
+    with pytest.raises(SystemExit, match="no run in"):
         main(["--run-dir", str(tmp_path / "none"), "--resume"])
     run = tmp_path / "run"
     run.mkdir()
