@@ -31,6 +31,9 @@ from envs.config import GAIT_ABLATIONS
 from envs.observations import SAME_LAYOUT_FRAMES, same_layout
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
+CHECKPOINTS_DIR = "checkpoints"
+"""A training run's folder of ``step_N.zip`` checkpoints, each with ``step_N_vecnormalize.pkl`` and
+``step_N_sidecar.json`` (``agents/train_ppo.py``)."""
 
 
 class PolicyError(ValueError):
@@ -235,7 +238,9 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
 
 
 def load_policy(path: str | Path) -> MimicPolicy:
-    """Load a policy directory (or its ``model.zip``); :class:`PolicyError` names what is wrong."""
+    """Load a policy directory (or its ``model.zip``), or a training run's checkpoint
+    ``RUN/checkpoints/step_N.zip`` (with its ``step_N_sidecar.json``); :class:`PolicyError` names
+    what is wrong."""
     path = Path(path)
     directory = path.parent if path.suffix == ".zip" else path
     model_file = path if path.suffix == ".zip" else directory / MODEL_FILE
@@ -262,6 +267,14 @@ def load_policy(path: str | Path) -> MimicPolicy:
     if shape != model.observation_space.shape:
         raise PolicyError(f"{stats_file}: statistics for observations {shape}, but the model takes "
                           f"{model.observation_space.shape}: the two files come from different runs")
-    sidecar_file = directory / SIDECAR_FILE
+    sidecar_file = model_file.with_name(f"{model_file.stem}_{SIDECAR_FILE}")  # a run's checkpoint: step_N_sidecar.json
+    if not sidecar_file.exists():
+        sidecar_file = directory / SIDECAR_FILE
+    if not sidecar_file.exists() and directory.name == CHECKPOINTS_DIR:
+        raise PolicyError(f"{model_file}: a checkpoint without a sidecar (saved before checkpoints had one), so "
+                          f"the environment it trained in is unknown; copy it with the run's "
+                          f"{directory.parent / 'best' / SIDECAR_FILE} into a policy directory ({MODEL_FILE}, "
+                          f"{STATS_FILE}, {SIDECAR_FILE}), checking that the run did not change its environment "
+                          f"on resume")
     sidecar = json.loads(sidecar_file.read_text()) if sidecar_file.exists() else {}
     return MimicPolicy(directory, model, stats, sidecar)

@@ -30,7 +30,7 @@ if __package__ in (None, ""):  # `python agents/ship.py`: make the repository im
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from agents import evaluate
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE
+from agents.policy import CHECKPOINTS_DIR, MODEL_FILE, SIDECAR_FILE, STATS_FILE
 from agents.train_ppo import newest_checkpoint, recorded_progress
 from reference_motion.atomic import write_json
 from reference_motion.cli import CliParser, one_line_errors, output_dir
@@ -48,15 +48,16 @@ def _checked_size(path: Path) -> int:
 
 
 def _copy_resumable_run(run_dir: Path, dest: Path) -> None:
-    """Copy ``run_dir``'s newest checkpoint (model and observation statistics) and its records to
-    ``dest`` so that ``train_ppo.py --resume`` continues from it."""
+    """Copy ``run_dir``'s newest checkpoint (model, observation statistics, sidecar) and its records
+    to ``dest`` so that ``train_ppo.py --resume`` continues from it."""
     checkpoint = newest_checkpoint(run_dir)
     if checkpoint is None:
-        raise FileNotFoundError(f"{run_dir / 'checkpoints'}: no step_*.zip checkpoint to make the run resumable")
+        raise FileNotFoundError(f"{run_dir / CHECKPOINTS_DIR}: no step_*.zip checkpoint to make the run resumable")
     _checked_size(checkpoint)
-    (dest / "checkpoints").mkdir(parents=True)
-    for path in run_dir.joinpath("checkpoints").glob(checkpoint.stem + "*"):
-        shutil.copy2(path, dest / "checkpoints" / path.name)
+    (dest / CHECKPOINTS_DIR).mkdir(parents=True)
+    for path in run_dir.joinpath(CHECKPOINTS_DIR).glob(checkpoint.stem + "_*"):
+        shutil.copy2(path, dest / CHECKPOINTS_DIR / path.name)
+    shutil.copy2(checkpoint, dest / CHECKPOINTS_DIR / checkpoint.name)
     for name in RUN_RECORDS:
         if (run_dir / name).exists():
             shutil.copy2(run_dir / name, dest / name)

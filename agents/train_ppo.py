@@ -5,8 +5,9 @@ Usage::
     python agents/train_ppo.py --clips deepmimic:walk --total-steps 3000000 --run-dir runs/mimic_walk
     python agents/train_ppo.py --run-dir runs/mimic_walk --resume          # continue an interrupted run
 
-A run directory holds ``args.json`` (the command's settings), ``checkpoints/`` (model and
-observation statistics every ``--checkpoint-every`` steps; ``--resume`` continues from the newest,
+A run directory holds ``args.json`` (the command's settings), ``checkpoints/`` (model,
+observation statistics and sidecar every ``--checkpoint-every`` steps, each loadable as a policy:
+``evaluate.py --policy RUN/checkpoints/step_N.zip``; ``--resume`` continues from the newest,
 losing at most one interval), ``best/`` (the checkpoint with the best evaluation, as ADAPT keeps
 the best epoch), ``evaluations.jsonl`` and TensorBoard logs in ``tb/``.
 
@@ -43,7 +44,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.policy import MimicPolicy, load_policy, set_action_variance
+from agents.policy import CHECKPOINTS_DIR, SIDECAR_FILE, MimicPolicy, load_policy, set_action_variance
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
@@ -458,7 +459,8 @@ class CheckpointAndEvaluate(BaseCallback):
         return summary["SR90"]
 
     def _sidecar(self, record: dict) -> PolicySidecar:
-        """How the best policy was made and how it scored (``agents/policy.py`` reads it)."""
+        """How the policy of ``record`` (``steps``, ``wall_s``; an evaluated one also ``score`` and
+        the metrics) was made and how it scored (``agents/policy.py`` reads it)."""
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
         push = pushes(args)
@@ -477,15 +479,20 @@ class CheckpointAndEvaluate(BaseCallback):
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None
         env = EnvSpec(args.env_id, foot(args), asdict(env_config(args)), gait, args.contacts)
         return PolicySidecar(env=env, ppo=ppo,
-                             training=training, score=record["score"],
+                             training=training, score=record.get("score"),
                              metrics={k: record[k] for k in ("ELR_mean", "ELR_std", "SR90", "RDE_mean", "MRR_mean",
-                                                             "rollouts")})
+                                                             "rollouts") if k in record})
 
     def save_checkpoint(self) -> None:
-        """Save model and observation statistics as ``checkpoints/step_N``, and the run's wall time
-        then (``wall.json``: what a resumed command adds to)."""
-        self._save(self.run_dir / "checkpoints", f"step_{self.num_timesteps}")
-        write_json(self.run_dir / WALL_FILE, {"steps": self.num_timesteps, "wall_s": self.wall_s()})
+        """Save model, observation statistics and sidecar (the environment and settings it trains
+        in, unevaluated) as ``checkpoints/step_N``, and the run's wall time then (``wall.json``:
+        what a resumed command adds to)."""
+        stem, wall_s = f"step_{self.num_timesteps}", self.wall_s()
+        directory = self.run_dir / CHECKPOINTS_DIR
+        self._save(directory, stem)
+        with deferred_signals():
+            self._sidecar({"steps": self.num_timesteps, "wall_s": wall_s}).save(directory / f"{stem}_{SIDECAR_FILE}")
+        write_json(self.run_dir / WALL_FILE, {"steps": self.num_timesteps, "wall_s": wall_s})
 
     def _on_training_end(self) -> None:
         self.save_checkpoint()
@@ -540,7 +547,7 @@ def check_denoiser(args: argparse.Namespace) -> None:
 
 
 def newest_checkpoint(run_dir: Path) -> Path | None:
-    found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / "checkpoints").glob("step_*.zip")
+    found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / CHECKPOINTS_DIR).glob("step_*.zip")
              if CHECKPOINT.search(p.name)]
     return max(found)[1] if found else None
 

@@ -281,13 +281,15 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
     for step in (10, 20):
         shutil.copy2(trained_run / "best" / "model.zip", checkpoints / f"step_{step}.zip")
         (checkpoints / f"step_{step}_vecnormalize.pkl").write_bytes(b"stats")
+    (checkpoints / "step_20_sidecar.json").write_text("{}")
     (trained_run / "args.json").write_text('{"seed": 3}')
     models = tmp_path / "models"
     common = ["--run-dir", str(trained_run), "--name", "walk", "--models", str(models),
               "--clips", "deepmimic:walk", "--episodes", "1"]
     ship.main([*common, "--resumable"])
     run = models / "walk" / "run"
-    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["step_20.zip", "step_20_vecnormalize.pkl"]
+    assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["step_20.zip", "step_20_sidecar.json",
+                                                                      "step_20_vecnormalize.pkl"]
     assert (run / "args.json").read_text() == '{"seed": 3}'
     assert (run / "evaluations.jsonl").exists() and not (run / "wall.json").exists()
     (models / "walk" / "student").mkdir()  # another folder kept beside the policy (a student, another run)

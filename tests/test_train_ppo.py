@@ -36,6 +36,9 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
 
     wall = json.loads((run / "wall.json").read_text())  # the wall time at the newest checkpoint
     assert wall["steps"] == 512 and wall["wall_s"] >= evals[-1]["wall_s"] > 0
+    checkpoint = load_policy(newest_checkpoint(run))  # a checkpoint is a policy, in the run's environment
+    assert checkpoint.record.training.steps == 512 and checkpoint.record.training.wall_s == wall["wall_s"]
+    assert checkpoint.record.env == load_policy(run / "best").record.env and checkpoint.record.score is None
 
     main(["--run-dir", str(run), "--resume", "--total-steps", "768", "--no-progress"])  # picks up at 512
     assert newest_checkpoint(run).name == "step_768.zip"
@@ -50,6 +53,9 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
           "--n-steps", "32"])  # a resume may change the rollout: 4 envs × 32 steps
     resumed = PPO.load(newest_checkpoint(run), device="cpu")
     assert newest_checkpoint(run).name == "step_1024.zip" and (resumed.n_envs, resumed.n_steps) == (4, 32)
+    (run / "checkpoints" / "step_1024_sidecar.json").unlink()  # as checkpoints were saved before they had one
+    with pytest.raises(PolicyError, match="checkpoint without a sidecar"):
+        load_policy(newest_checkpoint(run))
 
 
 def test_mirror_and_speed_augmentation_of_training_clips():
