@@ -201,12 +201,19 @@ def build_parser(prog: str | None = None) -> CliParser:
     return p
 
 
-def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
-    mix = (ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
+def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> ArtefactMix | None:
+    """The run's corrupted references (``--strength``, ``--variants-per-clip``, its variant seed,
+    ``--judge``, ``--denoise``) in ``corrupted_fraction`` of the episodes; ``None`` for 0."""
+    if corrupted_fraction <= 0:
+        return None
+    return ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
                        denoiser=args.denoise)
-           if corrupted_fraction > 0 else None)
-    kwargs = {"clips": clips, "artefacts": mix, "foot": foot(args), "config": env_config(args)}
+
+
+def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
+    kwargs = {"clips": clips, "artefacts": artefact_mix(args, corrupted_fraction), "foot": foot(args),
+              "config": env_config(args)}
     if args.env_id == GAIT_ENV_ID:
         kwargs.update(contacts=args.contacts, gait=gait_config(args))
     return kwargs
@@ -489,8 +496,8 @@ class CheckpointAndEvaluate(BaseCallback):
         what a resumed command adds to)."""
         stem, wall_s = f"step_{self.num_timesteps}", self.wall_s()
         directory = self.run_dir / CHECKPOINTS_DIR
-        self._save(directory, stem)
-        with deferred_signals():
+        with deferred_signals():  # the checkpoint's files and its sidecar, all or none
+            self._save(directory, stem)
             self._sidecar({"steps": self.num_timesteps, "wall_s": wall_s}).save(directory / f"{stem}_{SIDECAR_FILE}")
         write_json(self.run_dir / WALL_FILE, {"steps": self.num_timesteps, "wall_s": wall_s})
 

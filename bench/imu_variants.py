@@ -9,7 +9,7 @@ the same start frames, side by side in one run, with the references:
 
 - ``clean``: as given;
 - ``trained variants``: the corrupted variants PPO trained on (the run's ``ArtefactMix`` seed,
-  strength range and variant count, :func:`agents.train_ppo.env_kwargs`), i.e. what it could have
+  strength range and variant count, :func:`agents.train_ppo.artefact_mix`), i.e. what it could have
   memorised;
 - ``fresh variants``: the same recipe and strength range from another seed (``--seed``): what
   a new take of a known motion looks like;
@@ -32,7 +32,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate, summarize
 from agents.policy import load_policy
-from agents.train_ppo import env_kwargs, run_args, training_motions
+from agents.train_ppo import artefact_mix, run_args, training_motions
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe
 
@@ -44,7 +44,7 @@ def early_ends(runs: list) -> dict[str, float]:
     if not ended:
         return {"early": 0}
     sim = np.array([r.simulated.qpos[-1, :3] for r in ended])
-    ref = np.array([r.reference.qpos[len(r.simulated.qpos) - 1, :3] for r in ended])
+    ref = np.array([r.reference.qpos[-1, :3] for r in ended])  # the reference over the simulated frames
     return {"early": len(ended), "root_z_m": float(np.median(sim[:, 2])),
             "reference_root_z_m": float(np.median(ref[:, 2])),
             "gap_m": float(np.median(np.linalg.norm(sim[:, :2] - ref[:, :2], axis=1)))}
@@ -66,7 +66,7 @@ def main() -> None:
     run = run_args(args.run or Path(args.policy) / "run")
     if not run.corrupted_fraction:
         p.error(f"{run.run_dir}: the run trained on clean clips only; it has no corrupted variants")
-    trained = replace(env_kwargs(run, [], run.corrupted_fraction)["artefacts"], fraction=1.0)
+    trained = artefact_mix(run, 1.0)
     if trained.seed is None:
         p.error(f"{run.run_dir}: a run with one subprocess per env (--vec subproc) gave each env its own variants; "
                 "they cannot be rebuilt here")
