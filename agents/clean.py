@@ -476,6 +476,10 @@ def add_performance_options(p: argparse.ArgumentParser) -> None:
                    help="adapt and perform with the physics stepped at this rate, a multiple of 60 "
                         "(MimicConfig.physics_rate_hz: finer steps, stiffer contacts, so soles sink and slide less; "
                         "default: the rate the policy trained at, recorded in its sidecar)")
+    p.add_argument("--steer-gain", type=non_negative_float, default=None, metavar="HZ",
+                   help="adapt and perform with the observed reference velocities steered back onto the take's "
+                        "position at this rate, 1/s (MimicConfig.steer_gain_hz: the body keeps closer to the take's "
+                        "path; default: the gain the policy trained with, recorded in its sidecar)")
     g = p.add_argument_group("per-clip adaptation (PPO fine-tuning on the clip before cleaning)")
     g.add_argument("--no-adapt", action="store_true", help="clean with the policy as given (zero-shot)")
     g.add_argument("--adapt-budget-s", type=positive_float, default=AdaptConfig.budget_s,
@@ -526,9 +530,11 @@ def print_performance(cleaned: Motion, out: Path) -> None:
 
 
 def performing_policy(policy: MimicPolicy, args: argparse.Namespace) -> MimicPolicy:
-    """``policy`` at the physics rate ``--physics-rate-hz`` asks for (:meth:`MimicPolicy.simulating`),
-    or as it is."""
-    return policy.simulating(args.physics_rate_hz) if args.physics_rate_hz else policy
+    """``policy`` at the physics rate ``--physics-rate-hz`` asks for (:meth:`MimicPolicy.simulating`)
+    and with the steering gain ``--steer-gain`` asks for (:meth:`MimicPolicy.steering`), or as it is."""
+    if args.physics_rate_hz:
+        policy = policy.simulating(args.physics_rate_hz)
+    return policy if args.steer_gain is None else policy.steering(args.steer_gain)
 
 
 def clean_config(policy: MimicPolicy, reference: Motion, args: argparse.Namespace) -> CleanConfig:

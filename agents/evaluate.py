@@ -59,6 +59,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--physics-rate-hz", type=positive_float, metavar="HZ",
                    help="step the physics at this rate, a multiple of 60 (MimicConfig.physics_rate_hz: finer steps, "
                         "stiffer contacts; default: the rate its sidecar records, 120 for every shipped policy)")
+    p.add_argument("--steer-gain", type=non_negative_float, metavar="HZ",
+                   help="steer the observed reference velocities back onto the reference's position at this rate, "
+                        "1/s (MimicConfig.steer_gain_hz; default: the gain its sidecar records)")
     p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
     p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
     p.add_argument("--per-clip", action="store_true",
@@ -99,7 +102,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-    runs, frames, rates = [], set(), set()
+    runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
         note = policy.denoiser_note(args.denoise)
@@ -109,9 +112,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             policy = policy.observing(args.obs_frame)
         if args.physics_rate_hz:
             policy = policy.simulating(args.physics_rate_hz)
+        if args.steer_gain is not None:
+            policy = policy.steering(args.steer_gain)
         task = policy.record.env.mimic_config()
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
+        gains.add(task.steer_gain_hz)
         if denoiser is None:
             env = policy.make_env(clips, artefacts=None)
         else:
@@ -121,6 +127,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     summary = summarize(runs)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
+              "steer_gain_hz": sorted(gains),
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}

@@ -95,6 +95,14 @@ class MimicConfig:
             :mod:`envs.observations`). ADAPT's state shows the reference at the current frame
             only, so a change of step or direction is seen once it has begun. Empty (default):
             ADAPT's observation. Strictly increasing positive integers.
+        steer_gain_hz: the observed reference velocities (its CoM's and every body's) get a
+            horizontal pull back towards the reference's CoM position, this gain (1/s) times the
+            character's offset from it (:func:`envs.observations.steered_velocities`), so a
+            policy that tracks velocities also closes a drift it cannot otherwise see (ADAPT's
+            observation holds no position error). 0 (default): ADAPT's observation. The reward and
+            terminations are unchanged. The observation's layout is the same, so a policy trained
+            without it runs with it (``bench/steering.py``).
+        steer_max_speed_mps: the cap on that pull's speed (m/s).
         still_feet_weight: w_still, the weight of the still-feet term r_still in the reward
             (:func:`envs.rewards.still_feet_reward`; the reward is then e_discount·(r_local + r_p +
             r_v + w_still·r_still) and a step's largest reward 3 + w_still). 0 (default): ADAPT's
@@ -129,6 +137,8 @@ class MimicConfig:
     com_offset: bool = False
     velocity_feedforward: bool = False
     lookahead: tuple[int, ...] = ()
+    steer_gain_hz: float = 0.0
+    steer_max_speed_mps: float = 0.5
     still_feet_weight: float = 0.0
     still_feet_alpha: float = 5.0
     still_feet_height_m: float = QualityConfig.contact_height
@@ -138,6 +148,10 @@ class MimicConfig:
         if not (all(map(math.isfinite, (weight, alpha, height))) and weight >= 0 and alpha > 0 and height > 0):
             raise ValueError("still_feet_weight must be finite and >= 0, still_feet_alpha and still_feet_height_m "
                              f"finite and > 0, got {weight!r}, {alpha!r}, {height!r}")
+        if not (math.isfinite(self.steer_gain_hz) and self.steer_gain_hz >= 0
+                and math.isfinite(self.steer_max_speed_mps) and self.steer_max_speed_mps > 0):
+            raise ValueError("steer_gain_hz must be finite and >= 0 and steer_max_speed_mps finite and > 0, got "
+                             f"{self.steer_gain_hz!r}, {self.steer_max_speed_mps!r}")
         ahead = tuple(self.lookahead)  # a sidecar's JSON list arrives as a list
         if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in ahead) or any(
                 k < 1 for k in ahead) or list(ahead) != sorted(set(ahead)):

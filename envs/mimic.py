@@ -23,7 +23,8 @@ import numpy as np
 from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, region_contacts, update_kinematics
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, MimicConfig, Pushes)
-from envs.observations import heading_rotation, lookahead_observation, mimic_observation, observation_slices
+from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
+                               steered_velocities)
 from envs.physics import at_physics_rate
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
@@ -571,8 +572,10 @@ class MimicEnv(gym.Env):
             heading = heading_rotation(state.axes[..., 0, 0, :])
         elif self.config.obs_frame == "reference":
             heading = ref.to_heading
+        ref_com_vel, ref_linvel = steered_velocities(state.com, ref.com, ref.com_vel, ref.linvel[..., obs, :],
+                                                     self.config.steer_gain_hz, self.config.steer_max_speed_mps)
         observation = mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,
-                                        ref.pos_rel_com[..., obs, :], ref.linvel[..., obs, :], ref.com_vel, action,
+                                        ref.pos_rel_com[..., obs, :], ref_linvel, ref_com_vel, action,
                                         heading, ref.com if self.config.observes_com_offset else None)
         if not self.config.lookahead:
             return observation

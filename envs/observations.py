@@ -135,6 +135,38 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
     ], axis=-1).astype(np.float32)
 
 
+def steered_velocities(com: np.ndarray, ref_com: np.ndarray, ref_com_vel: np.ndarray, ref_linvel: np.ndarray,
+                       gain_hz: float, max_speed_mps: float) -> tuple[np.ndarray, np.ndarray]:
+    """The reference velocities the observation shows when it steers the character back onto the
+    reference (``MimicConfig.steer_gain_hz``): the reference's CoM velocity and every body's
+    velocity plus ``s = gain_hz · (ref_com − com)`` on the ground (x, y; z unchanged), ``s`` capped
+    at ``max_speed_mps`` in length. A policy that matches the reference's velocities then closes a
+    drift from the reference's position at ``gain_hz`` per second, like a position loop around its
+    velocity loop; the reward and terminations still judge the reference as it is. Every argument
+    may have leading batch axes (the same on all).
+
+    Args:
+        com, ref_com: ``(3,)`` the character's and the reference's CoM (world, m).
+        ref_com_vel: ``(3,)`` the reference's CoM velocity (world, m/s).
+        ref_linvel: ``(B, 3)`` the reference's body velocities (world, m/s).
+        gain_hz: ``≥ 0``, 1/s; 0 returns the velocities unchanged.
+        max_speed_mps: ``> 0``, the cap on ``|s|`` (m/s).
+
+    Returns:
+        ``(ref_com_vel + s, ref_linvel + s)``, the shapes and dtypes of the inputs.
+    """
+    if gain_hz == 0:
+        return ref_com_vel, ref_linvel
+    steer = gain_hz * (np.asarray(ref_com, dtype=float)[..., :2] - np.asarray(com, dtype=float)[..., :2])
+    length = np.linalg.norm(steer, axis=-1, keepdims=True)
+    steer *= np.minimum(1.0, max_speed_mps / np.maximum(length, 1e-12))
+    com_vel = np.array(ref_com_vel, dtype=float)
+    com_vel[..., :2] += steer
+    linvel = np.array(ref_linvel, dtype=float)
+    linvel[..., :2] += steer[..., None, :]
+    return com_vel.astype(np.asarray(ref_com_vel).dtype), linvel.astype(np.asarray(ref_linvel).dtype)
+
+
 def lookahead_observation(ref_com: np.ndarray, ahead_com: np.ndarray, ahead_com_vel: np.ndarray,
                           ahead_pos_rel: np.ndarray, heading: np.ndarray | None = None) -> np.ndarray:
     """The ``lookahead`` part of the observation ``(K·(6 + 3B),)`` float32: for each of ``K`` future
