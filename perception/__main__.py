@@ -44,8 +44,9 @@ from perception.weights import load_network, record_metrics, ship
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.bvh_export import write_bvh
-from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
-                                  one_line_errors, output_dir, output_file, positive_float, positive_int)
+from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
+                                  non_negative_int, one_line_errors, output_dir, output_file, positive_float,
+                                  positive_int)
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion, read_npz
 
@@ -96,6 +97,12 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     g.add_argument("--epochs", type=positive_int, default=d.max_epochs, help="most epochs")
     g.add_argument("--patience", type=non_negative_int, default=d.patience, help="early-stopping patience (epochs)")
     g.add_argument("--windows-per-epoch", type=positive_int, default=d.windows_per_epoch)
+    g.add_argument("--hidden", type=positive_int, default=d.hidden,
+                   help="channels of every layer of the network (DenoiserTrainConfig.hidden)")
+    g.add_argument("--strength", type=non_negative_float, nargs=2, default=list(d.strength), metavar=("LOW", "HIGH"),
+                   help="uniform artefact strength of a corrupted training window (DenoiserTrainConfig.strength)")
+    g.add_argument("--clean-fraction", type=fraction, default=d.clean_fraction,
+                   help="share of training windows left clean (DenoiserTrainConfig.clean_fraction)")
     g.add_argument("--seed", type=int, default=d.seed)
     g.add_argument("--no-progress", action="store_true")
     k = KeypointTrainConfig()
@@ -281,7 +288,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
         return result
     if args.command == "train-denoiser":
         config = DenoiserTrainConfig(max_epochs=args.epochs, patience=args.patience,
-                                     windows_per_epoch=args.windows_per_epoch, seed=args.seed)
+                                     windows_per_epoch=args.windows_per_epoch, hidden=args.hidden,
+                                     strength=tuple(args.strength), clean_fraction=args.clean_fraction, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val RMS error {np.sqrt(best):.4f}")
     if args.command in ("train-vgrf", "train-mlp"):

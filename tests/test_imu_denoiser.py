@@ -1,6 +1,7 @@
 """The IMU denoiser: its features, a tiny network trained here on the DeepMimic clips, the shipped
 one on a held-out walker, and evaluation through it (``agents/evaluate.py --denoise``)."""
 
+import json
 from dataclasses import replace
 
 import numpy as np
@@ -80,8 +81,11 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     out = tmp_path / "shipped"
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
-                     "--no-progress"])
-    assert isinstance(load_network(out, "denoiser"), IMUDenoiser)
+                     "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--no-progress"])
+    net = load_network(out, "denoiser")
+    assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32
+    config = json.loads((out / "sidecar.json").read_text())["config"]
+    assert (config["hidden"], config["strength"], config["clean_fraction"]) == (32, [0.5, 1.0], 0.1)
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):
