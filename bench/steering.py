@@ -28,6 +28,7 @@ from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import load_network
+from reference_motion.artefacts import ARTEFACT_KINDS
 
 
 def main() -> None:
@@ -36,7 +37,7 @@ def main() -> None:
     p.add_argument("--clips", nargs="+", default=["library:data/library/val"])
     p.add_argument("--episodes", type=int, default=20, help="rollouts per clip and row")
     p.add_argument("--gains", type=float, nargs="+", default=[0.0, 0.5, 1.0, 2.0], help="steering gains, 1/s")
-    p.add_argument("--corrupt", choices=("imu",), help="corrupt each clip with IMU artefacts first")
+    p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt each clip with IMU artefacts first")
     p.add_argument("--strength", type=float, default=1.0)
     p.add_argument("--seed", type=int, default=9100, help="artefact seed of the first clip (clip i gets seed + i)")
     p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
