@@ -36,8 +36,11 @@ has seen most of its states facing about +x and performs a clip walked another w
 that comes round, far worse (``bench/heading_frames.py``: the shipped generalist on DeepMimic's
 walk turned 90° survives half as long); in the reference's axes every clip walks towards +x. It
 observes nothing the world frame does not, so a world-frame policy runs in it as it is.
-``MimicConfig.com_offset`` adds ``dp_com`` to the world-frame observation alone (a policy trained
-on ADAPT's layout can be widened to it, see :func:`agents.warm_start.widen_inputs`).
+``MimicConfig.steer_gain_hz`` leaves the layout as it is but adds a pull back towards the
+reference's position to every reference velocity it shows (``ref_v_com``, and so ``dv_com``,
+``ref_v_hor``, ``dv_hor`` and ``dv``; :func:`steered_velocities`), so the drift shows up as a
+velocity error. ``MimicConfig.com_offset`` adds ``dp_com`` to the world-frame observation alone
+(a policy trained on ADAPT's layout can be widened to it, see :func:`agents.warm_start.widen_inputs`).
 """
 
 from __future__ import annotations
