@@ -52,7 +52,7 @@ def main() -> None:
     table = []
     for gain in args.gains:
         steered = policy.steering(gain)
-        env = steered.make_env(performed, artefacts=None, **({} if denoiser is None else {"judged_clips": clips}))
+        env = steered.make_env(performed, artefacts=None, judged_clips=None if denoiser is None else clips)
         env.reset(seed=0)
         runs = evaluate(env, steered, episodes=args.episodes)[1]
         summary = summarize(runs)

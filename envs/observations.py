@@ -163,11 +163,10 @@ def steered_velocities(com: np.ndarray, ref_com: np.ndarray, ref_com_vel: np.nda
     steer = gain_hz * (np.asarray(ref_com, dtype=float)[..., :2] - np.asarray(com, dtype=float)[..., :2])
     length = np.linalg.norm(steer, axis=-1, keepdims=True)
     steer *= np.minimum(1.0, max_speed_mps / np.maximum(length, 1e-12))
-    com_vel = np.array(ref_com_vel, dtype=float)
+    com_vel, linvel = np.array(ref_com_vel), np.array(ref_linvel)  # copies, in the inputs' dtypes
     com_vel[..., :2] += steer
-    linvel = np.array(ref_linvel, dtype=float)
     linvel[..., :2] += steer[..., None, :]
-    return com_vel.astype(np.asarray(ref_com_vel).dtype), linvel.astype(np.asarray(ref_linvel).dtype)
+    return com_vel, linvel
 
 
 def lookahead_observation(ref_com: np.ndarray, ahead_com: np.ndarray, ahead_com_vel: np.ndarray,
