@@ -58,10 +58,10 @@ from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
-from reference_motion.library import augmented, expand_clips, load_motion, postured
+from reference_motion.library import augmented, expand_clips, load_motion, posture_copies
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
-from reference_motion.transforms import random_posture, reversed_in_time
+from reference_motion.transforms import reversed_in_time
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -344,15 +344,7 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
         return clips
     motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
                                     reversed_clips(clips, args.reverse))
-    return motions + posture_copies(motions, args.postures, args.seed)
-
-
-def posture_copies(motions: list[Motion], copies: int, seed: int) -> list[Motion]:
-    """``copies`` copies of each of ``motions``, each carried with its own random posture
-    (:func:`reference_motion.transforms.random_posture`, :func:`reference_motion.library.postured`),
-    drawn from ``seed``: the same on resume."""
-    rng = np.random.default_rng([seed, POSTURE_STREAM])
-    return [postured(m, random_posture(m.model, rng), f"posture {k}") for m in motions for k in range(copies)]
+    return motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM])
 
 
 POSTURE_STREAM = 7

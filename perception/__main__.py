@@ -103,6 +103,9 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
                    help="uniform artefact strength of a corrupted training window (DenoiserTrainConfig.strength)")
     g.add_argument("--clean-fraction", type=fraction, default=d.clean_fraction,
                    help="share of training windows left clean (DenoiserTrainConfig.clean_fraction)")
+    g.add_argument("--postures", type=non_negative_int, default=d.postures, metavar="N",
+                   help="also train on N copies of every take carried with a random posture "
+                        "(DenoiserTrainConfig.postures)")
     g.add_argument("--seed", type=int, default=d.seed)
     g.add_argument("--no-progress", action="store_true")
     k = KeypointTrainConfig()
@@ -289,7 +292,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
     if args.command == "train-denoiser":
         config = DenoiserTrainConfig(max_epochs=args.epochs, patience=args.patience,
                                      windows_per_epoch=args.windows_per_epoch, hidden=args.hidden,
-                                     strength=tuple(args.strength), clean_fraction=args.clean_fraction, seed=args.seed)
+                                     strength=tuple(args.strength), clean_fraction=args.clean_fraction,
+                                     postures=args.postures, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val RMS error {np.sqrt(best):.4f}")
     if args.command in ("train-vgrf", "train-mlp"):

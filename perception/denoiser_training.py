@@ -26,7 +26,7 @@ from perception.imu_denoiser import IMUDenoiser, motion_features
 from perception.training import fit
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
-from reference_motion.library import augmented, expand_clips, load_motion
+from reference_motion.library import augmented, expand_clips, load_motion, posture_copies
 from reference_motion.motion import Motion
 
 DENOISER_TRAIN_CLIPS = ("library:data/library/train", "deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0",
@@ -36,6 +36,8 @@ DENOISER_VAL_CLIPS = ("library:data/library/val",)
 """Default validation clips (early stopping, the shipped epoch): the library's val split."""
 VALIDATION_STRENGTHS = (0.0, 0.5, 1.0)
 """Artefact strengths each validation take is scored at (0 = clean)."""
+POSTURE_STREAM = 3
+"""Stream of ``DenoiserTrainConfig.seed``'s random numbers that draws the posture copies."""
 VALIDATION_SEED = 77_000
 """Artefact seed of the first validation take (take i, strength j: seed + 10·i + j)."""
 
@@ -61,6 +63,13 @@ class DenoiserTrainConfig:
         lr_patience: see ``lr``.
         patience: stop after this many epochs without a better validation score.
         mirror: also train on every take performed by the other side of the body.
+        postures: copies of every training take (mirrored ones too) carried with a random posture
+            (:func:`reference_motion.library.posture_copies`: a stoop, a crouch, a wider or
+            narrower stance, drawn from ``seed``), so that a way of carrying oneself the training
+            styles lack is not taken for a calibration error. Their stance changes (−3° to 6° of
+            abduction per hip) roll the ankles back so the soles stay level, where an IMU suit's
+            hip adduction offset (8° inwards per hip at strength 1) tilts the soles with the legs.
+            0: none.
         seed: seeds windows, strengths, artefact seeds and the initial weights.
     """
 
@@ -76,6 +85,7 @@ class DenoiserTrainConfig:
     lr_patience: int = 4
     patience: int = 10
     mirror: bool = True
+    postures: int = 0
     seed: int = 0
 
     def __post_init__(self) -> None:
@@ -86,6 +96,8 @@ class DenoiserTrainConfig:
         if not 0 <= lo <= hi:
             raise ValueError(f"DenoiserTrainConfig.strength must be (low, high) with 0 <= low <= high, "
                              f"got {self.strength}")
+        if self.postures < 0:
+            raise ValueError(f"DenoiserTrainConfig.postures must be >= 0, got {self.postures}")
         if not 0 <= self.clean_fraction <= 1:
             raise ValueError(f"DenoiserTrainConfig.clean_fraction must be in [0, 1], got {self.clean_fraction}")
 
@@ -113,7 +125,8 @@ class DenoiserTask:
             raise ValueError(f"clip(s) {', '.join(overlap)} are in both the training and the validation clips")
         if not self.train_sources or not self.val_sources:
             raise ValueError("the IMU denoiser needs at least one training and one validation clip")
-        self.train = augmented([load_motion(s, model) for s in self.train_sources], mirrored=config.mirror)
+        takes = augmented([load_motion(s, model) for s in self.train_sources], mirrored=config.mirror)
+        self.train = takes + posture_copies(takes, config.postures, [config.seed, POSTURE_STREAM])
         self.lengths = np.array([m.n_frames for m in self.train])
         if self.lengths.max() < config.min_window:
             raise ValueError(f"no training clip has {config.min_window} frames; lower DenoiserTrainConfig.min_window")

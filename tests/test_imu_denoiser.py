@@ -77,15 +77,35 @@ def test_a_few_epochs_learn_to_undo_artefacts_on_a_held_out_clip(tmp_path):
         train_denoiser(["deepmimic:walk"], val, tmp_path / "run", config, progress=False)
 
 
+def test_posture_copies_join_the_training_takes_seeded():
+    """``postures=2``: every take (mirrored copies too) twice more, each with its own posture drawn
+    from the seed (the same for the same seed), the same for both legs."""
+    config = DenoiserTrainConfig(postures=2, seed=5)
+    task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
+    assert [m.name for m in task.train] == ["deepmimic:walk", "deepmimic:walk (mirrored)", "deepmimic:walk (posture 0)",
+                                            "deepmimic:walk (posture 1)", "deepmimic:walk (mirrored) (posture 0)",
+                                            "deepmimic:walk (mirrored) (posture 1)"]
+    hm = load_model("humanoid_1seg")
+    offsets = [np.array(m.source["posture_rad"]) for m in task.train[2:]]
+    assert all(np.abs(a - b).max() > 0.01 for i, a in enumerate(offsets) for b in offsets[:i])
+    left, right = hm.qpos_index("l_thigh_x") - 7, hm.qpos_index("r_thigh_x") - 7
+    assert all(abs(o[left] + o[right]) < 1e-9 for o in offsets)  # both legs out (or in) alike
+    again = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
+    np.testing.assert_array_equal(again.train[3].qpos, task.train[3].qpos)
+    with pytest.raises(ValueError, match="postures must be >= 0"):
+        DenoiserTrainConfig(postures=-1)
+
+
 def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path):
     out = tmp_path / "shipped"
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
-                     "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--no-progress"])
+                     "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
+                     "--no-progress"])
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32
     config = json.loads((out / "sidecar.json").read_text())["config"]
-    assert (config["hidden"], config["strength"], config["clean_fraction"]) == (32, [0.5, 1.0], 0.1)
+    assert (config["hidden"], config["strength"], config["clean_fraction"], config["postures"]) == (32, [0.5, 1.0], 0.1, 1)
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):
