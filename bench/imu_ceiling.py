@@ -1,0 +1,101 @@
+"""Where a policy's loss on IMU takes sits: joint angles, root placement, or the judge.
+
+Usage: ``python bench/imu_ceiling.py [--policy models/mimic_general_steered] [--clips library:data/library/val]
+[--episodes 20] [--kind imu] [--strength 1] [--seed 9100] [--denoise DIR ...] [--rows ROW ...] [--json [OUT]]``
+
+Every clip is corrupted with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`,
+ADAPT's protocol at ``--strength``; ``--kind`` for one kind alone), and the policy tracks, row by row, a different version of
+it, always judged (rewarded and terminated) against the take as given, as ``evaluate.py
+--denoise`` judges:
+
+- ``given``: the IMU take itself (``evaluate.py --corrupt imu``);
+- ``denoised DIR``: the take after each IMU denoiser of ``--denoise`` (``evaluate.py --denoise DIR``);
+- ``clean root``: the take's joint angles on the clean take's pelvis (position, height,
+  orientation): what the root's errors cost (heading and root drift, stance skate, height);
+- ``clean joints``: the clean take's joint angles on the take's pelvis: what a denoiser that undid
+  every joint-angle error would reach;
+- ``clean``: the clean take (a perfect cleaner): what is left is the policy's own loss on the
+  clips plus what the judge (the take as given, drifted and skating) costs it.
+
+The rows run on the same clips, artefact seeds and start frames, side by side in one run;
+``--rows`` picks some of them (``given``, ``denoised``, ``clean_root``, ``clean_joints``, ``clean``).
+"""
+
+from __future__ import annotations
+
+import argparse
+from collections import Counter
+from pathlib import Path
+
+import envs  # noqa: F401  (registers the ids)
+from agents.evaluate import reference_clips
+from agents.evaluation import evaluate, per_clip, summarize
+from agents.policy import load_policy
+from envs.config import FOOT_MODELS, MimicConfig
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from perception.imu_denoiser import denoise
+from perception.weights import load_network
+from reference_motion.artefacts import ARTEFACT_KINDS
+from reference_motion.motion import Motion
+
+ROWS = ("given", "denoised", "clean_root", "clean_joints", "clean")
+"""The rows, in the order they run."""
+ROOT = slice(0, 7)
+"""qpos columns of the pelvis: position (m) and orientation (quaternion w, x, y, z)."""
+
+
+def with_root_of(joints: Motion, root: Motion) -> Motion:
+    """``joints``'s hinge angles on ``root``'s pelvis pose, frame by frame (same length and rate)."""
+    qpos = joints.qpos.copy()
+    qpos[:, ROOT] = root.qpos[:, ROOT]
+    return joints.with_qpos(qpos)
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("--policy", default="models/mimic_general_steered")
+    p.add_argument("--clips", nargs="+", default=["library:data/library/val"])
+    p.add_argument("--episodes", type=int, default=20, help="rollouts per clip and row")
+    p.add_argument("--kind", choices=("imu",) + ARTEFACT_KINDS, default="imu", help="artefact kinds: all, or one")
+    p.add_argument("--strength", type=float, default=1.0)
+    p.add_argument("--seed", type=int, default=9100, help="artefact seed of the first clip (clip i gets seed + i)")
+    p.add_argument("--denoise", nargs="*", type=Path, default=[Path("models/imu_denoiser_dm")], metavar="DIR",
+                   help="IMU denoisers, a row each")
+    p.add_argument("--rows", nargs="+", choices=ROWS, default=list(ROWS), help="which rows to run")
+    p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
+    args = p.parse_args()
+    policy = load_policy(args.policy)
+    model, config = FOOT_MODELS[policy.foot], MimicConfig()
+    clean = reference_clips(args.clips, model, config, None, args.strength, args.seed)
+    given = reference_clips(args.clips, model, config, args.kind, args.strength, args.seed)
+    rows = {}
+    if "given" in args.rows:
+        rows["given"] = given
+    if "denoised" in args.rows:
+        for path in args.denoise:
+            net = load_network(path, "denoiser")
+            rows[f"denoised {path}"] = [denoise(net, c) for c in given]
+    if "clean_root" in args.rows:
+        rows["clean root"] = [with_root_of(g, c) for g, c in zip(given, clean)]
+    if "clean_joints" in args.rows:
+        rows["clean joints"] = [with_root_of(c, g) for g, c in zip(given, clean)]
+    if "clean" in args.rows:
+        rows["clean"] = clean
+    table = []
+    for name, tracked in rows.items():
+        env = policy.make_env(tracked, artefacts=None, judged_clips=given)
+        env.reset(seed=0)
+        runs = evaluate(env, policy, episodes=args.episodes)[1]
+        summary = summarize(runs)
+        row = {"tracked": name, "rollouts": len(runs), "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
+               "RDE": summary["RDE_mean"], "ended_by": dict(Counter(r.ended_by for r in runs)),
+               "per_clip": per_clip(runs)}
+        table.append(row)
+        print(f"{name:<44} ELR {row['ELR']:.3f}  SR90 {row['SR90']:.2f}  RDE {row['RDE']:.4f} m²", flush=True)
+    emit_json({"policy": args.policy, "clips": args.clips, "episodes": args.episodes, "kind": args.kind,
+               "strength": args.strength,
+               "seed": args.seed, "judged_against": "the IMU take as given", "rows": table}, args.json)
+
+
+if __name__ == "__main__":
+    main()
