@@ -34,7 +34,6 @@ if __package__ in (None, ""):  # `python agents/train_ppo.py` puts agents/ first
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 import gymnasium as gym
-import numpy as np
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.callbacks import BaseCallback, CallbackList

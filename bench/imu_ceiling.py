@@ -12,8 +12,10 @@ it, always judged (rewarded and terminated) against the take as given, as ``eval
 - ``denoised DIR``: the take after each IMU denoiser of ``--denoise`` (``evaluate.py --denoise DIR``);
 - ``clean root``: the take's joint angles on the clean take's pelvis (position, height,
   orientation): what the root's errors cost (heading and root drift, stance skate, height);
-- ``clean joints``: the clean take's joint angles on the take's pelvis: what a denoiser that undid
-  every joint-angle error would reach;
+- ``clean joints``: the clean take's joint angles and pelvis height on the take's pelvis placement
+  over the ground (horizontal position and orientation): what a denoiser that undid every error
+  it corrects (hinge angles and pelvis height, :func:`perception.imu_denoiser.denoise`) would reach
+  (a reference point, not a bound: a denoised take is another draw of the same errors);
 - ``clean``: the clean take (a perfect cleaner): what is left is the policy's own loss on the
   clips plus what the judge (the take as given, drifted and skating) costs it.
 
@@ -29,7 +31,7 @@ from pathlib import Path
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips
-from agents.evaluation import evaluate, per_clip, summarize
+from agents.evaluation import evaluate, per_clip
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -40,15 +42,17 @@ from reference_motion.motion import Motion
 
 ROWS = ("given", "denoised", "clean_root", "clean_joints", "clean")
 """The rows, in the order they run."""
-ROOT = slice(0, 7)
+PELVIS = [0, 1, 2, 3, 4, 5, 6]
 """qpos columns of the pelvis: position (m) and orientation (quaternion w, x, y, z)."""
+PLACEMENT = [0, 1, 3, 4, 5, 6]
+"""The pelvis without its height: horizontal position (m) and orientation."""
 
 
-def with_root_of(joints: Motion, root: Motion) -> Motion:
-    """``joints``'s hinge angles on ``root``'s pelvis pose, frame by frame (same length and rate)."""
-    qpos = joints.qpos.copy()
-    qpos[:, ROOT] = root.qpos[:, ROOT]
-    return joints.with_qpos(qpos)
+def with_columns_of(motion: Motion, other: Motion, columns: list[int]) -> Motion:
+    """``motion`` with qpos ``columns`` taken from ``other``, frame by frame (same length and rate)."""
+    qpos = motion.qpos.copy()
+    qpos[:, columns] = other.qpos[:, columns]
+    return motion.with_qpos(qpos, source={**motion.source, "qpos_columns_from": [columns, other.source]})
 
 
 def main() -> None:
@@ -72,21 +76,20 @@ def main() -> None:
     if "given" in args.rows:
         rows["given"] = given
     if "denoised" in args.rows:
-        for path in args.denoise:
+        for path in dict.fromkeys(args.denoise):  # each once
             net = load_network(path, "denoiser")
             rows[f"denoised {path}"] = [denoise(net, c) for c in given]
     if "clean_root" in args.rows:
-        rows["clean root"] = [with_root_of(g, c) for g, c in zip(given, clean)]
+        rows["clean root"] = [with_columns_of(g, c, PELVIS) for g, c in zip(given, clean)]
     if "clean_joints" in args.rows:
-        rows["clean joints"] = [with_root_of(c, g) for g, c in zip(given, clean)]
+        rows["clean joints and height"] = [with_columns_of(c, g, PLACEMENT) for g, c in zip(given, clean)]
     if "clean" in args.rows:
         rows["clean"] = clean
     table = []
     for name, tracked in rows.items():
         env = policy.make_env(tracked, artefacts=None, judged_clips=given)
         env.reset(seed=0)
-        runs = evaluate(env, policy, episodes=args.episodes)[1]
-        summary = summarize(runs)
+        summary, runs = evaluate(env, policy, episodes=args.episodes)
         row = {"tracked": name, "rollouts": len(runs), "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
                "RDE": summary["RDE_mean"], "ended_by": dict(Counter(r.ended_by for r in runs)),
                "per_clip": per_clip(runs)}

@@ -1,23 +1,25 @@
 """Probe: does taking an IMU take's stance skate out of its root before tracking help a policy?
 
 Usage: ``python bench/root_unslide.py [--policy models/mimic_general_steered] [--clips library:data/library/val]
-[--episodes 20] [--seeds 9100 9200] [--denoise models/imu_denoiser_dm] [--settings 0.1,1 0.2,1 0.1,2]
-[--json [OUT]]``
+[--episodes 20] [--kind imu] [--seeds 9100 9200] [--denoise models/imu_denoiser_dm | --no-denoise]
+[--settings 0.1,1 0.2,1 0.1,2] [--json [OUT]]``
 
 An IMU suit's stance skate moves the whole body, planted feet included, out and back within a
 step (:func:`reference_motion.artefacts.corrupt`, ``skate``). :func:`unslid` moves the root back
 by what the supporting feet slide: per foot, the lower of its two sole points (heel or toe, so a
 rolling foot is followed through heel strike and toe-off) supports it while it is within
-``SUPPORT_HEIGHT_M`` of its own lowest height and slower than ``SUPPORT_MAX_SPEED_MPS``; the mean
-horizontal step of the supporting points, smoothed over ``smooth_s`` (a Gaussian's σ) so that the
-joint-angle noise the feet carry is not passed on, is integrated and subtracted from the pelvis,
+``SUPPORT_HEIGHT_M`` of that point's 5th-percentile height over the take and slower than
+``SUPPORT_MAX_SPEED_MPS``; the mean horizontal step of the supporting points, smoothed over
+``smooth_s`` (a Gaussian's σ; 0: not smoothed) so that the joint-angle noise the feet carry is
+not passed on, is integrated and subtracted from the pelvis,
 and the correction's own drift over ``keep_path_s`` (σ) is taken out again so that the take's path
 over seconds is kept. A clean take moves by millimetres.
 
-Each row tracks the denoised IMU take (``evaluate.py --denoise``), with or without the root
-unslid at one ``smooth_s,keep_path_s`` setting, judged against the take as given; the rows share
-clips, artefact seeds and start frames. Not adopted: see the README ("Undoing the IMU suit's
-joint-angle errors"), where the measured rows are.
+Each row tracks the IMU take (``--kind``: every artefact kind, or one), denoised unless
+``--no-denoise`` (``evaluate.py --denoise``), with or without the root unslid at one
+``smooth_s,keep_path_s`` setting, judged against the take as given; the rows share clips,
+artefact seeds and start frames. Not adopted: see the README ("Where the IMU loss sits"), where
+the measured rows are.
 """
 
 from __future__ import annotations
@@ -30,12 +32,13 @@ from scipy.ndimage import gaussian_filter1d
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips
-from agents.evaluation import evaluate, summarize
+from agents.evaluation import evaluate
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.imu_denoiser import denoise
 from perception.weights import load_network
+from reference_motion.artefacts import ARTEFACT_KINDS
 from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
 
@@ -67,12 +70,25 @@ def support_slide(motion: Motion) -> np.ndarray:
 
 def unslid(motion: Motion, smooth_s: float, keep_path_s: float) -> Motion:
     """``motion`` with its pelvis moved back by what its supporting feet slide (module docstring)."""
-    slide = gaussian_filter1d(support_slide(motion), smooth_s * motion.fps, axis=0, mode="nearest")
+    slide = support_slide(motion)
+    if smooth_s > 0:
+        slide = gaussian_filter1d(slide, smooth_s * motion.fps, axis=0, mode="nearest")
     correction = -np.concatenate([np.zeros((1, 2)), np.cumsum(slide, axis=0)])
     correction -= gaussian_filter1d(correction, keep_path_s * motion.fps, axis=0, mode="nearest")
     qpos = motion.qpos.copy()
     qpos[:, :2] += correction
     return motion.with_qpos(qpos)
+
+
+def setting(text: str) -> tuple[float, float]:
+    """``"SMOOTH_S,KEEP_PATH_S"`` → ``(smooth_s, keep_path_s)``, seconds, smooth_s ≥ 0, keep_path_s > 0."""
+    try:
+        smooth_s, keep_path_s = (float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected SMOOTH_S,KEEP_PATH_S (seconds, e.g. 0.1,1), got {text!r}")
+    if smooth_s < 0 or keep_path_s <= 0:
+        raise argparse.ArgumentTypeError(f"need SMOOTH_S >= 0 and KEEP_PATH_S > 0, got {text!r}")
+    return smooth_s, keep_path_s
 
 
 def main() -> None:
@@ -81,26 +97,32 @@ def main() -> None:
     p.add_argument("--clips", nargs="+", default=["library:data/library/val"])
     p.add_argument("--episodes", type=int, default=20, help="rollouts per clip, row and seed")
     p.add_argument("--seeds", type=int, nargs="+", default=[9100, 9200], help="artefact seeds of the first clip")
-    p.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
-    p.add_argument("--settings", nargs="+", default=["0.1,1", "0.2,1", "0.1,2"], metavar="SMOOTH_S,KEEP_PATH_S")
+    p.add_argument("--kind", choices=("imu",) + ARTEFACT_KINDS, default="imu", help="artefact kinds: all, or one")
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
+    which.add_argument("--no-denoise", action="store_true", help="track the take as corrupted")
+    p.add_argument("--settings", nargs="+", type=setting, default=[(0.1, 1.0), (0.2, 1.0), (0.1, 2.0)],
+                   metavar="SMOOTH_S,KEEP_PATH_S")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
     policy = load_policy(args.policy)
-    net = load_network(args.denoise, "denoiser")
-    settings = [tuple(float(v) for v in s.split(",")) for s in args.settings]
+    net = None if args.no_denoise else load_network(args.denoise, "denoiser")
+    first = "given" if net is None else "denoised"
     rows = []
     for seed in args.seeds:
-        given = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig(), "imu", 1.0, seed)
-        denoised = [denoise(net, c) for c in given]
-        variants = {"denoised": denoised}
-        variants.update({f"denoised, unslid {s},{k}": [unslid(c, s, k) for c in denoised] for s, k in settings})
+        given = reference_clips(args.clips, FOOT_MODELS[policy.foot], MimicConfig(), args.kind, 1.0, seed)
+        tracked_first = given if net is None else [denoise(net, c) for c in given]
+        variants = {first: tracked_first}
+        variants.update({f"{first}, unslid {s:g},{k:g}": [unslid(c, s, k) for c in tracked_first]
+                         for s, k in args.settings})
         for name, tracked in variants.items():
             env = policy.make_env(tracked, artefacts=None, judged_clips=given)
             env.reset(seed=0)
-            summary = summarize(evaluate(env, policy, episodes=args.episodes)[1])
+            summary = evaluate(env, policy, episodes=args.episodes)[0]
             rows.append({"seed": seed, "tracked": name, "ELR": summary["ELR_mean"], "SR90": summary["SR90"]})
             print(f"seed {seed}  {name:<28} ELR {summary['ELR_mean']:.3f}  SR90 {summary['SR90']:.3f}", flush=True)
-    emit_json({"policy": args.policy, "clips": args.clips, "episodes": args.episodes, "denoiser": str(args.denoise),
+    emit_json({"policy": args.policy, "clips": args.clips, "episodes": args.episodes, "kind": args.kind,
+               "denoiser": None if net is None else str(args.denoise),
                "rows": rows}, args.json)
 
 

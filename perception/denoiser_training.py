@@ -1,6 +1,7 @@
 """Training the :class:`~perception.imu_denoiser.IMUDenoiser` on clean takes it corrupts itself.
 
-Every training batch cuts random windows out of the training takes (mirrored too), corrupts each
+Every training batch cuts random windows out of the training takes (mirrored too, and with
+``postures`` also carried in random postures), corrupts each
 with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`) at a strength drawn from
 ``DenoiserTrainConfig.strength``, a fresh seed each time, or leaves it clean
 (``clean_fraction``), and regresses what :func:`~perception.imu_denoiser.denoise` must add back:
@@ -65,12 +66,12 @@ class DenoiserTrainConfig:
         mirror: also train on every take performed by the other side of the body.
         postures: copies of every training take (mirrored ones too) carried with a random posture
             (:func:`reference_motion.library.posture_copies`: a stoop, a crouch, a wider or
-            narrower stance, drawn from ``seed``), so that a way of carrying oneself the training
+            narrower stance, a neck and elbow bend, drawn from ``seed``), so that a way of carrying oneself the training
             styles lack is not taken for a calibration error. Their stance changes (−3° to 6° of
             abduction per hip) roll the ankles back so the soles stay level, where an IMU suit's
             hip adduction offset (8° inwards per hip at strength 1) tilts the soles with the legs.
             0: none.
-        seed: seeds windows, strengths, artefact seeds and the initial weights.
+        seed: seeds windows, strengths, artefact seeds, the initial weights and the posture copies.
     """
 
     window: int = 240

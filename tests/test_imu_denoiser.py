@@ -92,6 +92,8 @@ def test_posture_copies_join_the_training_takes_seeded():
     assert all(abs(o[left] + o[right]) < 1e-9 for o in offsets)  # both legs out (or in) alike
     again = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
     np.testing.assert_array_equal(again.train[3].qpos, task.train[3].qpos)
+    other = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], replace(config, seed=6))
+    assert np.abs(other.train[3].qpos - task.train[3].qpos).max() > 0.01
     with pytest.raises(ValueError, match="postures must be >= 0"):
         DenoiserTrainConfig(postures=-1)
 
