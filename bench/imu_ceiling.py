@@ -1,7 +1,8 @@
 """Where a policy's loss on IMU takes sits: joint angles, root placement, or the judge.
 
 Usage: ``python bench/imu_ceiling.py [--policy models/mimic_general_steered] [--clips library:data/library/val]
-[--episodes 20] [--kind imu] [--strength 1] [--seed 9100] [--denoise DIR ...] [--rows ROW ...] [--json [OUT]]``
+[--episodes 20] [--kind imu] [--strength 1] [--seed 9100] [--denoise DIR ...] [--rows ROW ...]
+[--json [OUT]]``
 
 Every clip is corrupted with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`,
 ADAPT's protocol at ``--strength``; ``--kind`` for one kind alone), and the policy tracks, row by row, a different version of

@@ -66,11 +66,11 @@ class DenoiserTrainConfig:
         mirror: also train on every take performed by the other side of the body.
         postures: copies of every training take (mirrored ones too) carried with a random posture
             (:func:`reference_motion.library.posture_copies`: a stoop, a crouch, a wider or
-            narrower stance, a neck and elbow bend, drawn from ``seed``), so that a way of carrying oneself the training
-            styles lack is not taken for a calibration error. Their stance changes (−3° to 6° of
-            abduction per hip) roll the ankles back so the soles stay level, where an IMU suit's
-            hip adduction offset (8° inwards per hip at strength 1) tilts the soles with the legs.
-            0: none.
+            narrower stance, a neck and elbow bend, drawn from ``seed``), so that a way of carrying
+            oneself the training styles lack is not taken for a calibration error. Their stance
+            changes (−3° to 6° of abduction per hip) roll the ankles back so the soles stay level,
+            where an IMU suit's hip adduction offset (8° inwards per hip at strength 1) tilts the
+            soles with the legs. 0: none.
         seed: seeds windows, strengths, artefact seeds, the initial weights and the posture copies.
     """
 

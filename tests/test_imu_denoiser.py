@@ -107,7 +107,8 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32
     config = json.loads((out / "sidecar.json").read_text())["config"]
-    assert (config["hidden"], config["strength"], config["clean_fraction"], config["postures"]) == (32, [0.5, 1.0], 0.1, 1)
+    given = (config["hidden"], config["strength"], config["clean_fraction"], config["postures"])
+    assert given == (32, [0.5, 1.0], 0.1, 1)
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):
