@@ -112,6 +112,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--steer-gain", type=non_negative_float, default=MimicConfig.steer_gain_hz, metavar="HZ",
                    help="the observed reference velocities pull the character back onto the reference's position "
                         "at this rate, 1/s (MimicConfig.steer_gain_hz; 0: ADAPT's observation, same layout)")
+    g.add_argument("--action-limit", type=positive_float, default=MimicConfig.action_limit_rad, metavar="RAD",
+                   help="the action space is [-RAD, RAD] rad of PD target offset per driven hinge "
+                        "(MimicConfig.action_limit_rad; a policy warm-started with --init-from keeps its weights)")
     g.add_argument("--physics-rate-hz", type=positive_float, default=MimicConfig.physics_rate_hz, metavar="HZ",
                    help="physics steps per second, a multiple of 60 (MimicConfig.physics_rate_hz: above the model's "
                         "120, finer steps and stiffer contacts, so soles sink and slide less, for more physics time)")
@@ -311,11 +314,11 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
     ``--com-offset``, ``--velocity-feedforward``, ``--lookahead``, ``--steer-gain``,
-    ``--physics-rate-hz`` and ``--still-feet-*``)."""
+    ``--action-limit``, ``--physics-rate-hz`` and ``--still-feet-*``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
                        com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
                        lookahead=tuple(args.lookahead), steer_gain_hz=args.steer_gain,
-                       physics_rate_hz=args.physics_rate_hz,
+                       physics_rate_hz=args.physics_rate_hz, action_limit_rad=args.action_limit,
                        still_feet_weight=args.still_feet_weight, still_feet_alpha=args.still_feet_alpha)
 
 

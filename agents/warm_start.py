@@ -7,8 +7,12 @@ the same observation with ``dp_com`` (``MimicConfig.com_offset``) or with the fu
 inputs, so the widened network computes exactly what the source did until training gives those
 inputs weight, and the observation statistics get an entry for them (a fixed scale for
 ``dp_com``; for the lookahead, which is the reference's alone, the mean and variance of the run's
-own environments over :data:`LOOKAHEAD_SAMPLE_RESETS` resets). Any other mismatch of spaces is an
-error.
+own environments over :data:`LOOKAHEAD_SAMPLE_RESETS` resets).
+
+A key-joint policy can seed a run that drives every hinge (``MimicFullAction-v0``,
+:func:`drive_more_hinges`): its action rows and previous-action inputs move with their actuators,
+and the newly driven hinges start at a zero offset, which is what the source gave them. Any other
+mismatch of spaces is an error.
 
 A policy can also seed a run with wider hidden layers (``--net 512,512`` from a ``256,256``
 policy), to give a network that underfits its data more capacity without starting over: the
@@ -21,14 +25,23 @@ tanh activation is not zero), so training brings them in.
 
 from __future__ import annotations
 
+import gymnasium as gym
 import numpy as np
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import VecEnv, VecNormalize
 
 from agents.policy import MimicPolicy, PolicyError
-from envs.config import MimicConfig
+from envs.config import FOOT_MODELS, MimicConfig
+from envs.mimic import driven_actuators
 from envs.observations import observation_slices, same_layout
+from reference_motion.humanoid.model import load_model
+
+
+def action_mode_of(env_id: str) -> str:
+    """The ``action_mode`` a registered mimic environment id is made with (``"key"`` unless its
+    registration says otherwise)."""
+    return gym.spec(env_id).kwargs.get("action_mode", "key")
 
 FIRST_LAYERS = ("mlp_extractor.policy_net.0.weight", "mlp_extractor.value_net.0.weight")
 """Parameters of SB3's ``MlpPolicy`` that read the observation: ``(hidden, D)`` each."""
@@ -121,6 +134,52 @@ def widen_statistics(mean: np.ndarray, var: np.ndarray, insert_at: int, new_var:
     return (np.insert(mean, insert_at, np.zeros_like(new_var)), np.insert(var, insert_at, new_var))
 
 
+ACTION_LAYERS = ("action_net.weight", "action_net.bias", "log_std")
+"""Parameters of SB3's ``MlpPolicy`` with one row (or entry) per action component."""
+
+
+def drive_more_hinges(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray,
+                      source_driven: np.ndarray, target_driven: np.ndarray,
+                      prev_action_at: int) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
+    """A policy driving the actuators ``source_driven (A,)`` carried to one driving ``target_driven
+    (A',)``, a superset (``MimicIMU-v0``'s 8 key joints → every hinge of ``MimicFullAction-v0``).
+
+    Returns the copied ``state_dict`` and the running observation ``mean`` and ``var`` ``(D,)`` →
+    ``(D + A' − A,)``. Each source action row (:data:`ACTION_LAYERS`) moves to its actuator's place;
+    a newly driven actuator gets a zero row (a zero offset: its PD target stays the reference's, as
+    the source left it) and the source's mean log-std. The observation's previous action, ``A``
+    values at ``prev_action_at``, becomes ``A'``: each source column moves with its actuator, a new
+    one gets zero weights and the source's mean statistics. So the result acts as the source did
+    for every observation, until training gives the new hinges a say. Raises :class:`PolicyError`
+    when the source drives an actuator the target does not."""
+    place = {int(a): k for k, a in enumerate(target_driven)}
+    lost = [int(a) for a in source_driven if int(a) not in place]
+    if lost:
+        raise PolicyError(f"warm start: the source policy drives actuators {lost}, which this run's action space "
+                          f"does not; it may only drive more hinges, not fewer")
+    index = torch.as_tensor([place[int(a)] for a in source_driven])
+    n_old, n_new = len(source_driven), len(target_driven)
+    out = dict(state_dict)
+    for name in FIRST_LAYERS:
+        weight = state_dict[name]
+        columns = weight.new_zeros(weight.shape[0], n_new)
+        columns[:, index] = weight[:, prev_action_at:prev_action_at + n_old]
+        out[name] = torch.cat([weight[:, :prev_action_at], columns, weight[:, prev_action_at + n_old:]], dim=1)
+    for name in ACTION_LAYERS:
+        rows = state_dict[name]
+        fill = rows.mean() if name == "log_std" else 0.0
+        moved = torch.full((n_new, *rows.shape[1:]), float(fill), dtype=rows.dtype)
+        moved[index] = rows
+        out[name] = moved
+    stats = []
+    for values in (mean, var):
+        old = values[prev_action_at:prev_action_at + n_old]
+        new = np.full(n_new, old.mean(), dtype=values.dtype)
+        new[index.numpy()] = old
+        stats.append(np.concatenate([values[:prev_action_at], new, values[prev_action_at + n_old:]]))
+    return out, stats[0], stats[1]
+
+
 def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfig, gamma: float) -> VecNormalize:
     """Load ``source``'s weights into ``model`` (a new run on ``venv``, whose environments use
     ``config``) and return ``venv`` wrapped in ``source``'s observation statistics.
@@ -144,6 +203,17 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     ahead = venv.get_attr("obs_slices", indices=[0])[0].get("lookahead") if config.lookahead else None
     n_ahead = ahead.stop - ahead.start if ahead is not None and not source_config.lookahead else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
+    more_hinges = venv.action_space.shape != source.model.action_space.shape
+    if more_hinges:
+        if n_com or n_ahead:
+            raise PolicyError(f"{source.path}: a warm start may drive more hinges or observe more, not both at once")
+        target_driven = venv.get_attr("driven", indices=[0])[0]
+        source_driven = driven_actuators(load_model(FOOT_MODELS[source.foot]), action_mode_of(source.env_id))
+        prev_action_at = venv.get_attr("obs_slices", indices=[0])[0]["prev_action"].start
+        state, rms.mean, rms.var = drive_more_hinges(state, rms.mean, rms.var, source_driven, target_driven,
+                                                     prev_action_at)
+        print(f"{source.path} drives {len(source_driven)} hinges, this run {len(target_driven)}: the new ones start "
+              f"at zero offset (the reference's PD target)", flush=True)
     widen = ((n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead
              and venv.action_space.shape == source.model.action_space.shape)
     if widen and n_com:
@@ -157,7 +227,7 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
         rms.mean, rms.var = np.concatenate([rms.mean, mean]), np.concatenate([rms.var, var])
         print(f"widening {source.path}'s inputs by the lookahead {config.lookahead} (zero weights at "
               f"{start}:{start + n_ahead}; statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
-    if not widen:
+    if not widen and not more_hinges:
         source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
     fresh = model.policy.state_dict()
     wide = widen_hidden(state, fresh)

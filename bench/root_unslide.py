@@ -39,6 +39,7 @@ from json_report import emit_json  # bench/json_report.py: the scripts run from 
 from perception.imu_denoiser import denoise
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS
+from reference_motion.footskate import masked_mean
 from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
 
@@ -63,9 +64,7 @@ def support_slide(motion: Motion) -> np.ndarray:
         near = low_z < np.percentile(low_z, 5) + SUPPORT_HEIGHT_M
         supports.append(near[:-1] & near[1:] & (np.linalg.norm(step, axis=-1) * motion.fps < SUPPORT_MAX_SPEED_MPS))
         steps.append(step)
-    steps, supports = np.stack(steps, axis=1), np.stack(supports, axis=1)
-    count = supports.sum(axis=1, keepdims=True)
-    return np.where(count > 0, (steps * supports[..., None]).sum(axis=1) / np.maximum(count, 1), 0.0)
+    return masked_mean(np.stack(steps, axis=1), np.stack(supports, axis=1))
 
 
 def unslid(motion: Motion, smooth_s: float, keep_path_s: float) -> Motion:

@@ -33,7 +33,7 @@ from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, cube_face_p
                           lagging, mimic_reward, still_feet_reward, unstable)
 from reference_motion import rotations as rot
 from reference_motion.artefacts import corrupt
-from reference_motion.humanoid.model import load_model
+from reference_motion.humanoid.model import HumanoidModel, load_model
 from reference_motion.library import load_motion, named_set
 from reference_motion.motion import Motion
 from reference_motion.transforms import resample
@@ -148,17 +148,11 @@ class MimicEnv(gym.Env):
         """qvel index of each actuator's hinge."""
         self.pd_lead_s = -m.actuator_biasprm[:, 2] / m.actuator_gainprm[:, 0] if config.velocity_feedforward else None
         """``kv / kp`` (s) of each actuator when the PD targets lead the reference (``config.velocity_feedforward``)."""
-        actuator_of_qpos = {int(q): a for a, q in enumerate(self.actuator_qpos)}
-
         names = self.humanoid.body_names
         self.parent = m.body_parentid[1:] - 1
         self.jointed = np.flatnonzero(m.body_jntnum[1:] > 0)
         self.head = names.index("head")
-        if action_mode in ACTION_BODIES:
-            self.driven = np.array([actuator_of_qpos[int(q)] for b in ACTION_BODIES[action_mode]
-                                    for q in self.humanoid.body_joints[b].qpos_index])
-        else:
-            self.driven = np.arange(m.nu)
+        self.driven = driven_actuators(self.humanoid, action_mode)
         """Actuator index of each action component."""
         self.observed = (slice(None) if obs_mode == "adapt"
                          else np.array([names.index(b) for b in DRECON_BODIES]))
@@ -601,6 +595,19 @@ class MimicEnv(gym.Env):
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
+
+
+def driven_actuators(humanoid: HumanoidModel, action_mode: str) -> np.ndarray:
+    """Actuator index ``(A,)`` of each action component of ``action_mode`` on ``humanoid``: the hinges
+    of :data:`envs.config.ACTION_BODIES` ``[action_mode]`` in that order, or every actuator
+    (``"full"``)."""
+    _check_choice("action_mode", action_mode, ACTION_MODES)
+    if action_mode not in ACTION_BODIES:
+        return np.arange(humanoid.model.nu)
+    m = humanoid.model
+    actuator_of_qpos = {int(q): a for a, q in enumerate(m.jnt_qposadr[m.actuator_trnid[:, 0]])}
+    return np.array([actuator_of_qpos[int(q)] for b in ACTION_BODIES[action_mode]
+                     for q in humanoid.body_joints[b].qpos_index])
 
 
 def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfig) -> np.ndarray:

@@ -72,6 +72,13 @@ def drop_fast_windows(low: np.ndarray, speed: np.ndarray, max_speed: float) -> n
     return planted
 
 
+def masked_mean(values: np.ndarray, mask: np.ndarray) -> np.ndarray:
+    """Mean ``(T, D)`` over axis 1 of ``values (T, P, D)``, of the entries where ``mask (T, P)`` is
+    True; zero in a row where none is."""
+    count = mask.sum(axis=1, keepdims=True)
+    return np.where(count > 0, (values * mask[..., None]).sum(axis=1) / np.maximum(count, 1), 0.0)
+
+
 def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: float | None = None) -> np.ndarray:
     """Horizontal correction ``(T, 2)`` (m) of one foot that keeps its planted points still.
 
@@ -86,10 +93,7 @@ def pin_corrections(points_xy: np.ndarray, planted: np.ndarray, max_correction: 
     a window whose correction would exceed ``max_correction`` (m) anywhere (``None``: no limit).
     """
     limit = np.inf if max_correction is None else max_correction
-    step = np.diff(points_xy, axis=0)  # (T-1, P, 2)
-    held = (planted[1:] & planted[:-1])[..., None]
-    count = held.sum(axis=1)
-    mean_step = np.where(count > 0, (step * held).sum(axis=1) / np.maximum(count, 1), 0.0)  # (T-1, 2)
+    mean_step = masked_mean(np.diff(points_xy, axis=0), planted[1:] & planted[:-1])  # (T-1, 2)
     correction = np.zeros((points_xy.shape[0], 2))
     for start, stop in contact_windows(planted.any(axis=1)):
         delta = -np.concatenate([[[0.0, 0.0]], np.cumsum(mean_step[start:stop - 1], axis=0)])

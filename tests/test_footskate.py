@@ -116,3 +116,11 @@ def test_pinning_fixes_the_sliding_in_deepmimic_run():
     raw = motion_quality(load_motion("deepmimic:run", pin_feet=False)).foot_skate_mps
     pinned = motion_quality(load_motion("deepmimic:run")).foot_skate_mps
     assert raw > 0.25 and pinned < 0.05, (raw, pinned)
+
+
+def test_masked_mean_averages_the_marked_points_and_gives_zero_where_none_is():
+    from reference_motion.footskate import masked_mean
+
+    values = np.array([[[1.0, 2.0], [3.0, 6.0]], [[5.0, 0.0], [7.0, 1.0]], [[9.0, 9.0], [9.0, 9.0]]])
+    mask = np.array([[True, True], [False, True], [False, False]])
+    np.testing.assert_allclose(masked_mean(values, mask), [[2.0, 4.0], [7.0, 1.0], [0.0, 0.0]])

@@ -9,7 +9,7 @@ import pytest
 import torch
 from stable_baselines3 import PPO
 
-from agents.policy import PolicyError, load_policy
+from agents.policy import PolicyError, load_policy, mlp_mean_action
 from agents.train_ppo import (build_parser, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
                               run_args, training_motions)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
@@ -385,3 +385,58 @@ def test_a_kl_following_learning_rate_falls_after_too_large_updates(tmp_path):
     # three updates (128 steps each); each after the first lowers the rate for the next
     assert model.learning_rate == pytest.approx(1e-3 / 1.5 ** 2)
     assert json.loads((run / "args.json").read_text())["target_kl"] == 1e-6
+
+
+def test_a_warm_start_with_a_wider_action_limit_keeps_the_weights_and_records_the_limit(tmp_path):
+    """--init-from with --action-limit 1.5: the run's action space is ±1.5 rad, its sidecar
+    records the limit, and before any learning it takes the source's action wherever that is
+    inside ±1 rad (the source's own clip) and its unclipped mean up to ±1.5 elsewhere."""
+    source = load_policy(WALK_POLICY)
+    run = tmp_path / "run"
+    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--action-limit", "1.5", "--run-dir",
+          str(run), "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps", "128",
+          "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128", "--eval-episodes", "1"])
+    wide = load_policy(run / "best")
+    assert wide.record.env.mimic_config().action_limit_rad == 1.5
+    assert np.array_equal(wide.model.action_space.high, np.full(20, 1.5, np.float32))
+    env = wide.make_env(["deepmimic:walk"])
+    assert np.array_equal(env.action_space.high, np.full(20, 1.5, np.float32))
+    obs, _ = env.reset(seed=0)
+    mean = mlp_mean_action(source.model.policy, np.asarray(source.normalizer.normalize_obs(obs), np.float32))
+    assert np.allclose(wide(obs), np.clip(mean, -1.5, 1.5), atol=1e-3)
+    assert np.allclose(source(obs), np.clip(mean, -1.0, 1.0), atol=1e-6)
+
+
+def test_a_warm_start_onto_every_hinge_acts_as_the_key_joint_source(tmp_path):
+    """--init-from a MimicIMU-v0 policy (8 key joints, 20 actions) with --env-id MimicFullAction-v0
+    (all 43 hinges): before any learning the run gives each key hinge the source's action, every
+    other hinge a zero offset, and values the states as the source does."""
+    source = load_policy(WALK_POLICY)
+    run = tmp_path / "run"
+    main(["--clips", "deepmimic:walk", "--env-id", "MimicFullAction-v0", "--init-from", str(WALK_POLICY),
+          "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64",
+          "--total-steps", "128", "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128",
+          "--eval-episodes", "1"])
+    full = load_policy(run / "best")
+    assert full.env_id == "MimicFullAction-v0" and full.model.action_space.shape == (43,)
+    full_env, key_env = full.make_env(["deepmimic:walk"]), source.make_env(["deepmimic:walk"])
+    driven = key_env.unwrapped.driven
+    full_obs, _ = full_env.reset(seed=0, options={"start_frame": 20})
+    key_obs, _ = key_env.reset(seed=0, options={"start_frame": 20})
+    for _ in range(3):  # the previous action in the observation moves with its hinge
+        action = full(full_obs)
+        np.testing.assert_allclose(action[driven], source(key_obs), atol=2e-3)
+        assert np.abs(np.delete(action, driven)).max() < 1e-6
+        full_obs, *_ = full_env.step(action)
+        key_obs, *_ = key_env.step(action[driven])
+    values = [p.values(o[None])[0] for p, o in ((full, full_obs), (source, key_obs))]
+    assert values[0] == pytest.approx(values[1], rel=1e-3)
+
+
+def test_a_warm_start_may_not_drive_fewer_hinges():
+    from agents.warm_start import drive_more_hinges
+
+    state = {"mlp_extractor.policy_net.0.weight": torch.zeros(4, 6), "mlp_extractor.value_net.0.weight": torch.zeros(4, 6),
+             "action_net.weight": torch.zeros(2, 4), "action_net.bias": torch.zeros(2), "log_std": torch.zeros(2)}
+    with pytest.raises(PolicyError, match=r"drives actuators \[7\]"):
+        drive_more_hinges(state, np.zeros(6), np.ones(6), np.array([3, 7]), np.array([1, 2, 3]), 4)
