@@ -13,7 +13,9 @@ backwards in 28 M steps, while a specialist learned the backward walks it can ca
 (``models/mimic_walk_back``); ``models/mimic_set`` routes between the two. Whether one network of a
 given size can hold both is a supervised question, answered here without RL's trust region: the
 student is fitted to the teachers' actions on the states it visits itself (DAgger, Ross et al.
-2011), every hidden unit from a fresh initialisation.
+2011), every hidden unit from a fresh initialisation, or (``--from-default``) from the set's default
+policy, so that a specialist's takes (a policy set's ``clips`` routes) are taught to a policy that
+already performs the rest.
 
 Round 0 collects ``steps_per_round`` control steps with the teachers acting (each episode's clip
 routed as the set routes it, :mod:`agents.policy_set`), later rounds with the student acting; both
@@ -91,6 +93,9 @@ class DistillConfig:
             teacher's directory name (e.g. ``(("mimic_walk_back", 4.0),)``); a teacher not named
             weighs 1. It separates what a student of some size can hold from how much of the data a
             motion class is.
+        from_default: the student starts as the set's default policy (its weights; ``net`` must be
+            the default's) instead of a fresh initialisation, so that specialists' takes can be
+            distilled into a policy that already performs the rest (False).
     """
 
     net: str = "256,256"
@@ -102,6 +107,7 @@ class DistillConfig:
     holdout: float = 0.1
     seed: int = 0
     teacher_weights: tuple[tuple[str, float], ...] = ()
+    from_default: bool = False
 
     def __post_init__(self) -> None:
         if not all(n.strip().isdigit() and int(n) > 0 for n in self.net.split(",")):
@@ -322,11 +328,19 @@ def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labe
 
 
 def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> MimicPolicy:
-    """A freshly initialised student on ``env`` with the default teacher's observation statistics
-    and exploration noise."""
+    """A student on ``env`` with the default teacher's observation statistics and exploration noise:
+    freshly initialised, or with the default teacher's weights (``config.from_default``; raises
+    :class:`PolicyError` when its layers are not ``config.net``)."""
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
                 policy_kwargs=policy_kwargs(config.net, variance))
+    if config.from_default:
+        weights, fresh = default.model.policy.state_dict(), model.policy.state_dict()
+        differ = [k for k in fresh if k not in weights or weights[k].shape != fresh[k].shape]
+        if differ:
+            raise PolicyError(f"--from-default: the default policy {default.path} is not a --net {config.net} network "
+                              f"of this task (layers {differ} differ)")
+        model.policy.load_state_dict(weights)
     return MimicPolicy(default.path, model, default.normalizer, {})
 
 
@@ -390,6 +404,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--teacher-weight", type=teacher_weight, nargs="+", default=[], metavar="NAME=W",
                    help="loss weight of a teacher's states, by its directory name (mimic_walk_back=4); others "
                         "weigh 1 (a resumed run keeps its own)")
+    p.add_argument("--from-default", action="store_true",
+                   help="the student starts as the set's default policy, not from a fresh initialisation")
     p.add_argument("--out", type=output_dir, required=True)
     p.add_argument("--resume", action="store_true", help="continue the distillation in --out")
     p.add_argument("--no-progress", action="store_true")
@@ -407,7 +423,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         raise ValueError("--teacher and --clips are needed (unless --resume)")
     config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,
                            batch_size=args.batch_size, lr=args.lr, seed=args.seed,
-                           teacher_weights=tuple((name, float(w)) for name, w in args.teacher_weight))
+                           teacher_weights=tuple((name, float(w)) for name, w in args.teacher_weight),
+                           from_default=args.from_default)
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
     teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror))
@@ -435,7 +452,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress)
         labels = new if labels is None else labels + new
         train, held = split_holdout(labels, config.holdout, config.seed)
-        if round_ == 0:
+        if round_ == 0 and not config.from_default:
             center_values(student, train)
         loss = fit(student, train, config, sigma, rng, not args.no_progress, names)
         record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),

@@ -1,6 +1,8 @@
 """A policy set: shipped policies, each for a class of motion, and the rule that picks one per clip.
 
-A clip is routed before anything is simulated, from the reference alone: a clip whose root moves
+A clip is routed before anything is simulated, from the reference alone: a clip whose name matches
+a glob of ``clips`` (:func:`fnmatch.fnmatchcase`; the first that matches, in the file's order) goes
+to that policy (a specialist for takes the others do not perform); else a clip whose root moves
 backwards relative to the pelvis heading (median speed along the heading below
 ``-backward_speed_mps``) goes to the ``backward`` policy, every other clip to ``default``. The rule
 reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion
@@ -10,14 +12,16 @@ other take (≥ 0.00 m/s).
 On disk a policy set is a directory holding ``policy_set.json``::
 
     {"format": "physmimic.policy_set/1", "default": "../mimic_general",
-     "backward": "../mimic_walk_back", "backward_speed_mps": 0.2}
+     "backward": "../mimic_walk_back", "backward_speed_mps": 0.2,
+     "clips": {"*dash_active_001*": "../dash_active"}}
 
-with the policy directories relative to it. ``agents/evaluate.py`` and ``agents/clean.py`` take a
+with the policy directories relative to it (``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
 policy set wherever they take a policy.
 """
 
 from __future__ import annotations
 
+import fnmatch
 import json
 import os
 from collections.abc import Callable
@@ -60,23 +64,41 @@ class PolicySet:
         default: directory of the policy for every clip not routed elsewhere.
         backward: directory of the policy for clips walked backwards.
         backward_speed_mps: a clip whose median heading speed is below minus this is walked backwards.
+        clips: ``((glob, directory), ...)``: a clip whose name matches a glob goes to its policy,
+            before the other rules (the first glob that matches).
     """
 
     path: Path
     default: Path
     backward: Path
     backward_speed_mps: float = 0.2
+    clips: tuple[tuple[str, Path], ...] = ()
 
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""
+        named = next((policy for glob, policy in self.clips if fnmatch.fnmatchcase(motion.name, glob)), None)
+        if named is not None:
+            return named
         return self.backward if walks_backward(motion, self.backward_speed_mps) else self.default
+
+    @property
+    def policies(self) -> list[Path]:
+        """Every policy directory of the set, each once: default, backward, then the clips' policies."""
+        return list(dict.fromkeys([self.default, self.backward, *(policy for _, policy in self.clips)]))
 
     def save(self) -> Path:
         """Write ``policy_set.json`` (policy paths relative to the set's directory)."""
         self.path.mkdir(parents=True, exist_ok=True)
-        rel = {name: os.path.relpath(getattr(self, name).resolve(), self.path.resolve()) for name in ("default", "backward")}
+
+        def rel(policy: Path) -> str:
+            return os.path.relpath(policy.resolve(), self.path.resolve())
+
+        spec = {"format": FORMAT, "default": rel(self.default), "backward": rel(self.backward),
+                "backward_speed_mps": self.backward_speed_mps}
+        if self.clips:
+            spec["clips"] = {glob: rel(policy) for glob, policy in self.clips}
         out = self.path / SET_FILE
-        out.write_text(json.dumps({"format": FORMAT, **rel, "backward_speed_mps": self.backward_speed_mps}, indent=1))
+        out.write_text(json.dumps(spec, indent=1))
         return out
 
 
@@ -103,7 +125,12 @@ def load_policy_set(path: str | Path) -> PolicySet:
     threshold = spec.get("backward_speed_mps", 0.2)
     if not (isinstance(threshold, (int, float)) and threshold >= 0):
         raise PolicyError(f"{file}: backward_speed_mps must be a number >= 0, got {threshold!r}")
-    return PolicySet(path, path / spec["default"], path / spec["backward"], float(threshold))
+    clips = spec.get("clips", {})
+    if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
+        raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "
+                          f"{path}, got {clips!r}")
+    return PolicySet(path, path / spec["default"], path / spec["backward"], float(threshold),
+                     tuple((glob, path / policy) for glob, policy in clips.items()))
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:
@@ -114,7 +141,7 @@ def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[t
         policy = load_policy(path)
         return [(policy, load(policy.foot))]
     policy_set = load_policy_set(path)
-    policies = {p: load_policy(p) for p in (policy_set.default, policy_set.backward)}
+    policies = {p: load_policy(p) for p in policy_set.policies}
     feet = {p.foot for p in policies.values()}
     if len(feet) > 1:
         raise PolicyError(f"{policy_set.path / SET_FILE}: its policies drive different humanoids ({sorted(feet)}); "

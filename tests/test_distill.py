@@ -11,7 +11,7 @@ import pytest
 
 from agents.distill import (DistillConfig, Labels, center_values, collect, fit, fit_report, load_teachers, main,
                             mean_actions_and_values, new_student, teacher_weight)
-from agents.policy import load_policy
+from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
 from reference_motion.library import load_motion
 
@@ -123,3 +123,19 @@ def test_a_resumed_distillation_keeps_its_weights_and_reads_an_older_run(tmp_pat
     (out / "args.json").write_text(json.dumps(settings))
     main(["--out", str(out), "--resume", "--rounds", "2", "--no-progress"])
     assert load_policy(out / "student").record.extra["distillation"]["config"]["teacher_weights"] == []
+
+
+def test_a_student_from_the_default_policy_starts_acting_as_it(tmp_path):
+    """--from-default: the student takes the default teacher's weights (and skips the value
+    centring), so before any fit it gives the default's actions; a --net that is not the
+    default's is refused."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg", min_frames=700)
+    teachers = load_teachers(MODELS / "mimic_walk", lambda foot: [walk])
+    default = teachers.policies[0]
+    env = default.make_env(teachers.motions, artefacts=None)
+    student = new_student(env, default, DistillConfig(net="256,256", from_default=True))
+    obs = np.stack([env.reset(seed=s)[0] for s in range(3)])
+    np.testing.assert_allclose(mean_actions_and_values(student, obs)[0], mean_actions_and_values(default, obs)[0],
+                               atol=1e-6)
+    with pytest.raises(PolicyError, match="is not a --net 64,64 network"):
+        new_student(env, default, DistillConfig(net="64,64", from_default=True))

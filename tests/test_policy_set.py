@@ -73,3 +73,23 @@ def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
     assert plain[0].path.name == "mimic_walk" and len(plain[1]) == 2
     result = evaluate.main(["--policy", str(tmp_path / "set"), "--clips", "deepmimic:walk", "--episodes", "2"])
     assert result["rollouts"] == 2 and result["ELR_mean"] == 1.0  # mimic_walk walks its own clip whole
+
+
+def test_clip_globs_route_before_the_backward_rule_and_round_trip(tmp_path):
+    """A ``clips`` route sends the walk played backwards (whose name matches) to the walk policy,
+    ahead of the backward rule; a clip no glob matches is routed as before."""
+    set_dir = tmp_path / "set"
+    PolicySet(set_dir, MODELS / "mimic_walk", MODELS / "mimic_imu", clips=(("*reversed*", MODELS / "mimic_walk"),)).save()
+    spec = json.loads((set_dir / "policy_set.json").read_text())
+    assert list(spec["clips"]) == ["*reversed*"] and not Path(spec["clips"]["*reversed*"]).is_absolute()
+    loaded = load_policy_set(set_dir)
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    backwards = walk.with_qpos(walk.qpos[::-1].copy(), loop=False)
+    reversed_ = backwards.with_qpos(backwards.qpos, name="walk reversed")
+    assert loaded.route(reversed_).resolve() == (MODELS / "mimic_walk").resolve()
+    assert loaded.route(backwards).resolve() == (MODELS / "mimic_imu").resolve()
+    assert len(loaded.policies) == 2  # the route's policy is the default one, counted once
+    spec["clips"] = {"*": 3}
+    (set_dir / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="clips must be an object of clip-name globs"):
+        load_policy_set(set_dir)
