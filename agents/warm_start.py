@@ -37,12 +37,6 @@ from envs.mimic import driven_actuators
 from envs.observations import observation_slices, same_layout
 from reference_motion.humanoid.model import load_model
 
-
-def action_mode_of(env_id: str) -> str:
-    """The ``action_mode`` a registered mimic environment id is made with (``"key"`` unless its
-    registration says otherwise)."""
-    return gym.spec(env_id).kwargs.get("action_mode", "key")
-
 FIRST_LAYERS = ("mlp_extractor.policy_net.0.weight", "mlp_extractor.value_net.0.weight")
 """Parameters of SB3's ``MlpPolicy`` that read the observation: ``(hidden, D)`` each."""
 
@@ -134,6 +128,12 @@ def widen_statistics(mean: np.ndarray, var: np.ndarray, insert_at: int, new_var:
     return (np.insert(mean, insert_at, np.zeros_like(new_var)), np.insert(var, insert_at, new_var))
 
 
+def action_mode_of(env_id: str) -> str:
+    """The ``action_mode`` a registered mimic environment id is made with (``"key"`` unless its
+    registration says otherwise)."""
+    return gym.spec(env_id).kwargs.get("action_mode", "key")
+
+
 ACTION_LAYERS = ("action_net.weight", "action_net.bias", "log_std")
 """Parameters of SB3's ``MlpPolicy`` with one row (or entry) per action component."""
 
@@ -214,8 +214,8 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
                                                      prev_action_at)
         print(f"{source.path} drives {len(source_driven)} hinges, this run {len(target_driven)}: the new ones start "
               f"at zero offset (the reference's PD target)", flush=True)
-    widen = ((n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead
-             and venv.action_space.shape == source.model.action_space.shape)
+    # new inputs with a changed action space were refused above
+    widen = (n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead
     if widen and n_com:
         state = widen_inputs(state, span.start, n_com)
         rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_com, COM_OFFSET_STD_M**2))

@@ -142,7 +142,7 @@ class MimicEnv(gym.Env):
         if self.substeps < 1 or abs(self.substeps * m.opt.timestep - frame_dt) > 1e-4 * frame_dt:
             raise ValueError(f"frame_rate_hz {config.frame_rate_hz} is not a whole number of "
                              f"{m.opt.timestep:.5f} s physics steps")
-        self.actuator_qpos = m.jnt_qposadr[m.actuator_trnid[:, 0]]
+        self.actuator_qpos = actuator_qpos(m)
         """qpos index of each actuator's hinge."""
         self.actuator_dof = m.jnt_dofadr[m.actuator_trnid[:, 0]]
         """qvel index of each actuator's hinge."""
@@ -597,6 +597,11 @@ class MimicEnv(gym.Env):
             self._renderer = None
 
 
+def actuator_qpos(model: mujoco.MjModel) -> np.ndarray:
+    """``(nu,)`` qpos index of each actuator's hinge."""
+    return model.jnt_qposadr[model.actuator_trnid[:, 0]]
+
+
 def driven_actuators(humanoid: HumanoidModel, action_mode: str) -> np.ndarray:
     """Actuator index ``(A,)`` of each action component of ``action_mode`` on ``humanoid``: the hinges
     of :data:`envs.config.ACTION_BODIES` ``[action_mode]`` in that order, or every actuator
@@ -604,8 +609,7 @@ def driven_actuators(humanoid: HumanoidModel, action_mode: str) -> np.ndarray:
     _check_choice("action_mode", action_mode, ACTION_MODES)
     if action_mode not in ACTION_BODIES:
         return np.arange(humanoid.model.nu)
-    m = humanoid.model
-    actuator_of_qpos = {int(q): a for a, q in enumerate(m.jnt_qposadr[m.actuator_trnid[:, 0]])}
+    actuator_of_qpos = {int(q): a for a, q in enumerate(actuator_qpos(humanoid.model))}
     return np.array([actuator_of_qpos[int(q)] for b in ACTION_BODIES[action_mode]
                      for q in humanoid.body_joints[b].qpos_index])
 
