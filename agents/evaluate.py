@@ -24,7 +24,7 @@ if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repositor
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluation import evaluate, per_clip, summarize
+from agents.evaluation import evaluate_tracking, per_clip, summarize
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
@@ -119,11 +119,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
         if denoiser is None:
-            env = policy.make_env(clips, artefacts=None)
+            tracked, judged = clips, None
         else:
-            env = policy.make_env([denoise(denoiser, c) for c in clips], artefacts=None, judged_clips=clips)
-        env.reset(seed=0)
-        runs += evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)[1]
+            tracked, judged = [denoise(denoiser, c) for c in clips], clips
+        runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step)[1]
     summary = summarize(runs)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),

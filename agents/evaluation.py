@@ -11,6 +11,7 @@ averaged over all rollouts.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import gymnasium as gym
 import numpy as np
@@ -18,6 +19,9 @@ import numpy as np
 from agents.metrics import episode_length_ratio, max_reward_ratio, root_displacement_error, survived
 from agents.rollout import Policy, run_episode
 from reference_motion.motion import Motion
+
+if TYPE_CHECKING:
+    from agents.policy import MimicPolicy
 
 __all__ = ["Policy", "Rollout", "evaluate", "per_clip", "rollout", "summarize", "zero_policy"]
 
@@ -83,6 +87,16 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
     runs = [rollout(env, policy, clip, min(k * offset_step, base.last_start(clip)), corrupted)
             for clip in clips for k in range(episodes)]
     return summarize(runs), runs
+
+
+def evaluate_tracking(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion] | None = None,
+                      episodes: int = 20, offset_step: int = 3) -> tuple[dict[str, float], list[Rollout]]:
+    """:func:`evaluate` of ``policy`` in the environment it was trained in, tracking the clips
+    ``tracked`` (no artefacts added) and judged, rewarded and terminated, against ``judged`` (the
+    same clips in the same order, e.g. the IMU takes a denoiser cleaned; default: ``tracked``)."""
+    env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
+    env.reset(seed=0)
+    return evaluate(env, policy, episodes=episodes, offset_step=offset_step)
 
 
 def summarize(runs: list[Rollout]) -> dict[str, float]:

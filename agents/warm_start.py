@@ -161,23 +161,28 @@ def drive_more_hinges(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var
     n_old, n_new = len(source_driven), len(target_driven)
     out = dict(state_dict)
     for name in FIRST_LAYERS:
-        weight = state_dict[name]
-        columns = weight.new_zeros(weight.shape[0], n_new)
-        columns[:, index] = weight[:, prev_action_at:prev_action_at + n_old]
-        out[name] = torch.cat([weight[:, :prev_action_at], columns, weight[:, prev_action_at + n_old:]], dim=1)
+        out[name] = move_block(state_dict[name], 1, prev_action_at, index, n_new, fill=0.0)
     for name in ACTION_LAYERS:
         rows = state_dict[name]
-        fill = rows.mean() if name == "log_std" else 0.0
-        moved = torch.full((n_new, *rows.shape[1:]), float(fill), dtype=rows.dtype)
-        moved[index] = rows
-        out[name] = moved
-    stats = []
-    for values in (mean, var):
-        old = values[prev_action_at:prev_action_at + n_old]
-        new = np.full(n_new, old.mean(), dtype=values.dtype)
-        new[index.numpy()] = old
-        stats.append(np.concatenate([values[:prev_action_at], new, values[prev_action_at + n_old:]]))
-    return out, stats[0], stats[1]
+        out[name] = move_block(rows, 0, 0, index, n_new, fill=float(rows.mean()) if name == "log_std" else 0.0)
+    mean_new, var_new = (move_block(torch.from_numpy(values), 0, prev_action_at, index, n_new,
+                                    fill=float(values[prev_action_at:prev_action_at + n_old].mean())).numpy()
+                         for values in (mean, var))
+    return out, mean_new, var_new
+
+
+def move_block(values: torch.Tensor, dim: int, start: int, index: torch.Tensor, n_new: int,
+               fill: float) -> torch.Tensor:
+    """``values`` with its block of ``len(index)`` entries along ``dim`` from ``start`` on replaced by
+    a block of ``n_new`` entries: entry ``k`` of the old block lands at ``index[k]``, every other new
+    entry is ``fill``. The entries before and after the block stay as they are."""
+    n_old = len(index)
+    shape = list(values.shape)
+    shape[dim] = n_new
+    moved = torch.full(shape, fill, dtype=values.dtype)
+    moved.index_copy_(dim, index, values.narrow(dim, start, n_old))
+    after = values.shape[dim] - start - n_old
+    return torch.cat([values.narrow(dim, 0, start), moved, values.narrow(dim, start + n_old, after)], dim=dim)
 
 
 def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfig, gamma: float) -> VecNormalize:

@@ -32,7 +32,7 @@ from pathlib import Path
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips
-from agents.evaluation import evaluate, per_clip
+from agents.evaluation import evaluate_tracking, per_clip
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -88,9 +88,7 @@ def main() -> None:
         rows["clean"] = clean
     table = []
     for name, tracked in rows.items():
-        env = policy.make_env(tracked, artefacts=None, judged_clips=given)
-        env.reset(seed=0)
-        summary, runs = evaluate(env, policy, episodes=args.episodes)
+        summary, runs = evaluate_tracking(policy, tracked, given, episodes=args.episodes)
         row = {"tracked": name, "rollouts": len(runs), "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
                "RDE": summary["RDE_mean"], "ended_by": dict(Counter(r.ended_by for r in runs)),
                "per_clip": per_clip(runs)}

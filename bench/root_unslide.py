@@ -32,7 +32,7 @@ from scipy.ndimage import gaussian_filter1d
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips
-from agents.evaluation import evaluate
+from agents.evaluation import evaluate_tracking
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -115,9 +115,7 @@ def main() -> None:
         variants.update({f"{first}, unslid {s:g},{k:g}": [unslid(c, s, k) for c in tracked_first]
                          for s, k in args.settings})
         for name, tracked in variants.items():
-            env = policy.make_env(tracked, artefacts=None, judged_clips=given)
-            env.reset(seed=0)
-            summary = evaluate(env, policy, episodes=args.episodes)[0]
+            summary = evaluate_tracking(policy, tracked, given, episodes=args.episodes)[0]
             rows.append({"seed": seed, "tracked": name, "ELR": summary["ELR_mean"], "SR90": summary["SR90"]})
             print(f"seed {seed}  {name:<28} ELR {summary['ELR_mean']:.3f}  SR90 {summary['SR90']:.3f}", flush=True)
     emit_json({"policy": args.policy, "clips": args.clips, "episodes": args.episodes, "kind": args.kind,

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from agents import clean, evaluate
-from agents.evaluation import rollout
+from agents.evaluation import evaluate_tracking, rollout
 from agents.policy import PolicyError, load_policy
 from agents.train_ppo import main as train
 from envs.config import MimicConfig
@@ -57,6 +57,9 @@ def test_evaluate_through_the_denoiser_judges_against_the_clip_as_given(policy_d
     run = rollout(env, policy, 0, 0)
     np.testing.assert_array_equal(run.reference.qpos, given.qpos[:run.reference.n_frames])
     np.testing.assert_array_equal(env.unwrapped.current_track.motion.qpos, performed.qpos)
+    summary, runs = evaluate_tracking(policy, [performed], [given], episodes=2)
+    assert summary["ELR_mean"] == pytest.approx(result["ELR_mean"])  # the CLI took this very path
+    np.testing.assert_array_equal(runs[0].reference.qpos, given.qpos[:runs[0].reference.n_frames])
 
 
 def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):

@@ -440,3 +440,13 @@ def test_a_warm_start_may_not_drive_fewer_hinges():
              "action_net.weight": torch.zeros(2, 4), "action_net.bias": torch.zeros(2), "log_std": torch.zeros(2)}
     with pytest.raises(PolicyError, match=r"drives actuators \[7\]"):
         drive_more_hinges(state, np.zeros(6), np.ones(6), np.array([3, 7]), np.array([1, 2, 3]), 4)
+
+
+def test_move_block_places_each_old_entry_at_its_new_index():
+    from agents.warm_start import move_block
+
+    values = torch.tensor([[1.0, 2.0, 3.0, 4.0, 5.0]])  # block [2, 3] at columns 1..2, among 0 and 4, 5
+    moved = move_block(values, 1, 1, torch.tensor([2, 0]), 3, fill=-1.0)
+    assert moved.tolist() == [[1.0, 3.0, -1.0, 2.0, 4.0, 5.0]]
+    rows = move_block(torch.tensor([7.0, 8.0]), 0, 0, torch.tensor([1, 3]), 4, fill=0.5)
+    assert rows.tolist() == [0.5, 7.0, 0.5, 8.0]
