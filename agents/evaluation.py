@@ -23,7 +23,7 @@ from reference_motion.motion import Motion
 if TYPE_CHECKING:
     from agents.policy import MimicPolicy
 
-__all__ = ["Policy", "Rollout", "evaluate", "per_clip", "rollout", "summarize", "zero_policy"]
+__all__ = ["Policy", "Rollout", "evaluate", "evaluate_tracking", "per_clip", "rollout", "summarize", "zero_policy"]
 
 
 @dataclass(frozen=True)
@@ -90,13 +90,16 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
 
 
 def evaluate_tracking(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion] | None = None,
-                      episodes: int = 20, offset_step: int = 3) -> tuple[dict[str, float], list[Rollout]]:
+                      episodes: int = 20, offset_step: int = 3,
+                      actor: Policy | None = None) -> tuple[dict[str, float], list[Rollout]]:
     """:func:`evaluate` of ``policy`` in the environment it was trained in, tracking the clips
     ``tracked`` (no artefacts added) and judged, rewarded and terminated, against ``judged`` (the
-    same clips in the same order, e.g. the IMU takes a denoiser cleaned; default: ``tracked``)."""
+    same clips in the same order, e.g. the IMU takes as given, which a denoiser cleaned; default:
+    ``tracked``). ``actor`` acts instead of ``policy`` in that environment (e.g. an ensemble with
+    ``policy`` among its members); default: ``policy``."""
     env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
     env.reset(seed=0)
-    return evaluate(env, policy, episodes=episodes, offset_step=offset_step)
+    return evaluate(env, policy if actor is None else actor, episodes=episodes, offset_step=offset_step)
 
 
 def summarize(runs: list[Rollout]) -> dict[str, float]:

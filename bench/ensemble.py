@@ -24,7 +24,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips
-from agents.evaluation import evaluate
+from agents.evaluation import Policy, evaluate_tracking
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -48,11 +48,10 @@ class MeanAction:
         return np.mean([member(obs) for member in self.members], axis=0)
 
 
-def score(builder: MimicPolicy, act, tracked: list[Motion], judged: list[Motion] | None, episodes: int) -> dict:
-    """ELR and SR90 of ``act`` in ``builder``'s task, tracking ``tracked`` judged against ``judged``."""
-    env = builder.make_env(tracked, artefacts=None, judged_clips=judged)
-    env.reset(seed=0)
-    summary = evaluate(env, act, episodes=episodes)[0]
+def score(builder: MimicPolicy, actor: Policy, tracked: list[Motion], judged: list[Motion] | None,
+          episodes: int) -> dict:
+    """ELR and SR90 of ``actor`` in ``builder``'s task, tracking ``tracked`` judged against ``judged``."""
+    summary = evaluate_tracking(builder, tracked, judged, episodes=episodes, actor=actor)[0]
     return {"ELR": summary["ELR_mean"], "SR90": summary["SR90"], "rollouts": summary["rollouts"]}
 
 
@@ -76,9 +75,9 @@ def main() -> None:
         inputs[f"IMU seed {seed}, denoised"] = ([denoise(net, c) for c in given], given)
     rows = []
     actors = [(str(m.path), m, m) for m in members] + [("ensemble (mean action)", ensemble.widest, ensemble)]
-    for name, builder, act in actors:
+    for name, builder, actor in actors:
         for input_name, (tracked, judged) in inputs.items():
-            row = {"policy": name, "input": input_name, **score(builder, act, tracked, judged, args.episodes)}
+            row = {"policy": name, "input": input_name, **score(builder, actor, tracked, judged, args.episodes)}
             rows.append(row)
             print(f"{name:<36} {input_name:<26} ELR {row['ELR']:.3f}  SR90 {row['SR90']:.3f}", flush=True)
     emit_json({"policies": args.policies, "clips": args.clips, "episodes": args.episodes, "seeds": args.seeds,

@@ -7,8 +7,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents import clean, evaluate
-from agents.evaluation import evaluate_tracking, rollout
+from agents import clean, evaluate, evaluation
+from agents.evaluation import evaluate_tracking, rollout, zero_policy
 from agents.policy import PolicyError, load_policy
 from agents.train_ppo import main as train
 from envs.config import MimicConfig
@@ -60,6 +60,13 @@ def test_evaluate_through_the_denoiser_judges_against_the_clip_as_given(policy_d
     summary, runs = evaluate_tracking(policy, [performed], [given], episodes=2)
     assert summary["ELR_mean"] == pytest.approx(result["ELR_mean"])  # the CLI took this very path
     np.testing.assert_array_equal(runs[0].reference.qpos, given.qpos[:runs[0].reference.n_frames])
+    still = zero_policy(env.action_space.shape[0])  # another actor in the policy's environment
+    _, acted = evaluate_tracking(policy, [performed], [given], episodes=2, actor=still)
+    env.reset(seed=0)
+    _, by_hand = evaluation.evaluate(env, still, episodes=2)
+    assert [r.elr for r in acted] == [r.elr for r in by_hand]
+    np.testing.assert_array_equal(acted[0].simulated.qpos, by_hand[0].simulated.qpos)
+    assert not np.array_equal(acted[0].simulated.qpos, runs[0].simulated.qpos[:acted[0].simulated.n_frames])
 
 
 def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):
