@@ -37,8 +37,10 @@ class MeanAction:
     """The mean deterministic action ``(A,)`` of ``members`` for one raw observation ``(D,)``."""
 
     def __init__(self, members: list[MimicPolicy]):
-        tasks = {repr((m.env_id, m.foot, replace(m.record.env.mimic_config(), action_limit_rad=0.0))) for m in members}
-        if len(tasks) != 1:
+        def task(member: MimicPolicy) -> tuple:
+            return member.env_id, member.foot, replace(member.record.env.mimic_config(), action_limit_rad=0.0)
+
+        if any(task(member) != task(members[0]) for member in members[1:]):
             raise PolicyError(f"an ensemble's members must share their task (all but the action limit); "
                               f"{[str(m.path) for m in members]} do not")
         self.members = members
