@@ -66,6 +66,7 @@ from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, Pol
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
 from agents.train_ppo import load_training_motions, policy_kwargs
+from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ArtefactRecipe
@@ -94,7 +95,7 @@ class DistillConfig:
             weighs 1. It separates what a student of some size can hold from how much of the data a
             motion class is.
         from_default: the student starts as the set's default policy (its weights; ``net`` must be
-            the default's) instead of a fresh initialisation, so that specialists' takes can be
+            the default's hidden layers or wider ones) instead of a fresh initialisation, so that specialists' takes can be
             distilled into a policy that already performs the rest (False).
     """
 
@@ -329,17 +330,18 @@ def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labe
 
 def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> MimicPolicy:
     """A student on ``env`` with the default teacher's observation statistics and exploration noise:
-    freshly initialised, or with the default teacher's weights (``config.from_default``; raises
-    :class:`PolicyError` when its layers are not ``config.net``)."""
+    freshly initialised, or with the default teacher's weights (``config.from_default``), embedded
+    in wider hidden layers where ``config.net`` is wider (:func:`agents.warm_start.widen_hidden`: it
+    acts as the default from the start; raises :class:`PolicyError` for a narrower or deeper ``net``)."""
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
                 policy_kwargs=policy_kwargs(config.net, variance))
     if config.from_default:
-        weights, fresh = default.model.policy.state_dict(), model.policy.state_dict()
-        differ = [k for k in fresh if k not in weights or weights[k].shape != fresh[k].shape]
-        if differ:
-            raise PolicyError(f"--from-default: the default policy {default.path} is not a --net {config.net} network "
-                              f"of this task (layers {differ} differ)")
+        try:
+            weights = widen_hidden(default.model.policy.state_dict(), model.policy.state_dict())
+        except PolicyError as err:
+            raise PolicyError(f"--from-default: the default policy {default.path} does not fit a --net {config.net} "
+                              f"student: {err}") from err
         model.policy.load_state_dict(weights)
     return MimicPolicy(default.path, model, default.normalizer, {})
 
@@ -405,7 +407,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="loss weight of a teacher's states, by its directory name (mimic_walk_back=4); others "
                         "weigh 1 (a resumed run keeps its own)")
     p.add_argument("--from-default", action="store_true",
-                   help="the student starts as the set's default policy, not from a fresh initialisation")
+                   help="the student starts as the set's default policy (in wider hidden layers if --net is wider), "
+                        "not from a fresh initialisation")
     p.add_argument("--out", type=output_dir, required=True)
     p.add_argument("--resume", action="store_true", help="continue the distillation in --out")
     p.add_argument("--no-progress", action="store_true")

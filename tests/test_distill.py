@@ -127,8 +127,8 @@ def test_a_resumed_distillation_keeps_its_weights_and_reads_an_older_run(tmp_pat
 
 def test_a_student_from_the_default_policy_starts_acting_as_it(tmp_path):
     """--from-default: the student takes the default teacher's weights (and skips the value
-    centring), so before any fit it gives the default's actions; a --net that is not the
-    default's is refused."""
+    centring), so before any fit it gives the default's actions, in wider hidden layers too; a
+    narrower --net is refused."""
     walk = load_motion("deepmimic:walk", "humanoid_1seg", min_frames=700)
     teachers = load_teachers(MODELS / "mimic_walk", lambda foot: [walk])
     default = teachers.policies[0]
@@ -137,5 +137,8 @@ def test_a_student_from_the_default_policy_starts_acting_as_it(tmp_path):
     obs = np.stack([env.reset(seed=s)[0] for s in range(3)])
     np.testing.assert_allclose(mean_actions_and_values(student, obs)[0], mean_actions_and_values(default, obs)[0],
                                atol=1e-6)
-    with pytest.raises(PolicyError, match="is not a --net 64,64 network"):
+    wider = new_student(env, default, DistillConfig(net="320,288", from_default=True))
+    np.testing.assert_allclose(mean_actions_and_values(wider, obs)[0], mean_actions_and_values(default, obs)[0],
+                               atol=1e-5)
+    with pytest.raises(PolicyError, match="does not fit a --net 64,64 student"):
         new_student(env, default, DistillConfig(net="64,64", from_default=True))
