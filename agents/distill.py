@@ -65,7 +65,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
-from agents.train_ppo import load_training_motions, policy_kwargs
+from agents.train_ppo import glob_speeds, load_training_motions, policy_kwargs, warped_clips
 from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
@@ -391,6 +391,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--clips", nargs="+", help="training clips: SOURCE strings or clip sets")
     p.add_argument("--exclude", nargs="*", default=[], help="clips to leave out")
     p.add_argument("--mirror", action="store_true", help="also every clip mirrored left/right")
+    p.add_argument("--warp", type=glob_speeds, nargs="+", default=[], metavar="GLOB=S,S",
+                   help="also the clips whose SOURCE matches GLOB time-warped to each speed S (train_ppo.py --warp)")
     p.add_argument("--corrupted-fraction", type=fraction, default=0.5,
                    help="share of episodes with an IMU-corrupted reference (as the teachers trained)")
     p.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"))
@@ -430,7 +432,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                            from_default=args.from_default)
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
-    teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror))
+    teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror,
+                                                                             warps=warped_clips(clips, args.warp)))
     names, default = teachers.names, teachers.policies[teachers.default]
     config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,

@@ -111,6 +111,7 @@ class TrainingRecord:
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
         mirror, speeds: augmentation.
         reversed_clips: the clips also trained on played backwards in time (``train_ppo.py --reverse``).
+        warps: the clips also trained on at extra time-warp speeds, ``{clip: speeds}`` (``train_ppo.py --warp``).
         postures, posture_seed: random posture copies of each training reference and the seed they
             were drawn with (``train_ppo.py --postures``; :func:`reference_motion.transforms.random_posture`).
         pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
@@ -128,6 +129,7 @@ class TrainingRecord:
     mirror: bool = False
     speeds: list[float] = field(default_factory=lambda: [1.0])
     reversed_clips: list[str] = field(default_factory=list)
+    warps: dict[str, list[float]] = field(default_factory=dict)
     postures: int = 0
     posture_seed: int = 0
     pushes: dict | None = None

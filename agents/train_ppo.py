@@ -145,6 +145,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="also train on the training clips whose SOURCE matches a GLOB (fnmatch, e.g. "
                         "'*_walk_*') played backwards in time: the same torques and contact forces perform them "
                         "(reference_motion.transforms.reversed_in_time), so a forward walk becomes a backward one")
+    g.add_argument("--warp", type=glob_speeds, nargs="+", default=[], metavar="GLOB=S,S",
+                   help="also train on the training clips whose SOURCE matches GLOB time-warped to each speed S, "
+                        "beside --speeds (e.g. '*walk-back*=1.25,1.5': backward walks faster than any recorded)")
     g.add_argument("--postures", type=non_negative_int, default=0, metavar="N",
                    help="also train on N copies of every training reference (mirrored and time-warped ones "
                         "included), each carried with a random posture: a stoop, bent knees, a wide stance "
@@ -342,10 +345,10 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     clips = training_clips(args)
     mocap = mocap_options(args)
     if (not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not args.reverse
-            and not args.postures):
+            and not args.postures and not args.warp):
         return clips
     motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
-                                    reversed_clips(clips, args.reverse))
+                                    reversed_clips(clips, args.reverse), warped_clips(clips, args.warp))
     return motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM])
 
 
@@ -353,25 +356,62 @@ POSTURE_STREAM = 7
 """Stream of ``--seed``'s random numbers that draws the posture copies (apart from PPO's)."""
 
 
-def reversed_clips(clips: list[str], globs: list[str]) -> list[str]:
+def matching_clips(clips: list[str], globs: list[str], option: str = "--reverse") -> list[str]:
     """The clips of ``clips`` whose SOURCE matches one of ``globs`` (:func:`fnmatch.fnmatchcase`);
-    a glob that matches none is an error, so a typo does not silently train on nothing new."""
+    a glob that matches none is an error naming ``option``, so a typo does not silently train on
+    nothing new."""
     for pattern in globs:
         if not any(fnmatch.fnmatchcase(c, pattern) for c in clips):
-            raise ValueError(f"--reverse {pattern!r} matches none of the {len(clips)} training clips "
+            raise ValueError(f"{option} {pattern!r} matches none of the {len(clips)} training clips "
                              f"(e.g. {clips[0]!r}); quote the glob so that the shell leaves it alone")
     return [c for c in clips if any(fnmatch.fnmatchcase(c, p) for p in globs)]
 
 
+def reversed_clips(clips: list[str], globs: list[str]) -> list[str]:
+    """The clips of ``clips`` that ``--reverse``'s ``globs`` name (:func:`matching_clips`)."""
+    return matching_clips(clips, globs, "--reverse")
+
+
+def glob_speeds(text: str) -> str:
+    """A ``--warp`` value, ``GLOB=S,S,...`` with every speed a positive number, returned as given
+    (``args.json`` stores it so); :class:`argparse.ArgumentTypeError` says what is wrong."""
+    pattern, sep, speeds = text.rpartition("=")
+    try:
+        values = [float(v) for v in speeds.split(",")]
+    except ValueError:
+        values = []
+    if not sep or not pattern or not values or not all(math.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"{text!r}: expected GLOB=SPEED[,SPEED...] with positive speeds, "
+                                         f"e.g. '*walk-back*=1.25,1.5'")
+    return text
+
+
+def warped_clips(clips: list[str], warps: list[str]) -> dict[str, list[float]]:
+    """The extra time-warp speeds ``--warp``'s ``GLOB=S,S`` values give each clip of ``clips`` they
+    name, ``{clip: speeds}`` (speeds in the order first given; a glob matching no clip is an error)."""
+    out: dict[str, list[float]] = {}
+    for value in warps:
+        pattern, _, speeds = glob_speeds(value).rpartition("=")
+        for clip in matching_clips(clips, [pattern], "--warp"):
+            out[clip] = list(dict.fromkeys(out.get(clip, []) + [float(v) for v in speeds.split(",")]))
+    return out
+
+
 def load_training_motions(clips: list[str], model: str, mirror: bool, speeds: list[float] = (1.0,),
-                          mocap: MocapOptions = MocapOptions(), reverse: list[str] = ()) -> list[Motion]:
-    """``clips`` loaded for ``model`` (each at least two episodes long at the slowest warp, looped
+                          mocap: MocapOptions = MocapOptions(), reverse: list[str] = (),
+                          warps: dict[str, list[float]] | None = None) -> list[Motion]:
+    """``clips`` loaded for ``model`` (each at least two episodes long at the fastest warp, looped
     if need be), those named in ``reverse`` also played backwards in time, then augmented:
-    time-warped to each of ``speeds`` and, if ``mirror``, mirrored."""
+    time-warped to each of ``speeds`` and, if ``mirror``, mirrored; last, each clip named in
+    ``warps`` ({clip: speeds}, :func:`warped_clips`) also at its own extra speeds (mirrored too)."""
+    warps = warps or {}
+    fastest = max([*speeds, *(s for extra in warps.values() for s in extra)])
     frames = 2 * (MimicConfig().episode_frames + 1)
-    motions = [load_motion(c, model, min_frames=int(frames * max(speeds)) + 2, mocap=mocap) for c in clips]
+    motions = [load_motion(c, model, min_frames=int(frames * fastest) + 2, mocap=mocap) for c in clips]
+    originals = dict(zip(clips, motions))
     motions += [reversed_in_time(m) for c, m in zip(clips, motions) if c in reverse]
-    return augmented(motions, mirrored=mirror, speeds=speeds)
+    extra = [m for c, s in warps.items() for m in augmented([originals[c]], mirrored=mirror, speeds=s)]
+    return augmented(motions, mirrored=mirror, speeds=speeds) + extra
 
 
 WALL_FILE = "wall.json"
@@ -476,6 +516,7 @@ class CheckpointAndEvaluate(BaseCallback):
             denoiser=args.denoise,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(training_clips(args), args.reverse),
+            warps=warped_clips(training_clips(args), args.warp),
             postures=args.postures, posture_seed=args.seed,
             pushes=asdict(push) if push is not None else None,
             init_from=str(args.init_from) if args.init_from else None,

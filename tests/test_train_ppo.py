@@ -11,8 +11,9 @@ from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy, mlp_mean_action
 from agents.train_ppo import (build_parser, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
-                              run_args, training_motions)
+                              run_args, training_motions, warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
+from reference_motion.cli import UsageError
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
@@ -79,6 +80,27 @@ def test_reverse_adds_the_matching_clips_played_backwards():
     typo = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "--reverse", "*walk_*"])
     with pytest.raises(ValueError, match=r"--reverse '\*walk_\*' matches none of the 1 training clips"):
         training_motions(typo)
+
+
+def test_warp_adds_the_matching_clips_at_their_own_extra_speeds():
+    args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "deepmimic:run",
+                                      "--warp", "*:walk=1.25,1.5", "*walk=1.5,2", "--mirror"])
+    clips = training_motions(args)
+    assert [c.name for c in clips[4:]] == ["deepmimic:walk (x1.25 speed)", "deepmimic:walk (x1.5 speed)",
+                                           "deepmimic:walk (x2 speed)", "deepmimic:walk (x1.25 speed) (mirrored)",
+                                           "deepmimic:walk (x1.5 speed) (mirrored)",
+                                           "deepmimic:walk (x2 speed) (mirrored)"]  # 1.5 once, though named twice
+    walk = clips[0]
+    np.testing.assert_allclose([walk.duration / c.duration for c in clips[4:7]], [1.25, 1.5, 2.0], rtol=0.005)
+    assert np.isclose(abs(clips[6].qpos[-1, 0] - clips[6].qpos[0, 0]) / clips[6].duration,
+                      2 * abs(walk.qpos[-1, 0] - walk.qpos[0, 0]) / walk.duration, rtol=0.02)  # twice as fast
+    assert warped_clips(["deepmimic:walk", "deepmimic:run"], ["*=1.1"]) == {"deepmimic:walk": [1.1],
+                                                                            "deepmimic:run": [1.1]}
+    with pytest.raises(ValueError, match=r"--warp '\*back\*' matches none of the 2 training clips"):
+        warped_clips(["deepmimic:walk", "deepmimic:run"], ["*back*=1.5"])
+    for bad in ("*walk*", "*walk*=", "=1.5", "*walk*=1.5,x", "*walk*=0", "*walk*=-1,2", "*walk*=nan"):
+        with pytest.raises(UsageError, match="expected GLOB=SPEED"):
+            build_parser().parse_args(["--run-dir", "unused", "--warp", bad])
 
 
 def test_postures_add_seeded_copies_of_every_reference_carried_differently():
