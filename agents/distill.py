@@ -432,8 +432,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                            from_default=args.from_default)
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
+    warps = warped_clips(clips, args.warp)
     teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror,
-                                                                             warps=warped_clips(clips, args.warp)))
+                                                                             warps=warps))
     names, default = teachers.names, teachers.policies[teachers.default]
     config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
@@ -466,7 +467,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                   "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
-                                  strength=tuple(args.strength), mirror=args.mirror, init_from=str(args.teacher),
+                                  strength=tuple(args.strength), mirror=args.mirror, warps=warps,
+                                  init_from=str(args.teacher),
                                   commands=args.commands, seed=config.seed,
                                   steps=len(labels), wall_s=record["wall_s"])
         save_student(out, student, default, {"config": asdict(config), "teachers": names, "rounds": done + [record]},

@@ -50,8 +50,9 @@ def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
     out = tmp_path / "distill"
     common = ["--net", "32,32", "--steps-per-round", "200", "--epochs", "2", "--batch-size", "64", "--no-progress"]
     main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0",
-          "--rounds", "1", "--out", str(out), *common])
+          "--rounds", "1", "--warp", "*:walk=1.5", "--out", str(out), *common])
     student = load_policy(out / "student")
+    assert student.record.training.warps == {"deepmimic:walk": [1.5]}  # what it was distilled on, recorded
     assert student.model.policy.state_dict()["mlp_extractor.policy_net.2.weight"].shape == (32, 32)
     assert student.record.ppo.net == "32,32" and student.record.env.env_id == "MimicIMU-v0"
     env = student.make_env(["deepmimic:walk"])
