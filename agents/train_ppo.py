@@ -22,6 +22,7 @@ import fnmatch
 import json
 import math
 import re
+import shlex
 import signal
 import sys
 import time
@@ -400,17 +401,18 @@ def warped_clips(clips: list[str], warps: list[str]) -> dict[str, list[float]]:
 def load_training_motions(clips: list[str], model: str, mirror: bool, speeds: list[float] = (1.0,),
                           mocap: MocapOptions = MocapOptions(), reverse: list[str] = (),
                           warps: dict[str, list[float]] | None = None) -> list[Motion]:
-    """``clips`` loaded for ``model`` (each at least two episodes long at the fastest warp, looped
+    """``clips`` loaded for ``model`` (each at least two episodes long at its fastest warp, looped
     if need be), those named in ``reverse`` also played backwards in time, then augmented:
     time-warped to each of ``speeds`` and, if ``mirror``, mirrored; last, each clip named in
-    ``warps`` ({clip: speeds}, :func:`warped_clips`) also at its own extra speeds (mirrored too)."""
-    warps = warps or {}
-    fastest = max([*speeds, *(s for extra in warps.values() for s in extra)])
+    ``warps`` ({clip: speeds}, :func:`warped_clips`) also at those of its extra speeds that
+    ``speeds`` lacks (mirrored too), so no reference is there twice."""
+    warps = {c: [s for s in extra if s not in speeds] for c, extra in (warps or {}).items()}
     frames = 2 * (MimicConfig().episode_frames + 1)
-    motions = [load_motion(c, model, min_frames=int(frames * fastest) + 2, mocap=mocap) for c in clips]
+    motions = [load_motion(c, model, min_frames=int(frames * max([*speeds, *warps.get(c, [])])) + 2, mocap=mocap)
+               for c in clips]
     originals = dict(zip(clips, motions))
     motions += [reversed_in_time(m) for c, m in zip(clips, motions) if c in reverse]
-    extra = [m for c, s in warps.items() for m in augmented([originals[c]], mirrored=mirror, speeds=s)]
+    extra = [m for c, s in warps.items() if s for m in augmented([originals[c]], mirrored=mirror, speeds=s)]
     return augmented(motions, mirrored=mirror, speeds=speeds) + extra
 
 
@@ -520,7 +522,7 @@ class CheckpointAndEvaluate(BaseCallback):
             postures=args.postures, posture_seed=args.seed,
             pushes=asdict(push) if push is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
-            commands=[" ".join(["python"] + c) for c in args.commands], seed=args.seed, steps=record["steps"],
+            commands=[shlex.join(["python", *c]) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None
         env = EnvSpec(args.env_id, foot(args), asdict(env_config(args)), gait, args.contacts)

@@ -68,6 +68,7 @@ def test_distill_end_to_end_writes_a_policy_and_resumes(tmp_path):
     record = load_policy(out / "student").record
     assert rounds[1]["states"] == 400 and record.extra["distillation"]["rounds"][1]["round"] == 1
     assert len(record.training.commands) == 2 and "--resume" in record.training.commands[1]  # the run's history
+    assert record.training.warps == {"deepmimic:walk": [1.5]}  # the resumed run distils on the same warps
     with pytest.raises(SystemExit, match="already holds a distillation"):
         main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--out", str(out), *common])
     with pytest.raises(SystemExit, match="no distillation to resume"):

@@ -13,6 +13,7 @@ from agents.policy import PolicyError, load_policy, mlp_mean_action
 from agents.train_ppo import (build_parser, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
                               run_args, training_motions, warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
+from envs.config import MimicConfig
 from reference_motion.cli import UsageError
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
@@ -94,6 +95,12 @@ def test_warp_adds_the_matching_clips_at_their_own_extra_speeds():
     np.testing.assert_allclose([walk.duration / c.duration for c in clips[4:7]], [1.25, 1.5, 2.0], rtol=0.005)
     assert np.isclose(abs(clips[6].qpos[-1, 0] - clips[6].qpos[0, 0]) / clips[6].duration,
                       2 * abs(walk.qpos[-1, 0] - walk.qpos[0, 0]) / walk.duration, rtol=0.02)  # twice as fast
+    episode = 2 * (MimicConfig().episode_frames + 1)  # each warped copy still lasts two episodes
+    assert all(c.n_frames >= episode for c in clips) and clips[2].n_frames < 2 * episode  # run: not warped, not stretched
+    alone = training_motions(build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk",
+                                                        "--speeds", "1.0", "1.25", "--warp", "*=1.0,1.25,1.5"]))
+    assert [c.name for c in alone] == ["deepmimic:walk", "deepmimic:walk (x1.25 speed)",
+                                       "deepmimic:walk (x1.5 speed)"]  # no mirror; no speed --speeds has twice
     assert warped_clips(["deepmimic:walk", "deepmimic:run"], ["*=1.1"]) == {"deepmimic:walk": [1.1],
                                                                             "deepmimic:run": [1.1]}
     with pytest.raises(ValueError, match=r"--warp '\*back\*' matches none of the 2 training clips"):
