@@ -28,7 +28,7 @@ from agents.evaluation import evaluate_tracking, per_clip, summarize
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
-from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
@@ -82,6 +82,15 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     return out
 
 
+def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None) -> tuple[list[Motion], list[Motion] | None]:
+    """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
+    what it tracks: ``None``), or with ``denoiser`` the clips after it, judged against the clips as
+    given (``--denoise``)."""
+    if denoiser is None:
+        return clips, None
+    return [denoise(denoiser, c) for c in clips], clips
+
+
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:
     """Mean artefact metrics of the references (``input``) and simulations (``output``) of ``runs``."""
     table = {k: {"input": [], "output": []} for k in ARTEFACT_METRICS}
@@ -118,10 +127,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        if denoiser is None:
-            tracked, judged = clips, None
-        else:
-            tracked, judged = [denoise(denoiser, c) for c in clips], clips
+        tracked, judged = tracked_and_judged(clips, denoiser)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step)[1]
     summary = summarize(runs)
     result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,

@@ -23,12 +23,11 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import reference_clips
+from agents.evaluate import reference_clips, tracked_and_judged
 from agents.evaluation import Policy, evaluate_tracking
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from perception.imu_denoiser import denoise
 from perception.weights import load_network
 from reference_motion.motion import Motion
 
@@ -74,7 +73,7 @@ def main() -> None:
     inputs = {"clean": (reference_clips(args.clips, model, MimicConfig(), None, 1.0, 0), None)}
     for seed in args.seeds:
         given = reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed)
-        inputs[f"IMU seed {seed}, denoised"] = ([denoise(net, c) for c in given], given)
+        inputs[f"IMU seed {seed}, denoised"] = tracked_and_judged(given, net)
     rows = []
     actors = [(str(m.path), m, m) for m in members] + [("ensemble (mean action)", ensemble.widest, ensemble)]
     for name, builder, actor in actors:

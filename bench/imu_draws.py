@@ -1,17 +1,19 @@
 """Probe: how much does the IMU draw decide? Policies scored on many IMU-corrupted draws of each take.
 
-Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught runs/distill_fb/student
-[--clips library:data/library/val] [--draws 10] [--first-seed 9300] [--stride 10] [--episodes 2]
-[--denoise models/imu_denoiser_dm] [--json [OUT]]``
+Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
+[--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
+[--denoise models/imu_denoiser_dm | --no-denoise] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
-once per seed and roll out that one corrupted reference 20 times, so a take the policy falls on in
+once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
 one draw costs its whole share. Here every policy tracks ``--draws`` corrupted draws of every take
-(draw ``j`` of clip ``i`` has artefact seed ``first_seed + j * stride + i``, so with ``--stride`` at
-least the number of clips no two references share a seed), ``--episodes`` rollouts each, after
-``--denoise`` and judged against the take as given (as ``evaluate.py --denoise``). Same clips,
-seeds and start frames for every policy. Prints each policy's ELR per draw and over all draws, and
-for each policy after the first how many draws it scores above the first one (paired by draw).
+(draw ``j`` of clip ``i`` has artefact seed ``first_seed + j * stride + i``; ``--stride`` defaults
+to the number of clips and may not be smaller, so no two references share a seed), ``--episodes``
+rollouts each, after ``--denoise`` and judged against the take as given (as ``evaluate.py
+--denoise``). Same clips, seeds and start frames for every policy; policy directories or run
+checkpoints, not policy sets. Prints each policy's ELR per draw and over all draws and, for each
+policy after the first, its mean paired difference from the first (± standard error over the
+draws) and on how many draws it scores above, equal to and below it.
 """
 
 from __future__ import annotations
@@ -22,13 +24,22 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import reference_clips
+from agents.evaluate import reference_clips, tracked_and_judged
 from agents.evaluation import evaluate_tracking
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from perception.imu_denoiser import denoise
 from perception.weights import load_network
+from reference_motion.library import expand_clips
+
+
+def paired(elr: np.ndarray, first: np.ndarray) -> dict:
+    """``elr`` ``(draws,)`` against ``first`` ``(draws,)``, draw by draw: mean difference, its
+    standard error, and the draws above / equal / below."""
+    diff = elr - first
+    se = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
+    return {"mean_difference": float(diff.mean()), "standard_error": se, "draws_above": int(np.sum(diff > 0)),
+            "draws_equal": int(np.sum(diff == 0)), "draws_below": int(np.sum(diff < 0))}
 
 
 def main() -> None:
@@ -36,35 +47,50 @@ def main() -> None:
     p.add_argument("--policies", nargs="+", required=True, help="policy directories or run checkpoints")
     p.add_argument("--clips", nargs="+", default=["library:data/library/val"])
     p.add_argument("--draws", type=int, default=10, help="IMU-corrupted draws of each clip")
-    p.add_argument("--first-seed", type=int, default=9300, help="artefact seed of the first clip's first draw")
-    p.add_argument("--stride", type=int, default=10, help="seed step from one draw to the next")
+    p.add_argument("--first-seed", type=int, default=20000,
+                   help="artefact seed of the first clip's first draw (default: a range no earlier run used)")
+    p.add_argument("--stride", type=int, default=None, help="seed step from one draw to the next (default: the "
+                                                            "number of clips)")
     p.add_argument("--episodes", type=int, default=2, help="rollouts per clip and draw")
-    p.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
+    denoising = p.add_mutually_exclusive_group()
+    denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
+    denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
+    n_clips = len(expand_clips(args.clips))
+    stride = n_clips if args.stride is None else args.stride
+    if stride < n_clips:
+        p.error(f"--stride {stride} is below the {n_clips} clips: draws would share artefact seeds")
     policies = [load_policy(path) for path in args.policies]
     feet = {policy.foot for policy in policies}
     if len(feet) > 1:
-        raise SystemExit(f"error: the policies drive different humanoids ({sorted(feet)}); compare one foot model")
-    net = load_network(args.denoise, "denoiser")
+        p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
+    denoiser_path = None if args.no_denoise else args.denoise
+    for policy in policies:
+        note = policy.denoiser_note(denoiser_path)
+        if note:
+            print(note)
+    net = load_network(denoiser_path, "denoiser") if denoiser_path else None
     model = FOOT_MODELS[feet.pop()]
-    seeds = [args.first_seed + j * args.stride for j in range(args.draws)]
-    draws = []
-    for seed in seeds:
-        given = reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed)
-        draws.append(([denoise(net, clip) for clip in given], given))
+    seeds = [args.first_seed + j * stride for j in range(args.draws)]
+    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net)
+             for seed in seeds]
     rows = []
     for path, policy in zip(args.policies, policies):
-        elr = [evaluate_tracking(policy, tracked, judged, episodes=args.episodes)[0]["ELR_mean"]
-               for tracked, judged in draws]
-        rows.append({"policy": path, "ELR": float(np.mean(elr)), "ELR_per_draw": [float(e) for e in elr]})
-        print(f"{path:<48} ELR {np.mean(elr):.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
+        elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes)[0]["ELR_mean"]
+                        for tracked, judged in draws])
+        rows.append({"policy": path, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
+        print(f"{path:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
     for row in rows[1:]:
-        row["draws_above_first"] = int(np.sum(np.array(row["ELR_per_draw"]) > first))
-        print(f"{row['policy']:<48} above {rows[0]['policy']} on {row['draws_above_first']} of {args.draws} draws")
+        row["against_first"] = paired(np.array(row["ELR_per_draw"]), first)
+        c = row["against_first"]
+        print(f"{row['policy']:<48} {c['mean_difference']:+.3f} ± {c['standard_error']:.3f} against "
+              f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
+              f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "denoiser": str(args.denoise), "rows": rows}, args.json)
+               "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
+               "rows": rows}, args.json)
 
 
 if __name__ == "__main__":
