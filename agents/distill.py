@@ -45,6 +45,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import shlex
 import sys
 import time
 from collections.abc import Callable
@@ -449,7 +450,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                                      device="cpu"), default.normalizer, {})
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
     out.mkdir(parents=True, exist_ok=True)
-    args.commands = history + ["python agents/distill.py " + " ".join(argv)]  # every command of the run, in order
+    args.commands = history + [shlex.join(["python", "agents/distill.py", *argv])]  # every command of the run, in order
     write_json(settings, {**vars(args), "out": str(out)})
     rng = np.random.default_rng([config.seed, len(done)])
     started = time.monotonic() - (done[-1]["wall_s"] if done else 0.0)

@@ -33,6 +33,7 @@ round (only ``--rounds`` and ``--workers`` may change).
 from __future__ import annotations
 
 import json
+import shlex
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -294,7 +295,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     if done:
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
     out.mkdir(parents=True, exist_ok=True)
-    args.commands = history + ["python agents/expert_iteration.py " + " ".join(argv)]
+    args.commands = history + [shlex.join(["python", "agents/expert_iteration.py", *argv])]
     write_json(settings, {**vars(args), "out": str(out)})
     net = teacher.record.ppo.net
     sigma = float(teacher.model.policy.log_std.detach().exp().mean())

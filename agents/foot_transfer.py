@@ -22,6 +22,7 @@ foot's mass, inertia and contacts changed); it is a start for per-sequence adapt
 
 from __future__ import annotations
 
+import shlex
 import sys
 from dataclasses import replace
 from pathlib import Path
@@ -168,7 +169,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     p.add_argument("--foot", choices=tuple(FOOT_MODELS), default="one", help="the humanoid to carry it to")
     p.add_argument("--out", type=output_dir, required=True, help="the policy directory to write")
     args = p.parse_args(argv)
-    command = " ".join(["python agents/foot_transfer.py", *(sys.argv[1:] if argv is None else argv)])
+    command = shlex.join(["python", "agents/foot_transfer.py", *(sys.argv[1:] if argv is None else argv)])
     transfer(load_policy(args.policy), args.foot, args.out, command)
     print(f"wrote {args.out}: {args.policy} on foot={args.foot!r}")
     return args.out

@@ -22,6 +22,7 @@ and students kept beside the policy) is kept.
 from __future__ import annotations
 
 import json
+import shlex
 import shutil
 import sys
 from pathlib import Path
@@ -94,7 +95,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
             raise FileNotFoundError(f"{args.run_dir}: neither wall.json nor evaluations.jsonl: no record of its training")
         steps_total, wall_s_total = progress
         sidecar.update(name=args.name, training_wall_s_total=wall_s_total, training_steps_total=steps_total,
-                       evaluate_command="python agents/evaluate.py --policy " + " ".join([str(out), *eval_args]),
+                       evaluate_command=shlex.join(["python", "agents/evaluate.py", "--policy", str(out), *eval_args]),
                        evaluation={k: v for k, v in result.items() if k not in ("policy",)})
         write_json(staging / SIDECAR_FILE, sidecar)
         if args.resumable:
