@@ -310,6 +310,11 @@ def center_values(student: MimicPolicy, labels: Labels) -> None:
         student.model.policy.value_net.bias += float(np.mean(labels.values - values))
 
 
+def rmse_text(rmse: float | None) -> str:
+    """A teacher's held-out action RMSE for the log line: ``0.000`` is a fit, ``-`` no held-out state."""
+    return "-" if rmse is None else f"{rmse:.3f}"
+
+
 def fit_report(student: MimicPolicy, labels: Labels, names: list[str]) -> dict:
     """Action RMSE (rad) per teacher and overall, and the value R², of ``student`` on ``labels``."""
     actions, values = mean_actions_and_values(student, labels.obs)
@@ -479,7 +484,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         done.append(record)
         report = record["held_out"]
         print(f"[round {round_}] {record['states']} states, loss {loss:.3f}, held-out action RMSE "
-              f"{report['action_rmse']:.3f} rad (" + ", ".join(f"{n} {report[f'action_rmse_{n}'] or float('nan'):.3f}"
+              f"{report['action_rmse']:.3f} rad (" + ", ".join(f"{n} {rmse_text(report[f'action_rmse_{n}'])}"
                                                             for n in names)
               + f"), value R² {report['value_r2']:.3f}, {record['acted_episode_steps']:.0f} steps per episode acted",
               flush=True)

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from agents.distill import (DistillConfig, Labels, center_values, collect, fit, fit_report, load_teachers, main,
-                            mean_actions_and_values, new_student, teacher_weight)
+                            mean_actions_and_values, new_student, rmse_text, teacher_weight)
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
 from reference_motion.library import load_motion
@@ -144,3 +144,7 @@ def test_a_student_from_the_default_policy_starts_acting_as_it(tmp_path):
                                atol=1e-5)
     with pytest.raises(PolicyError, match="does not fit a --net 64,64 student"):
         new_student(env, default, DistillConfig(net="64,64", from_default=True))
+
+
+def test_a_perfect_fit_reads_as_zero_and_a_teacher_without_held_out_states_as_a_dash():
+    assert rmse_text(0.0) == "0.000" and rmse_text(0.0264) == "0.026" and rmse_text(None) == "-"
