@@ -357,7 +357,7 @@ POSTURE_STREAM = 7
 """Stream of ``--seed``'s random numbers that draws the posture copies (apart from PPO's)."""
 
 
-def matching_clips(clips: list[str], globs: list[str], option: str = "--reverse") -> list[str]:
+def matching_clips(clips: list[str], globs: list[str], option: str) -> list[str]:
     """The clips of ``clips`` whose SOURCE matches one of ``globs`` (:func:`fnmatch.fnmatchcase`);
     a glob that matches none is an error naming ``option``, so a typo does not silently train on
     nothing new."""
@@ -373,9 +373,9 @@ def reversed_clips(clips: list[str], globs: list[str]) -> list[str]:
     return matching_clips(clips, globs, "--reverse")
 
 
-def glob_speeds(text: str) -> str:
-    """A ``--warp`` value, ``GLOB=S,S,...`` with every speed a positive number, returned as given
-    (``args.json`` stores it so); :class:`argparse.ArgumentTypeError` says what is wrong."""
+def parse_glob_speeds(text: str) -> tuple[str, list[float]]:
+    """A ``--warp`` value ``GLOB=S,S,...`` as ``(glob, speeds)``, every speed a finite number > 0;
+    :class:`argparse.ArgumentTypeError` says what is wrong."""
     pattern, sep, speeds = text.rpartition("=")
     try:
         values = [float(v) for v in speeds.split(",")]
@@ -384,6 +384,13 @@ def glob_speeds(text: str) -> str:
     if not sep or not pattern or not values or not all(math.isfinite(v) and v > 0 for v in values):
         raise argparse.ArgumentTypeError(f"{text!r}: expected GLOB=SPEED[,SPEED...] with positive speeds, "
                                          f"e.g. '*walk-back*=1.25,1.5'")
+    return pattern, values
+
+
+def glob_speeds(text: str) -> str:
+    """A ``--warp`` value checked by :func:`parse_glob_speeds` and returned as given (``args.json``
+    stores it so)."""
+    parse_glob_speeds(text)
     return text
 
 
@@ -392,9 +399,9 @@ def warped_clips(clips: list[str], warps: list[str]) -> dict[str, list[float]]:
     name, ``{clip: speeds}`` (speeds in the order first given; a glob matching no clip is an error)."""
     out: dict[str, list[float]] = {}
     for value in warps:
-        pattern, _, speeds = glob_speeds(value).rpartition("=")
+        pattern, speeds = parse_glob_speeds(value)
         for clip in matching_clips(clips, [pattern], "--warp"):
-            out[clip] = list(dict.fromkeys(out.get(clip, []) + [float(v) for v in speeds.split(",")]))
+            out[clip] = list(dict.fromkeys(out.get(clip, []) + speeds))
     return out
 
 
@@ -511,14 +518,15 @@ class CheckpointAndEvaluate(BaseCallback):
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
         push = pushes(args)
+        clips = training_clips(args)
         training = TrainingRecord(
-            clips=training_clips(args),
+            clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
             denoiser=args.denoise,
             mirror=args.mirror, speeds=list(args.speeds),
-            reversed_clips=reversed_clips(training_clips(args), args.reverse),
-            warps=warped_clips(training_clips(args), args.warp),
+            reversed_clips=reversed_clips(clips, args.reverse),
+            warps=warped_clips(clips, args.warp),
             postures=args.postures, posture_seed=args.seed,
             pushes=asdict(push) if push is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
