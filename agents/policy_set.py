@@ -2,7 +2,11 @@
 
 A clip is routed before anything is simulated, from the reference alone: a clip whose name matches
 a glob of ``clips`` (:func:`fnmatch.fnmatchcase`; the first that matches, in the file's order) goes
-to that policy (a specialist for takes the others do not perform); else a clip whose root moves
+to that policy (a specialist for takes the others do not perform); so does a copy made of such a
+clip, whose name adds its transforms to the clip's (``"NAME (mirrored) (x1.5 speed)"``,
+:func:`source_name`), so that a glob naming a take exactly routes its mirrored, time-warped,
+reversed and posture copies with it (a glob may name a copy to route it apart: ``"*(reversed)*"``,
+listed first); else a clip whose root moves
 backwards relative to the pelvis heading (median speed along the heading below
 ``-backward_speed_mps``) goes to the ``backward`` policy, every other clip to ``default``. The rule
 reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion
@@ -24,6 +28,7 @@ from __future__ import annotations
 import fnmatch
 import json
 import os
+import re
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -48,6 +53,17 @@ def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
     heading = np.stack([np.cos(heading_angle), np.sin(heading_angle)], axis=1)
     velocity = np.gradient(qpos[:, :2], 1.0 / fps, axis=0)
     return np.sum(velocity * heading, axis=1)
+
+
+TRANSFORM_SUFFIXES = re.compile(r"(?: \([^()]*\))+$")
+"""The ``" (mirrored)"``, ``" (x1.5 speed)"``, ``" (reversed)"``, ``" (posture)"`` … that
+:mod:`reference_motion.transforms` append to the name of a copy."""
+
+
+def source_name(name: str) -> str:
+    """The name of the clip a copy named ``name`` was made from: ``name`` without the transforms'
+    parenthesised suffixes (``"walk_001 (mirrored) (x1.5 speed)"`` → ``"walk_001"``)."""
+    return TRANSFORM_SUFFIXES.sub("", name)
 
 
 def walks_backward(motion: Motion, backward_speed_mps: float) -> bool:
@@ -76,7 +92,8 @@ class PolicySet:
 
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""
-        named = next((policy for glob, policy in self.clips if fnmatch.fnmatchcase(motion.name, glob)), None)
+        names = (motion.name, source_name(motion.name))
+        named = next((policy for glob, policy in self.clips if any(fnmatch.fnmatchcase(n, glob) for n in names)), None)
         if named is not None:
             return named
         return self.backward if walks_backward(motion, self.backward_speed_mps) else self.default

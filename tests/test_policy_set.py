@@ -9,8 +9,9 @@ import pytest
 
 from agents import evaluate
 from agents.policy import PolicyError
-from agents.policy_set import PolicySet, heading_speeds, load_policy_set, route_clips, walks_backward
+from agents.policy_set import PolicySet, heading_speeds, load_policy_set, route_clips, source_name, walks_backward
 from reference_motion.library import load_motion
+from reference_motion.transforms import mirror, reversed_in_time, time_warp
 
 MODELS = Path(__file__).parents[1] / "models"
 
@@ -93,3 +94,21 @@ def test_clip_globs_route_before_the_backward_rule_and_round_trip(tmp_path):
     (set_dir / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="clips must be an object of clip-name globs"):
         load_policy_set(set_dir)
+
+
+def test_a_glob_naming_a_take_exactly_routes_its_copies_with_it(tmp_path):
+    """Mirrored, time-warped and reversed copies carry the take's name with suffixes; an exact-name
+    glob routes them with the take, and a glob naming a suffix, listed first, routes copies apart."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    copies = [mirror(walk), time_warp(mirror(walk), 1.5), reversed_in_time(walk)]
+    assert [c.name for c in copies] == ["deepmimic:walk (mirrored)", "deepmimic:walk (mirrored) (x1.5 speed)",
+                                        "deepmimic:walk (reversed)"]
+    assert [source_name(c.name) for c in copies] == ["deepmimic:walk"] * 3 and source_name("amc:02_03") == "amc:02_03"
+    exact = PolicySet(tmp_path / "a", MODELS / "mimic_imu", MODELS / "mimic_imu",
+                      clips=(("deepmimic:walk", MODELS / "mimic_walk"),))
+    assert all(exact.route(m) == MODELS / "mimic_walk" for m in (walk, *copies))
+    apart = PolicySet(tmp_path / "b", MODELS / "mimic_walk", MODELS / "mimic_imu",
+                      clips=(("*(reversed)*", MODELS / "mimic_imu"), ("deepmimic:walk", MODELS / "mimic_walk")))
+    assert [apart.route(m).name for m in (walk, *copies)] == ["mimic_walk", "mimic_walk", "mimic_walk", "mimic_imu"]
+    other = walk.with_qpos(walk.qpos, name="deepmimic:walking (mirrored)")
+    assert exact.route(other) == MODELS / "mimic_imu"  # "walking" is not "walk"
