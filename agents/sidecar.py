@@ -115,6 +115,7 @@ class TrainingRecord:
         postures, posture_seed: random posture copies of each training reference and the seed they
             were drawn with (``train_ppo.py --postures``; :func:`reference_motion.transforms.random_posture`).
         pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
+        dynamics: the training envs' randomised physics (:class:`envs.config.Dynamics` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
         commands: every command that trained the run, in order.
         seed, steps, wall_s: the seed, control steps and training wall time (s) at this checkpoint.
@@ -133,6 +134,7 @@ class TrainingRecord:
     postures: int = 0
     posture_seed: int = 0
     pushes: dict | None = None
+    dynamics: dict | None = None
     init_from: str | None = None
     commands: list[str] = field(default_factory=list)
     seed: int = 0

@@ -50,7 +50,8 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
-from envs.config import CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, GaitConfig, MimicConfig, Pushes
+from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
+                         Pushes)
 from envs.observations import OBS_FRAMES
 from perception.imu_denoiser import DEFAULT_DENOISER
 from perception.weights import shared_network
@@ -142,6 +143,12 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="--push-force: pushes started per second, on average")
     g.add_argument("--push-duration", type=positive_float, default=Pushes.duration_s,
                    help="--push-force: how long each push lasts (s)")
+    g.add_argument("--dynamics", type=non_negative_float, nargs=3, default=None,
+                   metavar=("MASS", "FRICTION", "STRENGTH"),
+                   help="draw the humanoid's physics anew at every training episode: each body's mass and inertia, "
+                        "the sliding friction and each actuator's PD gains scaled by factors uniform in 1 ± these "
+                        "half-ranges (envs.config.Dynamics, domain randomisation; e.g. 0.15 0.3 0.15); default: "
+                        "the nominal humanoid. Evaluation never randomises")
     g.add_argument("--reverse", nargs="+", default=[], metavar="GLOB",
                    help="also train on the training clips whose SOURCE matches a GLOB (fnmatch, e.g. "
                         "'*_walk_*') played backwards in time: the same torques and contact forces perform them "
@@ -235,6 +242,16 @@ def pushes(args: argparse.Namespace) -> Pushes | None:
     if args.env_id == GAIT_ENV_ID:
         raise ValueError(f"--push-force shoves MimicEnv's character; {GAIT_ENV_ID} does not take pushes")
     return Pushes(force_n=tuple(args.push_force), duration_s=args.push_duration, rate_hz=args.push_rate)
+
+
+def dynamics(args: argparse.Namespace) -> Dynamics | None:
+    """The training envs' randomised physics (``--dynamics``), or ``None``; never the evaluation's."""
+    if args.dynamics is None:
+        return None
+    if args.env_id == GAIT_ENV_ID:
+        raise ValueError(f"--dynamics randomises MimicEnv's humanoid; {GAIT_ENV_ID} does not take it")
+    mass, friction, strength = args.dynamics
+    return Dynamics(mass=mass, friction=friction, strength=strength)
 
 
 def variant_seed(args: argparse.Namespace) -> int | None:
@@ -517,7 +534,7 @@ class CheckpointAndEvaluate(BaseCallback):
         the metrics) was made and how it scored (``agents/policy.py`` reads it)."""
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
-        push = pushes(args)
+        push, varied = pushes(args), dynamics(args)
         clips = training_clips(args)
         training = TrainingRecord(
             clips=clips,
@@ -529,6 +546,7 @@ class CheckpointAndEvaluate(BaseCallback):
             warps=warped_clips(clips, args.warp),
             postures=args.postures, posture_seed=args.seed,
             pushes=asdict(push) if push is not None else None,
+            dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
             commands=[shlex.join(["python", *c]) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
@@ -648,9 +666,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)
     training_kwargs = env_kwargs(args, clips, args.corrupted_fraction)
-    push = pushes(args)
-    if push is not None:  # MimicGait-v0 takes no pushes argument (pushes() refuses it)
+    push, varied = pushes(args), dynamics(args)
+    if push is not None:  # MimicGait-v0 takes neither argument (pushes() and dynamics() refuse it)
         training_kwargs["pushes"] = push
+    if varied is not None:
+        training_kwargs["dynamics"] = varied
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
                         env_kwargs=training_kwargs)
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)

@@ -266,6 +266,38 @@ class Pushes:
             raise ValueError(f"Pushes.rate_hz must be >= 0 (pushes per second), got {self.rate_hz}")
 
 
+@dataclass(frozen=True)
+class Dynamics:
+    """Random changes to the simulated humanoid's physics, drawn anew at every training episode's
+    reset (domain randomisation: Peng et al. 2018, "Sim-to-real transfer of robotic control with
+    dynamics randomization"), so that the policy does not lean on one exact body: a reference it
+    has never seen (an unseen style, an IMU take) asks for torques and balance the nominal body was
+    never shown, which a policy hardened against a range of bodies may still meet.
+
+    Each field is a relative half-range ``r``: a factor is drawn uniformly from ``[1 - r, 1 + r]``.
+    Training only: evaluation, cleaning and adaptation simulate the nominal humanoid.
+
+    Attributes:
+        mass: each body's mass and rotational inertia scaled by its own factor (the humanoid's total
+            mass, 70 kg, moves by about ``r / sqrt(13)`` of itself).
+        friction: every geom's sliding friction scaled by one factor per episode (MuJoCo takes the
+            larger of two touching geoms', so sole-on-floor friction scales by it).
+        strength: each actuator's PD gains ``kp`` and ``kv`` scaled together by its own factor
+            (its stiffness and damping; their ratio, and so any velocity feed-forward, unchanged).
+    """
+
+    mass: float = 0.15
+    friction: float = 0.3
+    strength: float = 0.15
+
+    def __post_init__(self) -> None:
+        for name in ("mass", "friction", "strength"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and 0.0 <= value < 1.0):
+                raise ValueError(f"Dynamics.{name} must be a half-range in [0, 1) (factors 1 - r .. 1 + r), "
+                                 f"got {value}")
+
+
 CONTACT_MODES = ("vgrf", "keypoints")
 """Named sources of ``MimicGait-v0``'s contact targets: VGRFNet + Γ on the reference's joints, or
 the ContactTransformer on 2D keypoints of the reference filmed from the side."""

@@ -9,6 +9,7 @@ they need are precomputed per clip (:class:`envs.reference.ReferenceTrack`).
 
 from __future__ import annotations
 
+import copy
 import hashlib
 import weakref
 from collections import OrderedDict
@@ -22,10 +23,10 @@ import numpy as np
 
 from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, region_contacts, update_kinematics
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
-                         ArtefactMix, MimicConfig, Pushes)
+                         ArtefactMix, Dynamics, MimicConfig, Pushes)
 from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
                                steered_velocities)
-from envs.physics import at_physics_rate
+from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
@@ -80,6 +81,9 @@ class MimicEnv(gym.Env):
             (default): the clips themselves.
         pushes: random shoves of the pelvis (:class:`envs.config.Pushes`), for training; ``None``
             (default): none.
+        dynamics: the humanoid's masses, friction and PD gains drawn anew at every reset
+            (:class:`envs.config.Dynamics`), for training; ``None`` (default): the nominal humanoid.
+            The episode's factors are in :attr:`physics_draw`.
 
     Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``,
     ``K·(6 + 3B)`` more with ``K`` steps of ``config.lookahead``) — layout in :mod:`envs.observations`,
@@ -108,7 +112,7 @@ class MimicEnv(gym.Env):
                  action_mode: str = "key", config: MimicConfig | None = None,
                  sampling: SamplingConfig = SamplingConfig(), render_mode: str | None = None,
                  width: int = 480, height: int = 360, judged_clips: Sequence[ClipSpec] | None = None,
-                 pushes: Pushes | None = None):
+                 pushes: Pushes | None = None, dynamics: Dynamics | None = None):
         _check_choice("foot", foot, tuple(FOOT_MODELS))
         _check_choice("obs_mode", obs_mode, OBS_MODES)
         _check_choice("action_mode", action_mode, ACTION_MODES)
@@ -120,6 +124,8 @@ class MimicEnv(gym.Env):
             raise TypeError(f"artefacts must be an envs.ArtefactMix or None, got {type(artefacts).__name__}")
         if pushes is not None and not isinstance(pushes, Pushes):
             raise TypeError(f"pushes must be an envs.config.Pushes or None, got {type(pushes).__name__}")
+        if dynamics is not None and not isinstance(dynamics, Dynamics):
+            raise TypeError(f"dynamics must be an envs.config.Dynamics or None, got {type(dynamics).__name__}")
         config = config or MimicConfig()
         if episode_frames is not None:
             config = replace(config, episode_frames=int(episode_frames))
@@ -134,7 +140,14 @@ class MimicEnv(gym.Env):
 
         self.humanoid = load_model(FOOT_MODELS[foot])
         self.model = at_physics_rate(self.humanoid.model, config.physics_rate_hz)
-        """The simulated model: the humanoid's, stepped at ``config.physics_rate_hz``."""
+        """The simulated model: the humanoid's, stepped at ``config.physics_rate_hz`` (with
+        ``dynamics``, a copy of its own whose physics each reset draws)."""
+        self.dynamics = dynamics
+        self._nominal_model = self.model
+        if dynamics is not None:
+            self.model = copy.deepcopy(self.model)
+        self.physics_draw = PhysicsDraw.nominal(self.model)
+        """This episode's factors on the nominal humanoid's physics (all 1 without ``dynamics``)."""
         self.data = mujoco.MjData(self.model)
         m = self.model
         frame_dt = 1.0 / config.frame_rate_hz
@@ -335,6 +348,9 @@ class MimicEnv(gym.Env):
         self._push_steps_left = 0  # mj_resetData below clears the push's force
         fpc = self.config.frames_per_control
         self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
+        if self.dynamics is not None:
+            self.physics_draw = draw_physics(self.dynamics, self.model, self.np_random)
+            apply_physics(self.model, self._nominal_model, self.physics_draw)
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
         n_act = len(self.driven)

@@ -11,9 +11,12 @@ only way to stiffer contacts that stay stable (a time constant under two steps b
 from __future__ import annotations
 
 import copy
+from dataclasses import dataclass
 
 import mujoco
 import numpy as np
+
+from envs.config import Dynamics
 
 
 def model_rate_hz(model: mujoco.MjModel) -> float:
@@ -44,3 +47,54 @@ def at_physics_rate(model: mujoco.MjModel, rate_hz: float) -> mujoco.MjModel:
     fine.opt.timestep = 1.0 / rate_hz
     fine.geom_solref[:, 0] = np.minimum(contact_time_constants(model), 2.0 * fine.opt.timestep)
     return fine
+
+
+@dataclass(frozen=True)
+class PhysicsDraw:
+    """One draw of :class:`envs.config.Dynamics`: the factors one episode's humanoid gets.
+
+    Attributes:
+        mass: ``(nbody,)`` factor on each body's mass and inertia (the world body's included; it has none).
+        friction: factor on every geom's sliding friction.
+        strength: ``(nu,)`` factor on each actuator's ``kp`` and ``kv``.
+    """
+
+    mass: np.ndarray
+    friction: float
+    strength: np.ndarray
+
+    @staticmethod
+    def nominal(model: mujoco.MjModel) -> PhysicsDraw:
+        """Every factor 1: ``model`` as it is."""
+        return PhysicsDraw(np.ones(model.nbody), 1.0, np.ones(model.nu))
+
+
+def draw_physics(dynamics: Dynamics, model: mujoco.MjModel, rng: np.random.Generator) -> PhysicsDraw:
+    """Factors for one episode of ``model``, each uniform in ``1 ± `` its half-range in ``dynamics``."""
+    def factors(half_range: float, n: int) -> np.ndarray:
+        return rng.uniform(1.0 - half_range, 1.0 + half_range, n)
+
+    return PhysicsDraw(mass=factors(dynamics.mass, model.nbody), friction=float(factors(dynamics.friction, 1)[0]),
+                       strength=factors(dynamics.strength, model.nu))
+
+
+def apply_physics(model: mujoco.MjModel, nominal: mujoco.MjModel, draw: PhysicsDraw) -> None:
+    """Write into ``model`` the fields of ``nominal`` (a model of the same humanoid, never changed)
+    scaled by ``draw``: body masses and inertias, geom sliding friction, and the position
+    actuators' ``kp`` (``gainprm[0]``, ``-biasprm[1]``) and ``kv`` (``-biasprm[2]``). Every other
+    field of ``model`` is left as it is; the factors of a draw do not add up over calls.
+
+    Raises:
+        ValueError: the models' sizes differ from each other or from the draw's.
+    """
+    sizes = (model.nbody, model.ngeom, model.nu)
+    if (nominal.nbody, nominal.ngeom, nominal.nu) != sizes or (len(draw.mass), len(draw.strength)) != (
+            model.nbody, model.nu):
+        raise ValueError(f"apply_physics: model (nbody, ngeom, nu) = {sizes}, nominal "
+                         f"{(nominal.nbody, nominal.ngeom, nominal.nu)}, draw for {len(draw.mass)} bodies and "
+                         f"{len(draw.strength)} actuators; they must match")
+    model.body_mass[:] = nominal.body_mass * draw.mass
+    model.body_inertia[:] = nominal.body_inertia * draw.mass[:, None]
+    model.geom_friction[:, 0] = nominal.geom_friction[:, 0] * draw.friction
+    model.actuator_gainprm[:, 0] = nominal.actuator_gainprm[:, 0] * draw.strength
+    model.actuator_biasprm[:, 1:3] = nominal.actuator_biasprm[:, 1:3] * draw.strength[:, None]
