@@ -636,6 +636,19 @@ def run_args(run_dir: Path, parser: CliParser | None = None) -> argparse.Namespa
     return argparse.Namespace(**{**vars(defaults), **json.loads(saved.read_text()), "run_dir": Path(run_dir)})
 
 
+def changed_settings(parser: argparse.ArgumentParser, stored: dict, given: argparse.Namespace,
+                     explicit: set[str]) -> dict[str, tuple]:
+    """The options a resuming command line sets to other values than the run's ``args.json``:
+    ``{"--option": (stored, given)}`` among the ``explicit`` destinations (compared as JSON holds
+    them, so a tuple equals its stored list); ``--resume`` and ``--run-dir`` are not settings."""
+    def as_stored(value):
+        return json.loads(json.dumps(value, default=str))
+
+    options = {a.dest: a.option_strings[-1] for a in parser._actions if a.option_strings}
+    return {options[dest]: (stored.get(dest), as_stored(getattr(given, dest))) for dest in sorted(explicit)
+            if dest not in ("resume", "run_dir", "help") and as_stored(stored.get(dest)) != as_stored(getattr(given, dest))}
+
+
 @one_line_errors
 def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``): train, or resume, a run."""
@@ -647,6 +660,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         stored = vars(run_args(run_dir, parser))
         history = stored.get("commands", [stored["command"]] if "command" in stored else [])
         explicit = {a.dest for a in parser._actions if any(o in argv for o in a.option_strings)}
+        for option, (before, after) in changed_settings(parser, stored, args, explicit).items():
+            print(f"resuming with {option} changed: {before} -> {after} (checkpoints from now on record the new "
+                  f"value; args.json's commands keep every command)", flush=True)
         args = argparse.Namespace(**{**stored, **{k: getattr(args, k) for k in explicit}, "run_dir": run_dir,
                                      "resume": True})
     elif (run_dir / "args.json").exists():

@@ -10,7 +10,7 @@ import torch
 from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy, mlp_mean_action
-from agents.train_ppo import (build_parser, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
+from agents.train_ppo import (build_parser, changed_settings, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
                               run_args, training_motions, warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 from envs.config import MimicConfig
@@ -19,7 +19,7 @@ from reference_motion.cli import UsageError
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
 
-def test_train_checkpoint_evaluate_and_resume(tmp_path):
+def test_train_checkpoint_evaluate_and_resume(tmp_path, capsys):
     run = tmp_path / "run"
     common = ["--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128", "--batch-size", "64",
               "--checkpoint-every", "256", "--eval-every", "256", "--eval-episodes", "1", "--net", "32,32"]
@@ -51,8 +51,14 @@ def test_train_checkpoint_evaluate_and_resume(tmp_path):
     assert len(stored["commands"]) == 2 and "--resume" in stored["commands"][1]  # the run's whole history
     assert stored["vec"] == "batched"  # the kind it ran with, not the default of the day
 
+    capsys.readouterr()
     main(["--run-dir", str(run), "--resume", "--total-steps", "1024", "--no-progress", "--n-envs", "4",
           "--n-steps", "32"])  # a resume may change the rollout: 4 envs × 32 steps
+    said = [line for line in capsys.readouterr().out.splitlines() if line.startswith("resuming with")]
+    assert said == [f"resuming with {option} changed: {change} (checkpoints from now on record the new value; "
+                    "args.json's commands keep every command)"
+                    for option, change in [("--n-envs", "2 -> 4"), ("--n-steps", "128 -> 32"),
+                                           ("--total-steps", "768 -> 1024")]]
     resumed = PPO.load(newest_checkpoint(run), device="cpu")
     assert newest_checkpoint(run).name == "step_1024.zip" and (resumed.n_envs, resumed.n_steps) == (4, 32)
     (run / "checkpoints" / "step_1024_sidecar.json").unlink()  # as checkpoints were saved before they had one
@@ -137,6 +143,15 @@ def test_run_args_are_the_stored_settings_over_the_defaults(tmp_path):
     assert args.run_dir == tmp_path  # where it is now, not where it was written
     mix = env_kwargs(args, [], 0.5)["artefacts"]  # the run's corrupted variants can be rebuilt from it
     assert mix.strength == (0.75, 1.25) and mix.variants_per_clip == 6 and mix.seed == args.seed
+
+
+def test_a_resume_names_the_settings_it_changes():
+    parser = build_parser()
+    given = parser.parse_args(["--run-dir", "r", "--resume", "--warp", "*back*=1.5", "--strength", "0.5", "1.0",
+                               "--mirror"])
+    stored = {"warp": ["*back*=1.25"], "strength": [0.5, 1.0], "mirror": False, "run_dir": "elsewhere"}
+    changed = changed_settings(parser, stored, given, {"warp", "strength", "mirror", "resume", "run_dir"})
+    assert changed == {"--warp": (["*back*=1.25"], ["*back*=1.5"]), "--mirror": (False, True)}  # a tuple is its list
 
 
 def test_train_refuses_to_overwrite_or_resume_nothing(tmp_path):
