@@ -149,6 +149,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "the sliding friction and each actuator's PD gains scaled by factors uniform in 1 ± these "
                         "half-ranges (envs.config.Dynamics, domain randomisation; e.g. 0.15 0.3 0.15); default: "
                         "the nominal humanoid. Evaluation never randomises")
+    g.add_argument("--pd-offset", type=non_negative_float, default=0.0, metavar="DEG",
+                   help="with or without --dynamics: every training episode, each actuator's PD target is off by "
+                        "a constant drawn uniformly from ±DEG degrees, unseen by the policy (Dynamics.offset_deg: "
+                        "the few degrees every hinge of an IMU take is off); default 0: none")
     g.add_argument("--reverse", nargs="+", default=[], metavar="GLOB",
                    help="also train on the training clips whose SOURCE matches a GLOB (fnmatch, e.g. "
                         "'*_walk_*') played backwards in time: the same torques and contact forces perform them "
@@ -245,13 +249,13 @@ def pushes(args: argparse.Namespace) -> Pushes | None:
 
 
 def dynamics(args: argparse.Namespace) -> Dynamics | None:
-    """The training envs' randomised physics (``--dynamics``), or ``None``; never the evaluation's."""
-    if args.dynamics is None:
+    """The training envs' randomised physics (``--dynamics``, ``--pd-offset``), or ``None``; never the evaluation's."""
+    if args.dynamics is None and args.pd_offset == 0:
         return None
     if args.env_id == GAIT_ENV_ID:
-        raise ValueError(f"--dynamics randomises MimicEnv's humanoid; {GAIT_ENV_ID} does not take it")
-    mass, friction, strength = args.dynamics
-    return Dynamics(mass=mass, friction=friction, strength=strength)
+        raise ValueError(f"--dynamics and --pd-offset randomise MimicEnv's humanoid; {GAIT_ENV_ID} does not take them")
+    mass, friction, strength = args.dynamics or (0.0, 0.0, 0.0)
+    return Dynamics(mass=mass, friction=friction, strength=strength, offset_deg=args.pd_offset)
 
 
 def variant_seed(args: argparse.Namespace) -> int | None:

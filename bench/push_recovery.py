@@ -12,7 +12,7 @@ start frames ``--offset-step`` control steps apart) under pushes of each ``--for
 ``LOW,HIGH``; ``0``: none) at ``--rate`` pushes per second, each ``--duration`` s long; the pushes
 are drawn from the env's generator, seeded alike for every policy. ``train_ppo.py --dynamics``
 trains in bodies drawn anew every episode (:class:`envs.config.Dynamics`); each ``--bodies`` entry
-(``MASS,FRICTION,STRENGTH`` half-ranges) is a further column, the clean clips performed, unpushed,
+(``MASS,FRICTION,STRENGTH[,OFFSET_DEG]`` half-ranges) is a further column, the clean clips performed, unpushed,
 in bodies drawn the same way (the draws seeded alike for every policy too). Printed: ELR / SR90 per
 policy and column, side by side.
 """
@@ -44,13 +44,15 @@ def force_range(text: str) -> tuple[float, float] | None:
 
 
 def body_ranges(text: str) -> Dynamics:
-    """``"MASS,FRICTION,STRENGTH"`` half-ranges as :class:`envs.config.Dynamics`."""
+    """``"MASS,FRICTION,STRENGTH[,OFFSET_DEG]"`` half-ranges as :class:`envs.config.Dynamics`."""
     try:
-        mass, friction, strength = (float(v) for v in text.split(","))
-        return Dynamics(mass=mass, friction=friction, strength=strength)
+        values = [float(v) for v in text.split(",")]
+        if len(values) not in (3, 4):
+            raise ValueError(f"{len(values)} values")
+        return Dynamics(*values)
     except ValueError as e:
-        raise argparse.ArgumentTypeError(f"a body range is MASS,FRICTION,STRENGTH half-ranges in [0, 1), got "
-                                         f"{text!r} ({e})") from None
+        raise argparse.ArgumentTypeError(f"a body range is MASS,FRICTION,STRENGTH half-ranges in [0, 1) and an "
+                                         f"optional OFFSET_DEG, got {text!r} ({e})") from None
 
 
 def main() -> None:
@@ -60,7 +62,7 @@ def main() -> None:
     p.add_argument("--forces", nargs="+", type=force_range, default=[None, (80.0, 160.0), (150.0, 300.0)])
     p.add_argument("--bodies", nargs="*", type=body_ranges, default=[],
                    help="also perform the clips unpushed in bodies randomised by these MASS,FRICTION,STRENGTH "
-                        "half-ranges (e.g. 0.15,0.3,0.15)")
+                        "half-ranges and optional PD-target OFFSET_DEG (e.g. 0.15,0.3,0.15 or 0,0,0,3.5)")
     p.add_argument("--rate", type=float, default=0.5, help="pushes per second")
     p.add_argument("--duration", type=float, default=Pushes.duration_s, help="s")
     p.add_argument("--episodes", type=int, default=10)
@@ -71,7 +73,7 @@ def main() -> None:
     columns = [(None if f is None else Pushes(force_n=f, duration_s=args.duration, rate_hz=args.rate), None)
                for f in args.forces] + [(None, bodies) for bodies in args.bodies]
     labels = (["none" if f is None else f"{f[0]:g}-{f[1]:g} N" for f in args.forces]
-              + [f"body ±{b.mass:g},{b.friction:g},{b.strength:g}" for b in args.bodies])
+              + [f"body ±{b.mass:g},{b.friction:g},{b.strength:g},{b.offset_deg:g}°" for b in args.bodies])
     result = {"clips": args.clips, "rate_hz": args.rate, "duration_s": args.duration, "episodes": args.episodes,
               "bodies": [vars(b) for b in args.bodies], "policies": {}}
     print(f"ELR / SR90 under random pelvis pushes ({args.rate:g}/s, {args.duration:g} s each) and in random bodies, "

@@ -274,8 +274,9 @@ class Dynamics:
     has never seen (an unseen style, an IMU take) asks for torques and balance the nominal body was
     never shown, which a policy hardened against a range of bodies may still meet.
 
-    Each field is a relative half-range ``r``: a factor is drawn uniformly from ``[1 - r, 1 + r]``.
-    Training only: evaluation, cleaning and adaptation simulate the nominal humanoid.
+    ``mass``, ``friction`` and ``strength`` are relative half-ranges ``r``: a factor is drawn
+    uniformly from ``[1 - r, 1 + r]``. Training only: evaluation, cleaning and adaptation simulate
+    the nominal humanoid.
 
     Attributes:
         mass: each body's mass and rotational inertia scaled by its own factor (the humanoid's total
@@ -284,13 +285,21 @@ class Dynamics:
             larger of two touching geoms', so sole-on-floor friction scales by it).
         strength: each actuator's PD gains ``kp`` and ``kv`` scaled together by its own factor
             (its stiffness and damping; their ratio, and so any velocity feed-forward, unchanged).
+        offset_deg: half-range (degrees) of a constant offset, drawn per actuator, that its PD
+            target gets unseen by the policy (a miscalibrated joint: every hinge of an IMU take is
+            a few degrees off, 2° std, which no denoiser can see; ``bench/imu_ceiling.py``). The
+            reward still compares with the reference, so the policy learns to hold its pose against
+            errors it is not shown. 0 (default): none.
     """
 
     mass: float = 0.15
     friction: float = 0.3
     strength: float = 0.15
+    offset_deg: float = 0.0
 
     def __post_init__(self) -> None:
+        if not (math.isfinite(self.offset_deg) and 0.0 <= self.offset_deg <= 30.0):
+            raise ValueError(f"Dynamics.offset_deg must be a half-range in [0, 30] degrees, got {self.offset_deg}")
         for name in ("mass", "friction", "strength"):
             value = getattr(self, name)
             if not (math.isfinite(value) and 0.0 <= value < 1.0):

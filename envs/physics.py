@@ -57,15 +57,17 @@ class PhysicsDraw:
         mass: ``(nbody,)`` factor on each body's mass and inertia (the world body's included; it has none).
         friction: factor on every geom's sliding friction.
         strength: ``(nu,)`` factor on each actuator's ``kp`` and ``kv``.
+        offset: ``(nu,)`` rad added to each actuator's PD target (``None``: none).
     """
 
     mass: np.ndarray
     friction: float
     strength: np.ndarray
+    offset: np.ndarray | None = None
 
     @staticmethod
     def nominal(model: mujoco.MjModel) -> PhysicsDraw:
-        """Every factor 1: ``model`` as it is."""
+        """Every factor 1, no offset: ``model`` as it is."""
         return PhysicsDraw(np.ones(model.nbody), 1.0, np.ones(model.nu))
 
 
@@ -74,27 +76,33 @@ def draw_physics(dynamics: Dynamics, model: mujoco.MjModel, rng: np.random.Gener
     def factors(half_range: float, n: int) -> np.ndarray:
         return rng.uniform(1.0 - half_range, 1.0 + half_range, n)
 
+    offset = (np.radians(rng.uniform(-dynamics.offset_deg, dynamics.offset_deg, model.nu))
+              if dynamics.offset_deg > 0 else None)
     return PhysicsDraw(mass=factors(dynamics.mass, model.nbody), friction=float(factors(dynamics.friction, 1)[0]),
-                       strength=factors(dynamics.strength, model.nu))
+                       strength=factors(dynamics.strength, model.nu), offset=offset)
 
 
 def apply_physics(model: mujoco.MjModel, nominal: mujoco.MjModel, draw: PhysicsDraw) -> None:
     """Write into ``model`` the fields of ``nominal`` (a model of the same humanoid, never changed)
     scaled by ``draw``: body masses and inertias, geom sliding friction, and the position
-    actuators' ``kp`` (``gainprm[0]``, ``-biasprm[1]``) and ``kv`` (``-biasprm[2]``). Every other
-    field of ``model`` is left as it is; the factors of a draw do not add up over calls.
+    actuators' ``kp`` (``gainprm[0]``, ``-biasprm[1]``) and ``kv`` (``-biasprm[2]``); a draw's
+    target offset ``b`` becomes the constant force term ``biasprm[0] = kp·b``, so each actuator
+    applies ``kp·(ctrl + b − q) − kv·q̇``. Every other field of ``model`` is left as it is; the
+    factors of a draw do not add up over calls.
 
     Raises:
         ValueError: the models' sizes differ from each other or from the draw's.
     """
     sizes = (model.nbody, model.ngeom, model.nu)
-    if (nominal.nbody, nominal.ngeom, nominal.nu) != sizes or (len(draw.mass), len(draw.strength)) != (
-            model.nbody, model.nu):
+    offset = np.zeros(model.nu) if draw.offset is None else draw.offset
+    if (nominal.nbody, nominal.ngeom, nominal.nu) != sizes or (len(draw.mass), len(draw.strength), len(offset)) != (
+            model.nbody, model.nu, model.nu):
         raise ValueError(f"apply_physics: model (nbody, ngeom, nu) = {sizes}, nominal "
                          f"{(nominal.nbody, nominal.ngeom, nominal.nu)}, draw for {len(draw.mass)} bodies and "
-                         f"{len(draw.strength)} actuators; they must match")
+                         f"{len(draw.strength)} actuators ({len(offset)} offsets); they must match")
     model.body_mass[:] = nominal.body_mass * draw.mass
     model.body_inertia[:] = nominal.body_inertia * draw.mass[:, None]
     model.geom_friction[:, 0] = nominal.geom_friction[:, 0] * draw.friction
     model.actuator_gainprm[:, 0] = nominal.actuator_gainprm[:, 0] * draw.strength
     model.actuator_biasprm[:, 1:3] = nominal.actuator_biasprm[:, 1:3] * draw.strength[:, None]
+    model.actuator_biasprm[:, 0] = nominal.actuator_biasprm[:, 0] + model.actuator_gainprm[:, 0] * offset

@@ -57,6 +57,28 @@ def test_a_stronger_actuator_pushes_harder_by_its_factor():
     np.testing.assert_allclose(forces[1], 1.2 * forces[0], rtol=1e-9)
 
 
+def test_a_target_offset_moves_where_the_actuator_holds_the_joint():
+    """With offset b the actuator applies kp·(ctrl + b − q) − kv·q̇: the force of a target b further."""
+    nominal = load_model("humanoid_1seg").model
+    model = copy.deepcopy(nominal)
+    offset = np.radians(np.linspace(-3.0, 3.0, model.nu))
+    middle = model.actuator_ctrlrange.mean(axis=1)  # targets well inside every control range
+    forces = []
+    for ctrl, draw in ((middle + offset, PhysicsDraw.nominal(model)),
+                       (middle, PhysicsDraw(np.ones(model.nbody), 1.0, np.full(model.nu, 1.2), offset))):
+        apply_physics(model, nominal, draw)
+        data = mujoco.MjData(model)
+        data.qpos[model.jnt_qposadr[model.actuator_trnid[:, 0]]] = middle
+        data.qvel[6:] = 0.1
+        data.ctrl[:] = ctrl
+        mujoco.mj_forward(model, data)
+        forces.append(data.actuator_force.copy())
+    assert np.abs(forces[0]).max() < 300.0 and np.abs(forces[0]).mean() > 5.0  # inside the force limits, not zero
+    np.testing.assert_allclose(forces[1], 1.2 * forces[0], rtol=1e-9)  # strength 1.2 on the same PD error
+    apply_physics(model, nominal, PhysicsDraw.nominal(model))
+    assert not model.actuator_biasprm[:, 0].any()  # no offset left behind
+
+
 def test_draws_fall_in_their_ranges_and_a_zero_range_is_the_nominal_body():
     model = load_model("humanoid_1seg").model
     rng = np.random.default_rng(0)
@@ -67,6 +89,11 @@ def test_draws_fall_in_their_ranges_and_a_zero_range_is_the_nominal_body():
     assert all(0.9 <= d.strength.min() and d.strength.max() <= 1.1 for d in draws)
     still = draw_physics(Dynamics(0.0, 0.0, 0.0), model, rng)
     assert still.friction == 1.0 and (still.mass == 1.0).all() and (still.strength == 1.0).all()
+    assert still.offset is None
+    offsets = np.degrees(np.stack([draw_physics(Dynamics(offset_deg=3.5), model, rng).offset for _ in range(20)]))
+    assert offsets.shape == (20, model.nu) and np.abs(offsets).max() <= 3.5 and 1.6 < offsets.std() < 2.4  # 3.5/√3
+    with pytest.raises(ValueError, match=r"Dynamics.offset_deg must be a half-range in \[0, 30\] degrees"):
+        Dynamics(offset_deg=45.0)
     for bad in ({"mass": 1.0}, {"friction": -0.1}, {"strength": float("nan")}):
         with pytest.raises(ValueError, match=r"Dynamics\.\w+ must be a half-range in \[0, 1\)"):
             Dynamics(**bad)
@@ -101,9 +128,9 @@ def test_a_run_with_randomised_physics_records_it_and_evaluates_the_nominal_body
           str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128", "--batch-size", "64", "--eval-every", "256",
           "--eval-episodes", "1", "--net", "16,16"])
     policy = load_policy(run / "best")
-    assert policy.record.training.dynamics == {"mass": 0.1, "friction": 0.2, "strength": 0.05}
+    assert policy.record.training.dynamics == {"mass": 0.1, "friction": 0.2, "strength": 0.05, "offset_deg": 0.0}
     assert json.loads((run / "args.json").read_text())["dynamics"] == [0.1, 0.2, 0.05]
     assert policy.make_env(WALK).unwrapped.dynamics is None  # what the policy is judged and cleans on
-    with pytest.raises(SystemExit, match="--dynamics randomises MimicEnv's humanoid; MimicGait-v0 does not take it"):
-        main(["--env-id", "MimicGait-v0", "--clips", "deepmimic:walk", "--dynamics", "0.1", "0.1", "0.1",
+    with pytest.raises(SystemExit, match="--dynamics and --pd-offset randomise MimicEnv's humanoid; MimicGait-v0"):
+        main(["--env-id", "MimicGait-v0", "--clips", "deepmimic:walk", "--pd-offset", "2",
               "--run-dir", str(tmp_path / "x")])
