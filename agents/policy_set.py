@@ -55,14 +55,17 @@ def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
     return np.sum(velocity * heading, axis=1)
 
 
-TRANSFORM_SUFFIXES = re.compile(r"(?: \([^()]*\))+$")
-"""The ``" (mirrored)"``, ``" (x1.5 speed)"``, ``" (reversed)"``, ``" (posture)"`` … that
-:mod:`reference_motion.transforms` append to the name of a copy."""
+TRANSFORM_SUFFIXES = re.compile(
+    r"(?: \((?:mirrored|reversed|x[0-9.e+-]+ speed|posture(?: \d+)?|turned -?[0-9.e+-]+°)\))+$")
+"""The suffixes :mod:`reference_motion.transforms` and :func:`reference_motion.library.posture_copies`
+append to the name of a copy: ``" (mirrored)"``, ``" (reversed)"``, ``" (x1.5 speed)"``,
+``" (posture 0)"``, ``" (turned 90°)"``, any number of them in a row."""
 
 
 def source_name(name: str) -> str:
     """The name of the clip a copy named ``name`` was made from: ``name`` without the transforms'
-    parenthesised suffixes (``"walk_001 (mirrored) (x1.5 speed)"`` → ``"walk_001"``)."""
+    suffixes (``"walk_001 (mirrored) (x1.5 speed)"`` → ``"walk_001"``); other parentheses, such as
+    ``" (cleaned)"``, stay."""
     return TRANSFORM_SUFFIXES.sub("", name)
 
 

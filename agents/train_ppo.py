@@ -255,7 +255,10 @@ def dynamics(args: argparse.Namespace) -> Dynamics | None:
     if args.env_id == GAIT_ENV_ID:
         raise ValueError(f"--dynamics and --pd-offset randomise MimicEnv's humanoid; {GAIT_ENV_ID} does not take them")
     mass, friction, strength = args.dynamics or (0.0, 0.0, 0.0)
-    return Dynamics(mass=mass, friction=friction, strength=strength, offset_deg=args.pd_offset)
+    try:
+        return Dynamics(mass=mass, friction=friction, strength=strength, offset_deg=args.pd_offset)
+    except ValueError as e:
+        raise ValueError(f"--dynamics {mass:g} {friction:g} {strength:g} --pd-offset {args.pd_offset:g}: {e}") from None
 
 
 def variant_seed(args: argparse.Namespace) -> int | None:
@@ -649,8 +652,9 @@ def changed_settings(parser: argparse.ArgumentParser, stored: dict, given: argpa
         return json.loads(json.dumps(value, default=str))
 
     options = {a.dest: a.option_strings[-1] for a in parser._actions if a.option_strings}
-    return {options[dest]: (stored.get(dest), as_stored(getattr(given, dest))) for dest in sorted(explicit)
-            if dest not in ("resume", "run_dir", "help") and as_stored(stored.get(dest)) != as_stored(getattr(given, dest))}
+    settings = sorted(explicit - {"resume", "run_dir", "help"})
+    return {options[dest]: (stored.get(dest), as_stored(getattr(given, dest))) for dest in settings
+            if as_stored(stored.get(dest)) != as_stored(getattr(given, dest))}
 
 
 @one_line_errors
@@ -682,11 +686,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     if args.denoise is not None:
         check_denoiser(args)
+    push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)
     training_kwargs = env_kwargs(args, clips, args.corrupted_fraction)
-    push, varied = pushes(args), dynamics(args)
     if push is not None:  # MimicGait-v0 takes neither argument (pushes() and dynamics() refuse it)
         training_kwargs["pushes"] = push
     if varied is not None:

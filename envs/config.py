@@ -280,7 +280,7 @@ class Dynamics:
 
     Attributes:
         mass: each body's mass and rotational inertia scaled by its own factor (the humanoid's total
-            mass, 70 kg, moves by about ``r / sqrt(13)`` of itself).
+            mass, 70 kg, then varies with a std of about ``r / 5.6`` of itself: 1.9 kg at 0.15).
         friction: every geom's sliding friction scaled by one factor per episode (MuJoCo takes the
             larger of two touching geoms', so sole-on-floor friction scales by it).
         strength: each actuator's PD gains ``kp`` and ``kv`` scaled together by its own factor
@@ -288,8 +288,9 @@ class Dynamics:
         offset_deg: half-range (degrees) of a constant offset, drawn per actuator, that its PD
             target gets unseen by the policy (a miscalibrated joint: every hinge of an IMU take is
             a few degrees off, 2° std, which no denoiser can see; ``bench/imu_ceiling.py``). The
-            reward still compares with the reference, so the policy learns to hold its pose against
-            errors it is not shown. 0 (default): none.
+            reward still compares with the reference, so the policy learns to keep its balance and
+            its driven hinges on the reference despite errors it is not shown; the hinges it does
+            not drive keep theirs, as they keep an IMU take's. 0 (default): none.
     """
 
     mass: float = 0.15

@@ -81,9 +81,9 @@ class MimicEnv(gym.Env):
             (default): the clips themselves.
         pushes: random shoves of the pelvis (:class:`envs.config.Pushes`), for training; ``None``
             (default): none.
-        dynamics: the humanoid's masses, friction and PD gains drawn anew at every reset
-            (:class:`envs.config.Dynamics`), for training; ``None`` (default): the nominal humanoid.
-            The episode's factors are in :attr:`physics_draw`.
+        dynamics: the humanoid's masses, friction, PD gains and PD-target offsets drawn anew at every
+            reset (:class:`envs.config.Dynamics`), for training; ``None`` (default): the nominal
+            humanoid. The episode's draw is in :attr:`physics_draw`.
 
     Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``,
     ``K·(6 + 3B)`` more with ``K`` steps of ``config.lookahead``) — layout in :mod:`envs.observations`,
@@ -351,6 +351,7 @@ class MimicEnv(gym.Env):
         if self.dynamics is not None:
             self.physics_draw = draw_physics(self.dynamics, self.model, self.np_random)
             apply_physics(self.model, self._nominal_model, self.physics_draw)
+            mujoco.mj_setConst(self.model, self.data)  # subtree masses (the CoM MuJoCo reports), invweights
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
         n_act = len(self.driven)

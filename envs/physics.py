@@ -87,11 +87,13 @@ def apply_physics(model: mujoco.MjModel, nominal: mujoco.MjModel, draw: PhysicsD
     scaled by ``draw``: body masses and inertias, geom sliding friction, and the position
     actuators' ``kp`` (``gainprm[0]``, ``-biasprm[1]``) and ``kv`` (``-biasprm[2]``); a draw's
     target offset ``b`` becomes the constant force term ``biasprm[0] = kp·b``, so each actuator
-    applies ``kp·(ctrl + b − q) − kv·q̇``. Every other field of ``model`` is left as it is; the
-    factors of a draw do not add up over calls.
+    applies ``kp·(ctrl + b − q) − kv·q̇``. Every other field of ``model`` is left as it is, so
+    call ``mujoco.mj_setConst`` after it (the subtree masses MuJoCo divides by for the centre of
+    mass are derived from the masses); the factors of a draw do not add up over calls.
 
     Raises:
-        ValueError: the models' sizes differ from each other or from the draw's.
+        ValueError: the models' sizes differ from each other or from the draw's, or an actuator of
+            ``nominal`` is not a position servo (fixed gain ``kp``, affine bias ``-kp·q - kv·q̇``).
     """
     sizes = (model.nbody, model.ngeom, model.nu)
     offset = np.zeros(model.nu) if draw.offset is None else draw.offset
@@ -100,6 +102,13 @@ def apply_physics(model: mujoco.MjModel, nominal: mujoco.MjModel, draw: PhysicsD
         raise ValueError(f"apply_physics: model (nbody, ngeom, nu) = {sizes}, nominal "
                          f"{(nominal.nbody, nominal.ngeom, nominal.nu)}, draw for {len(draw.mass)} bodies and "
                          f"{len(draw.strength)} actuators ({len(offset)} offsets); they must match")
+    servo = ((nominal.actuator_gaintype == mujoco.mjtGain.mjGAIN_FIXED)
+             & (nominal.actuator_biastype == mujoco.mjtBias.mjBIAS_AFFINE)
+             & np.isclose(nominal.actuator_biasprm[:, 1], -nominal.actuator_gainprm[:, 0]))
+    if not servo.all():
+        raise ValueError(f"apply_physics scales position servos' kp and kv; actuator(s) "
+                         f"{np.flatnonzero(~servo).tolist()} of the nominal model are not (gaintype fixed, "
+                         "biastype affine, biasprm[1] = -kp)")
     model.body_mass[:] = nominal.body_mass * draw.mass
     model.body_inertia[:] = nominal.body_inertia * draw.mass[:, None]
     model.geom_friction[:, 0] = nominal.geom_friction[:, 0] * draw.friction

@@ -15,15 +15,15 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.train_ppo import UpdateThreads, build_parser, vec_env_settings, vec_kind
 from agents.vec_env import ShardedVecEnv
 from envs import ArtefactMix, MimicConfig, MimicEnv
-from envs.config import Pushes
+from envs.config import Dynamics, Pushes
 
 CLIPS = ["deepmimic:walk", "deepmimic:run"]
 
 
 def make(vec_env_cls, config: MimicConfig = MimicConfig(), n_envs: int = 3, judge: str = "corrupted",
-         pushes: Pushes | None = None, **vec_kwargs):
+         pushes: Pushes | None = None, dynamics: Dynamics | None = None, **vec_kwargs):
     kwargs = {"clips": CLIPS, "artefacts": ArtefactMix(seed=0, variants_per_clip=1, judge=judge), "config": config,
-              "pushes": pushes}
+              "pushes": pushes, "dynamics": dynamics}
     return make_vec_env("MimicIMU-v0", n_envs=n_envs, seed=7, vec_env_cls=vec_env_cls, env_kwargs=kwargs,
                         vec_env_kwargs=vec_kwargs or None)
 
@@ -84,6 +84,13 @@ def test_every_observation_layout_the_velocity_feedforward_and_the_still_feet_te
 def test_random_pushes_batch_alike():
     pushes = Pushes(force_n=(150.0, 300.0), rate_hz=3.0)  # often and hard: the pushes decide who falls
     assert_same_transitions(make(BatchedMimicVecEnv, pushes=pushes), make(DummyVecEnv, pushes=pushes), steps=60)
+
+
+def test_randomised_bodies_batch_alike():
+    bodies = Dynamics(mass=0.3, friction=0.5, strength=0.3, offset_deg=5.0)  # far from nominal: episodes end
+    endings = assert_same_transitions(make(BatchedMimicVecEnv, dynamics=bodies, n_threads=2),
+                                      make(DummyVecEnv, dynamics=bodies), steps=60)
+    assert sum(endings.values()) >= 1
 
 
 def test_an_unstable_simulation_ends_its_episode_in_the_batch_as_alone():

@@ -12,6 +12,7 @@ import pytest
 import envs  # noqa: F401  (registers the environments)
 from agents.policy import load_policy
 from agents.train_ppo import main
+from envs.bodies import read_body_state
 from envs.config import Dynamics
 from envs.physics import PhysicsDraw, apply_physics, draw_physics
 from reference_motion.humanoid.model import load_model
@@ -105,13 +106,19 @@ def test_each_training_episode_gets_its_own_body_and_evaluation_the_nominal_one(
     varied.reset(seed=3, options={"start_frame": 0})
     first = varied.model.body_mass.copy()
     assert abs(first.sum() - 70.0) > 0.01 and varied.physics_draw.friction != 1.0
-    varied.reset(options={"start_frame": 0})
+    varied.reset(options={"start_frame": 240})  # 4 s into the walk: metres from the origin
     assert not np.allclose(varied.model.body_mass, first)
     np.testing.assert_allclose(varied.model.body_mass, varied._nominal_model.body_mass * varied.physics_draw.mass)
+    varied.step(np.zeros(20, np.float32))
+    m, d = varied.model, varied.data  # away from the origin, where a stale subtree mass would shift the CoM
+    true_com = (m.body_mass[1:, None] * d.xipos[1:]).sum(axis=0) / m.body_mass[1:].sum()
+    assert np.linalg.norm(d.xipos[1, :2]) > 1.0
+    np.testing.assert_allclose(read_body_state(m, d).com, true_com, atol=1e-9)
     nominal.reset(seed=3, options={"start_frame": 0})
     assert nominal.model.body_mass.sum() == pytest.approx(70.0) and nominal.physics_draw.friction == 1.0
     assert load_model("humanoid_1seg").model.body_mass.sum() == pytest.approx(70.0)  # the cached model untouched
-    # zero half-ranges: the very episode the nominal env plays, step for step
+    # zero half-ranges: the very episode the nominal env plays, step for step (the first episode: the
+    # draws still take numbers from the env's generator, so later episodes start elsewhere)
     zero = gym.make("MimicIMU-v0", clips=WALK, dynamics=Dynamics(0.0, 0.0, 0.0)).unwrapped
     for env in (zero, nominal):
         env.reset(seed=5, options={"start_frame": 30})
@@ -122,7 +129,7 @@ def test_each_training_episode_gets_its_own_body_and_evaluation_the_nominal_one(
         gym.make("MimicIMU-v0", clips=WALK, dynamics={"mass": 0.1})
 
 
-def test_a_run_with_randomised_physics_records_it_and_evaluates_the_nominal_body(tmp_path):
+def test_a_run_with_randomised_physics_records_it_and_its_policy_acts_in_the_nominal_body(tmp_path):
     run = tmp_path / "dr"
     main(["--clips", "deepmimic:walk", "--dynamics", "0.1", "0.2", "0.05", "--total-steps", "256", "--run-dir",
           str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128", "--batch-size", "64", "--eval-every", "256",
@@ -131,6 +138,8 @@ def test_a_run_with_randomised_physics_records_it_and_evaluates_the_nominal_body
     assert policy.record.training.dynamics == {"mass": 0.1, "friction": 0.2, "strength": 0.05, "offset_deg": 0.0}
     assert json.loads((run / "args.json").read_text())["dynamics"] == [0.1, 0.2, 0.05]
     assert policy.make_env(WALK).unwrapped.dynamics is None  # what the policy is judged and cleans on
+    with pytest.raises(SystemExit, match=r"--dynamics 0.1 0.1 1.5 --pd-offset 0: Dynamics.strength must be"):
+        main(["--clips", "no:such_clip", "--dynamics", "0.1", "0.1", "1.5", "--run-dir", str(tmp_path / "x")])
     with pytest.raises(SystemExit, match="--dynamics and --pd-offset randomise MimicEnv's humanoid; MimicGait-v0"):
         main(["--env-id", "MimicGait-v0", "--clips", "deepmimic:walk", "--pd-offset", "2",
               "--run-dir", str(tmp_path / "x")])

@@ -10,8 +10,8 @@ import torch
 from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy, mlp_mean_action
-from agents.train_ppo import (build_parser, changed_settings, deferred_signals, env_kwargs, main, newest_checkpoint, recorded_progress,
-                              run_args, training_motions, warped_clips)
+from agents.train_ppo import (build_parser, changed_settings, deferred_signals, env_kwargs, main, newest_checkpoint,
+                              recorded_progress, run_args, training_motions, warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 from envs.config import MimicConfig
 from reference_motion.cli import UsageError
