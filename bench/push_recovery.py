@@ -78,7 +78,7 @@ def main() -> None:
               "bodies": [vars(b) for b in args.bodies], "policies": {}}
     print(f"ELR / SR90 under random pelvis pushes ({args.rate:g}/s, {args.duration:g} s each) and in random bodies, "
           f"{args.episodes} rollouts per clip of {len(clips)}")
-    print(f"{'policy':<44}" + "".join(f"{label:>22}" for label in labels))
+    print(f"{'policy':<44}" + "".join(f"{label:>24}" for label in labels))
     for path in args.policy:
         policy = load_policy(path)
         row = {}
@@ -89,7 +89,7 @@ def main() -> None:
             env.close()
             row[label] = summary
         result["policies"][path] = row
-        print(f"{path:<44}" + "".join(f"{row[l]['ELR_mean']:>15.3f} / {row[l]['SR90']:.2f}" for l in labels), flush=True)
+        print(f"{path:<44}" + "".join(f"{row[l]['ELR_mean']:>17.3f} / {row[l]['SR90']:.2f}" for l in labels), flush=True)
     emit_json(result, args.json)
 
 
