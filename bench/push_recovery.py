@@ -70,26 +70,26 @@ def main() -> None:
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     clips = expand_clips(args.clips)
-    columns = [(None if f is None else Pushes(force_n=f, duration_s=args.duration, rate_hz=args.rate), None)
-               for f in args.forces] + [(None, bodies) for bodies in args.bodies]
-    labels = (["none" if f is None else f"{f[0]:g}-{f[1]:g} N" for f in args.forces]
-              + [f"body ±{b.mass:g},{b.friction:g},{b.strength:g},{b.offset_deg:g}°" for b in args.bodies])
+    columns = {("none" if f is None else f"{f[0]:g}-{f[1]:g} N"):
+               (None if f is None else Pushes(force_n=f, duration_s=args.duration, rate_hz=args.rate), None)
+               for f in args.forces}  # label: (pushes, bodies)
+    columns.update({f"body ±{b.mass:g},{b.friction:g},{b.strength:g},{b.offset_deg:g}°": (None, b) for b in args.bodies})
     result = {"clips": args.clips, "rate_hz": args.rate, "duration_s": args.duration, "episodes": args.episodes,
               "bodies": [vars(b) for b in args.bodies], "policies": {}}
     print(f"ELR / SR90 under random pelvis pushes ({args.rate:g}/s, {args.duration:g} s each) and in random bodies, "
           f"{args.episodes} rollouts per clip of {len(clips)}")
-    print(f"{'policy':<44}" + "".join(f"{label:>24}" for label in labels))
+    print(f"{'policy':<44}" + "".join(f"{label:>24}" for label in columns))
     for path in args.policy:
         policy = load_policy(path)
         row = {}
-        for label, (pushes, bodies) in zip(labels, columns):
+        for label, (pushes, bodies) in columns.items():
             env = policy.make_env(clips, artefacts=None, pushes=pushes, dynamics=bodies)
             env.reset(seed=SEED)
             summary, _ = evaluate(env, policy, episodes=args.episodes, offset_step=args.offset_step)
             env.close()
             row[label] = summary
         result["policies"][path] = row
-        print(f"{path:<44}" + "".join(f"{row[l]['ELR_mean']:>17.3f} / {row[l]['SR90']:.2f}" for l in labels), flush=True)
+        print(f"{path:<44}" + "".join(f"{row[l]['ELR_mean']:>17.3f} / {row[l]['SR90']:.2f}" for l in columns), flush=True)
     emit_json(result, args.json)
 
 

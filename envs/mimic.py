@@ -350,8 +350,7 @@ class MimicEnv(gym.Env):
         self._episode_end = start + fpc * (min(self.config.episode_frames, track.n_frames - 1 - start) // fpc)
         if self.dynamics is not None:
             self.physics_draw = draw_physics(self.dynamics, self.model, self.np_random)
-            apply_physics(self.model, self._nominal_model, self.physics_draw)
-            mujoco.mj_setConst(self.model, self.data)  # subtree masses (the CoM MuJoCo reports), invweights
+            apply_physics(self.model, self.data, self._nominal_model, self.physics_draw)
         m, d = self.model, self.data
         mujoco.mj_resetData(m, d)
         n_act = len(self.driven)

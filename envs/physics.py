@@ -82,14 +82,15 @@ def draw_physics(dynamics: Dynamics, model: mujoco.MjModel, rng: np.random.Gener
                        strength=factors(dynamics.strength, model.nu), offset=offset)
 
 
-def apply_physics(model: mujoco.MjModel, nominal: mujoco.MjModel, draw: PhysicsDraw) -> None:
+def apply_physics(model: mujoco.MjModel, data: mujoco.MjData, nominal: mujoco.MjModel, draw: PhysicsDraw) -> None:
     """Write into ``model`` the fields of ``nominal`` (a model of the same humanoid, never changed)
     scaled by ``draw``: body masses and inertias, geom sliding friction, and the position
     actuators' ``kp`` (``gainprm[0]``, ``-biasprm[1]``) and ``kv`` (``-biasprm[2]``); a draw's
     target offset ``b`` becomes the constant force term ``biasprm[0] = kp·b``, so each actuator
-    applies ``kp·(ctrl + b − q) − kv·q̇``. Every other field of ``model`` is left as it is, so
-    call ``mujoco.mj_setConst`` after it (the subtree masses MuJoCo divides by for the centre of
-    mass are derived from the masses); the factors of a draw do not add up over calls.
+    applies ``kp·(ctrl + b − q) − kv·q̇``. Then ``mujoco.mj_setConst`` (with ``data``, ``model``'s,
+    as scratch: reset it before simulating) derives what MuJoCo keeps of the masses, the subtree
+    masses it divides by for the centre of mass among them. Every other field of ``model`` is left
+    as it is; the factors of a draw do not add up over calls.
 
     Raises:
         ValueError: the models' sizes differ from each other or from the draw's, or an actuator of
@@ -115,3 +116,4 @@ def apply_physics(model: mujoco.MjModel, nominal: mujoco.MjModel, draw: PhysicsD
     model.actuator_gainprm[:, 0] = nominal.actuator_gainprm[:, 0] * draw.strength
     model.actuator_biasprm[:, 1:3] = nominal.actuator_biasprm[:, 1:3] * draw.strength[:, None]
     model.actuator_biasprm[:, 0] = nominal.actuator_biasprm[:, 0] + model.actuator_gainprm[:, 0] * offset
+    mujoco.mj_setConst(model, data)

@@ -25,10 +25,12 @@ def test_apply_physics_scales_the_nominal_fields_and_nothing_adds_up():
     model = copy.deepcopy(nominal)
     mass, strength = np.ones(model.nbody), np.ones(model.nu)
     mass[1], strength[0] = 2.0, 1.5
+    data = mujoco.MjData(model)
     draw = PhysicsDraw(mass=mass, friction=0.5, strength=strength)
     for _ in range(2):  # a second call gives the same model, not the factors squared
-        apply_physics(model, nominal, draw)
+        apply_physics(model, data, nominal, draw)
         assert model.body_mass[1] == pytest.approx(2.0 * nominal.body_mass[1])
+        assert model.body_subtreemass[1] == pytest.approx(model.body_mass[1:].sum())  # derived anew
         np.testing.assert_allclose(model.body_inertia[1], 2.0 * nominal.body_inertia[1])
         np.testing.assert_array_equal(model.body_mass[2:], nominal.body_mass[2:])
         np.testing.assert_allclose(model.geom_friction[:, 0], 0.5 * nominal.geom_friction[:, 0])
@@ -39,7 +41,7 @@ def test_apply_physics_scales_the_nominal_fields_and_nothing_adds_up():
         np.testing.assert_array_equal(model.actuator_gainprm[1:, 0], nominal.actuator_gainprm[1:, 0])
     assert nominal.body_mass.sum() == pytest.approx(70.0)  # the shared, cached model is untouched
     with pytest.raises(ValueError, match="draw for 3 bodies"):
-        apply_physics(model, nominal, PhysicsDraw(np.ones(3), 1.0, strength))
+        apply_physics(model, data, nominal, PhysicsDraw(np.ones(3), 1.0, strength))
 
 
 def test_a_stronger_actuator_pushes_harder_by_its_factor():
@@ -48,8 +50,8 @@ def test_a_stronger_actuator_pushes_harder_by_its_factor():
     model = copy.deepcopy(nominal)
     forces = []
     for factor in (1.0, 1.2):
-        apply_physics(model, nominal, PhysicsDraw(np.ones(model.nbody), 1.0, np.full(model.nu, factor)))
         data = mujoco.MjData(model)
+        apply_physics(model, data, nominal, PhysicsDraw(np.ones(model.nbody), 1.0, np.full(model.nu, factor)))
         data.qvel[6:] = 0.5
         data.ctrl[:] = 0.3
         mujoco.mj_forward(model, data)
@@ -67,8 +69,8 @@ def test_a_target_offset_moves_where_the_actuator_holds_the_joint():
     forces = []
     for ctrl, draw in ((middle + offset, PhysicsDraw.nominal(model)),
                        (middle, PhysicsDraw(np.ones(model.nbody), 1.0, np.full(model.nu, 1.2), offset))):
-        apply_physics(model, nominal, draw)
         data = mujoco.MjData(model)
+        apply_physics(model, data, nominal, draw)
         data.qpos[model.jnt_qposadr[model.actuator_trnid[:, 0]]] = middle
         data.qvel[6:] = 0.1
         data.ctrl[:] = ctrl
@@ -76,7 +78,7 @@ def test_a_target_offset_moves_where_the_actuator_holds_the_joint():
         forces.append(data.actuator_force.copy())
     assert np.abs(forces[0]).max() < 300.0 and np.abs(forces[0]).mean() > 5.0  # inside the force limits, not zero
     np.testing.assert_allclose(forces[1], 1.2 * forces[0], rtol=1e-9)  # strength 1.2 on the same PD error
-    apply_physics(model, nominal, PhysicsDraw.nominal(model))
+    apply_physics(model, data, nominal, PhysicsDraw.nominal(model))
     assert not model.actuator_biasprm[:, 0].any()  # no offset left behind
 
 
