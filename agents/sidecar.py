@@ -113,7 +113,9 @@ class TrainingRecord:
         reversed_clips: the clips also trained on played backwards in time (``train_ppo.py --reverse``).
         warps: the clips also trained on at extra time-warp speeds, ``{clip: speeds}`` (``train_ppo.py --warp``).
         postures, posture_seed: random posture copies of each training reference and the seed they
-            were drawn with (``train_ppo.py --postures``; :func:`reference_motion.transforms.random_posture`).
+            were drawn with (``train_ppo.py --postures``; :func:`reference_motion.transforms.random_posture`),
+            and the ranges they were drawn from (:class:`reference_motion.transforms.PostureRanges` as a
+            dict; ``None`` without postures).
         pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
         dynamics: the training envs' randomised physics (:class:`envs.config.Dynamics` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
@@ -133,6 +135,7 @@ class TrainingRecord:
     warps: dict[str, list[float]] = field(default_factory=dict)
     postures: int = 0
     posture_seed: int = 0
+    posture_ranges: dict | None = None
     pushes: dict | None = None
     dynamics: dict | None = None
     init_from: str | None = None

@@ -62,7 +62,7 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
 from reference_motion.library import augmented, expand_clips, load_motion, posture_copies
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
-from reference_motion.transforms import reversed_in_time
+from reference_motion.transforms import PostureRanges, reversed_in_time
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
 
@@ -164,6 +164,11 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="also train on N copies of every training reference (mirrored and time-warped ones "
                         "included), each carried with a random posture: a stoop, bent knees, a wide stance "
                         "(reference_motion.transforms.random_posture, drawn with --seed); default 0")
+    g.add_argument("--posture-range", type=posture_range, nargs="+", default=[], metavar="NAME=LOW,HIGH",
+                   help="with --postures, draw the posture change NAME from LOW to HIGH degrees instead of "
+                        "reference_motion.transforms.PostureRanges' default (NAME: trunk_flexion, neck_flexion, "
+                        "crouch, stance_width (each hip), elbow_flexion; e.g. 'stance_width=-4,12' "
+                        "'trunk_flexion=0,0')")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=None,
@@ -374,7 +379,7 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
         return clips
     motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
                                     reversed_clips(clips, args.reverse), warped_clips(clips, args.warp))
-    return motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM])
+    return motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM], posture_ranges(args))
 
 
 POSTURE_STREAM = 7
@@ -409,6 +414,36 @@ def parse_glob_speeds(text: str) -> tuple[str, list[float]]:
         raise argparse.ArgumentTypeError(f"{text!r}: expected GLOB=SPEED[,SPEED...] with positive speeds, "
                                          f"e.g. '*walk-back*=1.25,1.5'")
     return pattern, values
+
+
+def parse_posture_range(text: str) -> tuple[str, tuple[float, float]]:
+    """A ``--posture-range`` value ``NAME=LOW,HIGH`` as ``(field of PostureRanges, (low, high))``
+    (degrees); :class:`argparse.ArgumentTypeError` says what is wrong."""
+    name, sep, bounds = text.partition("=")
+    field_name = f"{name}_deg"
+    try:
+        low, high = (float(v) for v in bounds.split(","))
+    except ValueError:
+        low = high = math.nan
+    if not sep or field_name not in {f.name for f in fields(PostureRanges)} or not low <= high:
+        names = ", ".join(f.name.removesuffix("_deg") for f in fields(PostureRanges))
+        raise argparse.ArgumentTypeError(f"{text!r}: expected NAME=LOW,HIGH (degrees, LOW <= HIGH) with NAME one "
+                                         f"of {names}, e.g. 'stance_width=-4,12'")
+    return field_name, (low, high)
+
+
+def posture_range(text: str) -> str:
+    """A ``--posture-range`` value checked by :func:`parse_posture_range` and returned as given."""
+    parse_posture_range(text)
+    return text
+
+
+def posture_ranges(args: argparse.Namespace) -> PostureRanges:
+    """The ranges ``--postures`` copies are drawn from: :class:`PostureRanges`' defaults with
+    ``--posture-range``'s changes (a later value for the same change wins)."""
+    if args.posture_range and not args.postures:
+        raise ValueError("--posture-range changes the postures of --postures copies; give --postures N as well")
+    return PostureRanges(**dict(parse_posture_range(v) for v in args.posture_range))
 
 
 def glob_speeds(text: str) -> str:
@@ -552,6 +587,7 @@ class CheckpointAndEvaluate(BaseCallback):
             reversed_clips=reversed_clips(clips, args.reverse),
             warps=warped_clips(clips, args.warp),
             postures=args.postures, posture_seed=args.seed,
+            posture_ranges=asdict(posture_ranges(args)) if args.postures else None,
             pushes=asdict(push) if push is not None else None,
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
@@ -687,6 +723,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if args.denoise is not None:
         check_denoiser(args)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
+    posture_ranges(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)

@@ -29,7 +29,8 @@ from reference_motion.motion_library import PREFIX as LIBRARY_PREFIX, is_library
 from reference_motion.retarget import retarget
 from reference_motion.rigs import MocapOptions
 from reference_motion.source import SourceClip
-from reference_motion.transforms import ENV_FPS, loop, mirror, random_posture, resample, time_warp, with_posture
+from reference_motion.transforms import (ENV_FPS, PostureRanges, loop, mirror, random_posture, resample, time_warp,
+                                         with_posture)
 
 NAMED_SETS: dict[str, Callable[[], list[str]]] = {
     "deepmimic": lambda: [f"deepmimic:{n}" for n in deepmimic.clip_names()],
@@ -133,12 +134,13 @@ def postured(motion: Motion, offsets: np.ndarray, label: str) -> Motion:
     return pin_contacts(with_posture(motion, offsets, label))
 
 
-def posture_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[int]) -> list[Motion]:
+def posture_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[int],
+                   ranges: PostureRanges = PostureRanges()) -> list[Motion]:
     """``copies`` copies of each of ``motions`` (clip by clip), each carried with its own random
-    posture (:func:`~reference_motion.transforms.random_posture`, :func:`postured`) drawn from
-    ``numpy.random.default_rng(seed)``: the same copies for the same seed."""
+    posture drawn from ``ranges`` (:func:`~reference_motion.transforms.random_posture`,
+    :func:`postured`) with ``numpy.random.default_rng(seed)``: the same copies for the same seed."""
     rng = np.random.default_rng(seed)
-    return [postured(m, random_posture(m.model, rng), f"posture {k}") for m in motions for k in range(copies)]
+    return [postured(m, random_posture(m.model, rng, ranges), f"posture {k}") for m in motions for k in range(copies)]
 
 
 def augmented(motions: Sequence[Motion], mirrored: bool = False, speeds: Sequence[float] = (1.0,)) -> list[Motion]:

@@ -11,10 +11,11 @@ from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy, mlp_mean_action
 from agents.train_ppo import (build_parser, changed_settings, deferred_signals, env_kwargs, main, newest_checkpoint,
-                              recorded_progress, run_args, training_motions, warped_clips)
+                              posture_ranges, recorded_progress, run_args, training_motions, warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 from envs.config import MimicConfig
 from reference_motion.cli import UsageError
+from reference_motion.humanoid.model import load_model
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
@@ -494,3 +495,25 @@ def test_move_block_places_each_old_entry_at_its_new_index():
     assert moved.tolist() == [[1.0, 3.0, -1.0, 2.0, 4.0, 5.0]]
     rows = move_block(torch.tensor([7.0, 8.0]), 0, 0, torch.tensor([1, 3]), 4, fill=0.5)
     assert rows.tolist() == [0.5, 7.0, 0.5, 8.0]
+
+
+def test_posture_ranges_change_what_the_copies_are_drawn_from():
+    """``--posture-range stance_width=10,10`` with every other change at zero: each copy stands
+    10° wider on each hip than its reference, and the sidecar records the ranges."""
+    zero = [f"{name}=0,0" for name in ("trunk_flexion", "neck_flexion", "crouch", "elbow_flexion")]
+    args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "--postures", "1",
+                                      "--posture-range", "stance_width=-4,12", *zero, "stance_width=10,10"])
+    assert posture_ranges(args).stance_width_deg == (10.0, 10.0)  # the later value wins
+    walk, wide = training_motions(args)
+    hm = load_model(walk.model)
+    for hinge, sign in (("l_thigh_x", 1), ("r_thigh_x", -1)):
+        change = wide.qpos[:, hm.qpos_index(hinge)] - walk.qpos[:, hm.qpos_index(hinge)]
+        assert np.degrees(np.median(change)) * sign == pytest.approx(10.0, abs=0.5)
+    assert np.degrees(np.abs(wide.qpos[:, hm.qpos_index("chest_y")] - walk.qpos[:, hm.qpos_index("chest_y")]).max()) \
+        < 0.5  # no stoop drawn
+    for bad in ("stance_width", "stance_width=12,-4", "stoop=0,10", "stance_width=1,x", "stance_width=nan,1"):
+        with pytest.raises(UsageError, match="expected NAME=LOW,HIGH"):
+            build_parser().parse_args(["--run-dir", "unused", "--posture-range", bad])
+    alone = build_parser().parse_args(["--run-dir", "unused", "--posture-range", "stance_width=0,5"])
+    with pytest.raises(ValueError, match="give --postures N as well"):
+        posture_ranges(alone)
