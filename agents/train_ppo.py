@@ -164,11 +164,11 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="also train on N copies of every training reference (mirrored and time-warped ones "
                         "included), each carried with a random posture: a stoop, bent knees, a wide stance "
                         "(reference_motion.transforms.random_posture, drawn with --seed); default 0")
-    g.add_argument("--posture-range", type=posture_range, nargs="+", default=[], metavar="NAME=LOW,HIGH",
+    g.add_argument("--posture-range", type=posture_range, nargs="*", default=[], metavar="NAME=LOW,HIGH",
                    help="with --postures, draw the posture change NAME from LOW to HIGH degrees instead of "
                         "reference_motion.transforms.PostureRanges' default (NAME: trunk_flexion, neck_flexion, "
-                        "crouch, stance_width (each hip), elbow_flexion; e.g. 'stance_width=-4,12' "
-                        "'trunk_flexion=0,0')")
+                        "crouch, stance_width (each hip), elbow_flexion; a NAME given twice: the later range; "
+                        "e.g. 'stance_width=-4,12' 'trunk_flexion=0,0'); given bare, PostureRanges' defaults")
     g = p.add_argument_group("PPO")
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=None,
@@ -418,18 +418,18 @@ def parse_glob_speeds(text: str) -> tuple[str, list[float]]:
 
 def parse_posture_range(text: str) -> tuple[str, tuple[float, float]]:
     """A ``--posture-range`` value ``NAME=LOW,HIGH`` as ``(field of PostureRanges, (low, high))``
-    (degrees); :class:`argparse.ArgumentTypeError` says what is wrong."""
-    name, sep, bounds = text.partition("=")
-    field_name = f"{name}_deg"
+    (degrees, checked by :class:`PostureRanges`); :class:`argparse.ArgumentTypeError` says what is wrong."""
+    name, _, bounds = text.partition("=")
+    names = [f.name.removesuffix("_deg") for f in fields(PostureRanges)]
     try:
         low, high = (float(v) for v in bounds.split(","))
+        if name not in names:
+            raise ValueError(f"no posture change {name!r}")
+        PostureRanges(**{f"{name}_deg": (low, high)})
     except ValueError:
-        low = high = math.nan
-    if not sep or field_name not in {f.name for f in fields(PostureRanges)} or not low <= high:
-        names = ", ".join(f.name.removesuffix("_deg") for f in fields(PostureRanges))
-        raise argparse.ArgumentTypeError(f"{text!r}: expected NAME=LOW,HIGH (degrees, LOW <= HIGH) with NAME one "
-                                         f"of {names}, e.g. 'stance_width=-4,12'")
-    return field_name, (low, high)
+        raise argparse.ArgumentTypeError(f"{text!r}: expected NAME=LOW,HIGH (finite degrees, LOW <= HIGH) with NAME "
+                                         f"one of {', '.join(names)}, e.g. 'stance_width=-4,12'") from None
+    return f"{name}_deg", (low, high)
 
 
 def posture_range(text: str) -> str:
@@ -442,7 +442,8 @@ def posture_ranges(args: argparse.Namespace) -> PostureRanges:
     """The ranges ``--postures`` copies are drawn from: :class:`PostureRanges`' defaults with
     ``--posture-range``'s changes (a later value for the same change wins)."""
     if args.posture_range and not args.postures:
-        raise ValueError("--posture-range changes the postures of --postures copies; give --postures N as well")
+        raise ValueError("--posture-range changes the postures of --postures copies; give --postures N as well (or "
+                         "a bare --posture-range to drop the ranges)")
     return PostureRanges(**dict(parse_posture_range(v) for v in args.posture_range))
 
 

@@ -10,8 +10,10 @@ with each hip abducted ``W`` degrees more for each ``W`` of ``--widths`` (the st
 :func:`reference_motion.transforms.posture_offsets` ``stance_width``, the ankles rolled back so the
 soles stay as they were, the centre of mass kept on its path, the feet pinned again:
 :func:`reference_motion.library.postured`), and each policy tracks every copy ``--episodes`` times
-from the same start frames. Clean takes; policy directories or run checkpoints. Prints ELR and SR90
-per policy and width, and the takes each policy loses most at the widest stance.
+from the same start frames (the takes at 0 go through the same re-posing and re-pinning, so the
+widths differ in the stance alone). Clean takes; policy directories or run checkpoints. Prints ELR
+and SR90 per policy and width, and the two takes whose ELR drops most from the narrowest width of
+``--widths`` to the widest.
 """
 
 from __future__ import annotations
@@ -32,11 +34,19 @@ from reference_motion.transforms import posture_offsets
 
 
 def widened(clips: list[Motion], width_deg: float) -> list[Motion]:
-    """``clips`` with each hip abducted ``width_deg`` degrees more (the clips themselves at 0)."""
-    if width_deg == 0:
-        return clips
-    return [postured(c, posture_offsets(c.model, stance_width=np.radians(width_deg)), f"stance +{width_deg:g}°")
+    """``clips`` with each hip abducted ``width_deg`` degrees more (negative: less)."""
+    return [postured(c, posture_offsets(c.model, stance_width=np.radians(width_deg)), f"stance {width_deg:+g}°")
             for c in clips]
+
+
+def largest_drops(narrow: list[dict], wide: list[dict], n: int = 2) -> list[tuple[str, float, float]]:
+    """The ``n`` takes whose ELR falls most from ``narrow`` to ``wide`` (:func:`agents.evaluation.per_clip`
+    rows, takes named with their ``(stance ...)`` suffix): ``[(take, ELR narrow, ELR wide), ...]``."""
+    def take(row: dict) -> str:
+        return row["clip"].rsplit(" (stance ", 1)[0]
+    before = {take(r): r["ELR"] for r in narrow}
+    drops = sorted(((take(r), before[take(r)], r["ELR"]) for r in wide), key=lambda t: t[2] - t[1])
+    return drops[:n]
 
 
 def main() -> None:
@@ -48,8 +58,10 @@ def main() -> None:
     p.add_argument("--episodes", type=int, default=10, help="rollouts per take and width")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
-    if not all(np.isfinite(w) for w in args.widths):
-        p.error(f"--widths must be finite degrees, got {args.widths}")
+    if not all(np.isfinite(w) for w in args.widths) or len(args.widths) < 2:
+        p.error(f"--widths must be at least two finite angles (degrees), got {args.widths}")
+    if args.episodes < 1:
+        p.error(f"--episodes must be >= 1, got {args.episodes}")
     policies = [load_policy(path) for path in args.policies]
     feet = {policy.foot for policy in policies}
     if len(feet) > 1:
@@ -64,10 +76,11 @@ def main() -> None:
             row["widths"][f"{w:g}"] = {"ELR": summary["ELR_mean"], "SR90": summary["SR90"],
                                        "per_clip": per_clip(runs)}
         rows.append(row)
-        scores = "  ".join(f"+{w}° {v['ELR']:.3f} / {v['SR90']:.2f}" for w, v in row["widths"].items())
-        worst = row["widths"][f"{max(args.widths):g}"]["per_clip"][:2]
-        print(f"{path:<48} ELR / SR90 at each width: {scores}; widest lost most: "
-              + ", ".join(f"{c['clip']} {c['ELR']:.2f}" for c in worst), flush=True)
+        scores = "  ".join(f"{float(w):+g}° {v['ELR']:.3f} / {v['SR90']:.2f}" for w, v in row["widths"].items())
+        drops = largest_drops(row["widths"][f"{min(args.widths):g}"]["per_clip"],
+                              row["widths"][f"{max(args.widths):g}"]["per_clip"])
+        print(f"{path:<48} ELR / SR90 at each width: {scores}; dropping most: "
+              + ", ".join(f"{t} {a:.2f} -> {b:.2f}" for t, a, b in drops), flush=True)
     emit_json({"policies": args.policies, "clips": args.clips, "widths_deg": args.widths,
                "episodes": args.episodes, "rows": rows}, args.json)
 

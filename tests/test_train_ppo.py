@@ -16,6 +16,7 @@ from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_st
 from envs.config import MimicConfig
 from reference_motion.cli import UsageError
 from reference_motion.humanoid.model import load_model
+from reference_motion.transforms import PostureRanges
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
 
@@ -499,7 +500,7 @@ def test_move_block_places_each_old_entry_at_its_new_index():
 
 def test_posture_ranges_change_what_the_copies_are_drawn_from():
     """``--posture-range stance_width=10,10`` with every other change at zero: each copy stands
-    10° wider on each hip than its reference, and the sidecar records the ranges."""
+    10° wider on each hip than its reference; bad values are refused as the option is read."""
     zero = [f"{name}=0,0" for name in ("trunk_flexion", "neck_flexion", "crouch", "elbow_flexion")]
     args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "--postures", "1",
                                       "--posture-range", "stance_width=-4,12", *zero, "stance_width=10,10"])
@@ -511,9 +512,12 @@ def test_posture_ranges_change_what_the_copies_are_drawn_from():
         assert np.degrees(np.median(change)) * sign == pytest.approx(10.0, abs=0.5)
     assert np.degrees(np.abs(wide.qpos[:, hm.qpos_index("chest_y")] - walk.qpos[:, hm.qpos_index("chest_y")]).max()) \
         < 0.5  # no stoop drawn
-    for bad in ("stance_width", "stance_width=12,-4", "stoop=0,10", "stance_width=1,x", "stance_width=nan,1"):
+    for bad in ("stance_width", "stance_width=12,-4", "stoop=0,10", "stance_width=1,x", "stance_width=nan,1",
+                "stance_width=-inf,inf", "stance_width=1,2,3"):
         with pytest.raises(UsageError, match="expected NAME=LOW,HIGH"):
             build_parser().parse_args(["--run-dir", "unused", "--posture-range", bad])
     alone = build_parser().parse_args(["--run-dir", "unused", "--posture-range", "stance_width=0,5"])
     with pytest.raises(ValueError, match="give --postures N as well"):
         posture_ranges(alone)
+    cleared = build_parser().parse_args(["--run-dir", "unused", "--posture-range"])  # e.g. on a resume
+    assert posture_ranges(cleared) == PostureRanges()
