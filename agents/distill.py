@@ -66,15 +66,16 @@ import envs  # noqa: F401  (registers the ids)
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
-from agents.train_ppo import glob_speeds, load_training_motions, policy_kwargs, warped_clips
+from agents.train_ppo import (POSTURE_STREAM, glob_speeds, load_training_motions, policy_kwargs, posture_range,
+                              posture_ranges, warped_clips)
 from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
-from reference_motion.cli import (CliParser, fraction, non_negative_float, one_line_errors, output_dir, positive_float,
-                                  positive_int, resumable_run)
-from reference_motion.library import expand_clips
+from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
+                                  positive_float, positive_int, resumable_run)
+from reference_motion.library import expand_clips, posture_copies
 from reference_motion.motion import Motion
 
 
@@ -399,6 +400,11 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--mirror", action="store_true", help="also every clip mirrored left/right")
     p.add_argument("--warp", type=glob_speeds, nargs="+", default=[], metavar="GLOB=S,S",
                    help="also the clips whose SOURCE matches GLOB time-warped to each speed S (train_ppo.py --warp)")
+    p.add_argument("--postures", type=non_negative_int, default=0, metavar="N",
+                   help="also N copies of every clip carried with a random posture, drawn with --seed (train_ppo.py "
+                        "--postures: the same copies for the same seed and ranges)")
+    p.add_argument("--posture-range", type=posture_range, nargs="*", default=[], metavar="NAME=LOW,HIGH",
+                   help="the ranges the --postures copies are drawn from (train_ppo.py --posture-range)")
     p.add_argument("--corrupted-fraction", type=fraction, default=0.5,
                    help="share of episodes with an IMU-corrupted reference (as the teachers trained)")
     p.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"))
@@ -438,9 +444,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                            from_default=args.from_default)
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
-    warps = warped_clips(clips, args.warp)
-    teachers = load_teachers(args.teacher, lambda foot: load_training_motions(clips, FOOT_MODELS[foot], args.mirror,
-                                                                             warps=warps))
+    warps, ranges = warped_clips(clips, args.warp), posture_ranges(args)
+
+    def motions(foot: str) -> list[Motion]:
+        loaded = load_training_motions(clips, FOOT_MODELS[foot], args.mirror, warps=warps)
+        return loaded + posture_copies(loaded, args.postures, [config.seed, POSTURE_STREAM], ranges)
+
+    teachers = load_teachers(args.teacher, motions)
     names, default = teachers.names, teachers.policies[teachers.default]
     config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
@@ -474,6 +484,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
                                   strength=tuple(args.strength), mirror=args.mirror, warps=warps,
+                                  postures=args.postures, posture_seed=config.seed,
+                                  posture_ranges=asdict(ranges) if args.postures else None,
                                   init_from=str(args.teacher),
                                   commands=args.commands, seed=config.seed,
                                   steps=len(labels), wall_s=record["wall_s"])
