@@ -56,10 +56,11 @@ def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
 
 
 TRANSFORM_SUFFIXES = re.compile(
-    r"(?: \((?:mirrored|reversed|x[0-9.e+-]+ speed|posture(?: \d+)?|turned -?[0-9.e+-]+°)\))+$")
-"""The suffixes :mod:`reference_motion.transforms` and :func:`reference_motion.library.posture_copies`
-append to the name of a copy: ``" (mirrored)"``, ``" (reversed)"``, ``" (x1.5 speed)"``,
-``" (posture 0)"``, ``" (turned 90°)"``, any number of them in a row."""
+    r"(?: \((?:mirrored|reversed|x[0-9.e+-]+ speed|posture(?: \d+)?|turned -?[0-9.e+-]+°|stance [+-][0-9.e+-]+ m)\))+$")
+"""The suffixes :mod:`reference_motion.transforms`, :func:`reference_motion.library.posture_copies`
+and :func:`reference_motion.stance.wider_stance` append to the name of a copy: ``" (mirrored)"``,
+``" (reversed)"``, ``" (x1.5 speed)"``, ``" (posture 0)"``, ``" (turned 90°)"``,
+``" (stance +0.2 m)"``, any number of them in a row."""
 
 
 def source_name(name: str) -> str:

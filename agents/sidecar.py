@@ -116,6 +116,9 @@ class TrainingRecord:
             were drawn with (``train_ppo.py --postures``; :func:`reference_motion.transforms.random_posture`),
             and the ranges they were drawn from (:class:`reference_motion.transforms.PostureRanges` as a
             dict; ``None`` without postures).
+        stances, stance_extra_m: copies of each training reference walked with the feet further apart
+            and the range of that distance (m; ``train_ppo.py --stances``,
+            :func:`reference_motion.library.stance_copies`; drawn with ``posture_seed``).
         pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
         dynamics: the training envs' randomised physics (:class:`envs.config.Dynamics` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
@@ -136,6 +139,8 @@ class TrainingRecord:
     postures: int = 0
     posture_seed: int = 0
     posture_ranges: dict | None = None
+    stances: int = 0
+    stance_extra_m: tuple[float, float] | None = None
     pushes: dict | None = None
     dynamics: dict | None = None
     init_from: str | None = None

@@ -59,7 +59,7 @@ from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
-from reference_motion.library import augmented, expand_clips, load_motion, posture_copies
+from reference_motion.library import augmented, expand_clips, load_motion, posture_copies, stance_copies
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
 from reference_motion.transforms import PostureRanges, reversed_in_time
@@ -164,6 +164,14 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="also train on N copies of every training reference (mirrored and time-warped ones "
                         "included), each carried with a random posture: a stoop, bent knees, a wide stance "
                         "(reference_motion.transforms.random_posture, drawn with --seed); default 0")
+    g.add_argument("--stances", type=non_negative_int, default=0, metavar="N",
+                   help="also train on N copies of every training reference (mirrored and time-warped ones "
+                        "included) walked with the feet further apart, the body swaying as the wider steps need "
+                        "(reference_motion.stance.wider_stance; drawn with --seed); default 0")
+    g.add_argument("--stance-extra", type=float, nargs=2, default=(0.0, 0.35), metavar=("LOW", "HIGH"),
+                   help="how much further apart the --stances copies walk (m, drawn uniformly; default 0 to 0.35: "
+                        "about the widest stance of the training takes, chimpira's sideways walks, against a "
+                        "normal walk's)")
     g.add_argument("--posture-range", type=posture_range, nargs="*", default=[], metavar="NAME=LOW,HIGH",
                    help="with --postures, draw the posture change NAME from LOW to HIGH degrees instead of "
                         "reference_motion.transforms.PostureRanges' default (NAME: trunk_flexion, neck_flexion, "
@@ -375,14 +383,15 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     clips = training_clips(args)
     mocap = mocap_options(args)
     if (not args.mirror and list(args.speeds) == [1.0] and mocap == MocapOptions() and not args.reverse
-            and not args.postures and not args.warp):
+            and not args.postures and not args.warp and not args.stances):
         return clips
     motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
                                     reversed_clips(clips, args.reverse), warped_clips(clips, args.warp))
-    return motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM], posture_ranges(args))
+    return (motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM], posture_ranges(args))
+            + stance_copies(motions, args.stances, [args.seed, STANCE_STREAM], tuple(args.stance_extra)))
 
 
-POSTURE_STREAM = 7
+POSTURE_STREAM, STANCE_STREAM = 7, 8
 """Stream of ``--seed``'s random numbers that draws the posture copies (apart from PPO's)."""
 
 
@@ -589,6 +598,7 @@ class CheckpointAndEvaluate(BaseCallback):
             warps=warped_clips(clips, args.warp),
             postures=args.postures, posture_seed=args.seed,
             posture_ranges=asdict(posture_ranges(args)) if args.postures else None,
+            stances=args.stances, stance_extra_m=tuple(args.stance_extra) if args.stances else None,
             pushes=asdict(push) if push is not None else None,
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
@@ -725,6 +735,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         check_denoiser(args)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args)
+    low, high = args.stance_extra
+    if not (math.isfinite(low) and math.isfinite(high) and low <= high):
+        raise ValueError(f"--stance-extra {low:g} {high:g}: expected LOW <= HIGH, finite metres")
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)

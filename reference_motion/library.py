@@ -29,6 +29,7 @@ from reference_motion.motion_library import PREFIX as LIBRARY_PREFIX, is_library
 from reference_motion.retarget import retarget
 from reference_motion.rigs import MocapOptions
 from reference_motion.source import SourceClip
+from reference_motion.stance import wider_stance
 from reference_motion.transforms import (ENV_FPS, PostureRanges, loop, mirror, random_posture, resample, time_warp,
                                          with_posture)
 
@@ -141,6 +142,19 @@ def posture_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[
     :func:`postured`) with ``numpy.random.default_rng(seed)``: the same copies for the same seed."""
     rng = np.random.default_rng(seed)
     return [postured(m, random_posture(m.model, rng, ranges), f"posture {k}") for m in motions for k in range(copies)]
+
+
+def stance_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[int],
+                  extra_m: tuple[float, float] = (0.0, 0.35)) -> list[Motion]:
+    """``copies`` copies of each of ``motions`` (clip by clip), each walked with the feet further
+    apart by its own distance drawn uniformly from ``extra_m`` (m, low and high) with
+    ``numpy.random.default_rng(seed)``, the body swaying as the wider steps need
+    (:func:`~reference_motion.stance.wider_stance`): the same copies for the same seed."""
+    low, high = extra_m
+    if not (np.isfinite(low) and np.isfinite(high) and low <= high):
+        raise ValueError(f"extra_m must be (low, high) with low <= high (m), got {extra_m}")
+    rng = np.random.default_rng(seed)
+    return [wider_stance(m, round(float(rng.uniform(low, high)), 3)) for m in motions for _ in range(copies)]
 
 
 def augmented(motions: Sequence[Motion], mirrored: bool = False, speeds: Sequence[float] = (1.0,)) -> list[Motion]:

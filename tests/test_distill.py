@@ -150,17 +150,20 @@ def test_a_perfect_fit_reads_as_zero_and_a_teacher_without_held_out_states_as_a_
     assert rmse_text(0.0) == "0.000" and rmse_text(0.0264) == "0.026" and rmse_text(None) == "-"
 
 
-def test_posture_copies_join_the_distillation_and_reach_the_teacher_their_name_routes_to(tmp_path):
-    """``--postures 1``: each clip also carried in a posture drawn from ``--posture-range``; a set
-    routing the copies (``*(posture 0)``) to another policy gets their states labelled by it."""
+def test_posture_and_stance_copies_join_the_distillation_and_reach_the_teacher_their_name_routes_to(tmp_path):
+    """``--postures 1``: each clip also carried in a posture drawn from ``--posture-range`` (and, with
+    ``--stances 1``, walked wider); a set routing the copies (``*(posture 0)``, ``*(stance +*``) to
+    another policy gets their states labelled by it."""
     PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_walk",
-              clips=(("*(posture 0)", MODELS / "mimic_imu"),)).save()
+              clips=(("*(posture 0)", MODELS / "mimic_imu"), ("*(stance +*", MODELS / "mimic_imu"))).save()
     out = tmp_path / "distill"
     zero = [f"{name}=0,0" for name in ("trunk_flexion", "neck_flexion", "crouch", "elbow_flexion")]
     main(["--teacher", str(tmp_path / "set"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0",
-          "--postures", "1", "--posture-range", "stance_width=8,8", *zero, "--rounds", "1", "--steps-per-round",
-          "600", "--epochs", "1", "--net", "32,32", "--no-progress", "--out", str(out)])
+          "--postures", "1", "--posture-range", "stance_width=8,8", *zero, "--stances", "1", "--stance-extra", "0.1",
+          "0.2", "--rounds", "1", "--steps-per-round",
+          "1200", "--epochs", "1", "--net", "32,32", "--no-progress", "--out", str(out)])
     labels = Labels.load(out / "data.npz")
-    assert set(np.unique(labels.teacher)) == {0, 1}  # states of the walk and of its wide copy
+    assert set(np.unique(labels.teacher)) == {0, 1}  # states of the walk and of its copies
     record = load_policy(out / "student").record.training
     assert record.postures == 1 and record.posture_ranges["stance_width_deg"] == [8.0, 8.0]
+    assert record.stances == 1 and tuple(record.stance_extra_m) == (0.1, 0.2)

@@ -521,3 +521,29 @@ def test_posture_ranges_change_what_the_copies_are_drawn_from():
         posture_ranges(alone)
     cleared = build_parser().parse_args(["--run-dir", "unused", "--posture-range"])  # e.g. on a resume
     assert posture_ranges(cleared) == PostureRanges()
+
+
+def test_stance_copies_walk_wider_and_sway_with_the_steps():
+    """``--stances 1 --stance-extra 0.3 0.3``: a copy of the walk whose feet are 0.3 m further apart
+    sideways and whose centre of mass sways more, as the pendulum needs; seeded."""
+    args = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "--stances", "1",
+                                      "--stance-extra", "0.3", "0.3"])
+    walk, wide = training_motions(args)
+    assert wide.name == "deepmimic:walk (stance +0.3 m)" and wide.source["extra_stance_m"] == 0.3
+    hm = load_model(walk.model)
+    window = np.ones(31) / 31  # about a stride: a running mean over it leaves the sway
+
+    def sideways(kin) -> tuple[float, float]:
+        """Mean sideways distance of the toes and std of the CoM's sideways sway (m), sideways
+        along the line between the hips averaged over a stride."""
+        hips = kin.body_pos[:, hm.body_names.index("l_thigh"), :2] - kin.body_pos[:, hm.body_names.index("r_thigh"), :2]
+        side = np.stack([np.convolve(hips[:, k], window, mode="valid") for k in range(2)], axis=1)
+        side /= np.linalg.norm(side, axis=1, keepdims=True)
+        toes = (kin.foot_points[15:-15, 0, :2] - kin.foot_points[15:-15, 1, :2])
+        com = kin.com[15:-15, :2] - np.stack([np.convolve(kin.com[:, k], window, mode="valid") for k in range(2)], 1)
+        return float(np.abs(np.sum(toes * side, axis=1)).mean()), float(np.sum(com * side, axis=1).std())
+
+    (narrow_feet, narrow_sway), (wide_feet, wide_sway) = (sideways(hm.forward_kinematics(m.qpos)) for m in (walk, wide))
+    assert 0.25 < wide_feet - narrow_feet < 0.33
+    assert wide_sway > 1.3 * narrow_sway and wide_sway - narrow_sway < 0.15  # more, far from the feet's 0.15 each
+    assert np.array_equal(training_motions(args)[1].qpos, wide.qpos)  # the same copy again
