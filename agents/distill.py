@@ -67,7 +67,7 @@ from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, Pol
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
 from agents.train_ppo import (POSTURE_STREAM, STANCE_STREAM, glob_speeds, load_training_motions, policy_kwargs,
-                              posture_range, posture_ranges, warped_clips)
+                              posture_range, posture_ranges, stance_extra, warped_clips)
 from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
@@ -75,7 +75,7 @@ from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
                                   positive_float, positive_int, resumable_run)
-from reference_motion.library import expand_clips, posture_copies, stance_copies
+from reference_motion.library import STANCE_EXTRA_M, expand_clips, posture_copies, stance_copies
 from reference_motion.motion import Motion
 
 
@@ -407,7 +407,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="the ranges the --postures copies are drawn from (train_ppo.py --posture-range)")
     p.add_argument("--stances", type=non_negative_int, default=0, metavar="N",
                    help="also N copies of every clip walked with the feet further apart (train_ppo.py --stances)")
-    p.add_argument("--stance-extra", type=float, nargs=2, default=(0.0, 0.35), metavar=("LOW", "HIGH"),
+    p.add_argument("--stance-extra", type=float, nargs=2, default=STANCE_EXTRA_M, metavar=("LOW", "HIGH"),
                    help="how much further apart (m; train_ppo.py --stance-extra)")
     p.add_argument("--corrupted-fraction", type=fraction, default=0.5,
                    help="share of episodes with an IMU-corrupted reference (as the teachers trained)")
@@ -448,12 +448,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                            from_default=args.from_default)
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
-    warps, ranges = warped_clips(clips, args.warp), posture_ranges(args)
+    warps, ranges, extra = warped_clips(clips, args.warp), posture_ranges(args), stance_extra(args)
 
     def motions(foot: str) -> list[Motion]:
         loaded = load_training_motions(clips, FOOT_MODELS[foot], args.mirror, warps=warps)
         return (loaded + posture_copies(loaded, args.postures, [config.seed, POSTURE_STREAM], ranges)
-                + stance_copies(loaded, args.stances, [config.seed, STANCE_STREAM], tuple(args.stance_extra)))
+                + stance_copies(loaded, args.stances, [config.seed, STANCE_STREAM], extra))
 
     teachers = load_teachers(args.teacher, motions)
     names, default = teachers.names, teachers.policies[teachers.default]
@@ -492,7 +492,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                   postures=args.postures, posture_seed=config.seed,
                                   posture_ranges=asdict(ranges) if args.postures else None,
                                   stances=args.stances,
-                                  stance_extra_m=tuple(args.stance_extra) if args.stances else None,
+                                  stance_extra_m=extra if args.stances else None,
                                   init_from=str(args.teacher),
                                   commands=args.commands, seed=config.seed,
                                   steps=len(labels), wall_s=record["wall_s"])

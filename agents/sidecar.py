@@ -185,6 +185,8 @@ class PolicySidecar:
                      "steps", "wall_s"}
             training = dict(data["training"])
             training["strength"] = tuple(training.get("strength", (0.5, 1.0)))
+            if training.get("stance_extra_m") is not None:
+                training["stance_extra_m"] = tuple(training["stance_extra_m"])
             return cls(env=EnvSpec(**_known(EnvSpec, data["env"])), ppo=PPOSettings(**_known(PPOSettings, data["ppo"])),
                        training=TrainingRecord(**_known(TrainingRecord, training)), metrics=data.get("metrics", {}),
                        score=data.get("score"), extra={k: v for k, v in data.items() if k not in known})

@@ -59,7 +59,8 @@ from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
-from reference_motion.library import augmented, expand_clips, load_motion, posture_copies, stance_copies
+from reference_motion.library import (STANCE_EXTRA_M, augmented, expand_clips, load_motion, posture_copies,
+                                      stance_copies)
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
 from reference_motion.transforms import PostureRanges, reversed_in_time
@@ -168,10 +169,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="also train on N copies of every training reference (mirrored and time-warped ones "
                         "included) walked with the feet further apart, the body swaying as the wider steps need "
                         "(reference_motion.stance.wider_stance; drawn with --seed); default 0")
-    g.add_argument("--stance-extra", type=float, nargs=2, default=(0.0, 0.35), metavar=("LOW", "HIGH"),
-                   help="how much further apart the --stances copies walk (m, drawn uniformly; default 0 to 0.35: "
-                        "about the widest stance of the training takes, chimpira's sideways walks, against a "
-                        "normal walk's)")
+    g.add_argument("--stance-extra", type=float, nargs=2, default=STANCE_EXTRA_M, metavar=("LOW", "HIGH"),
+                   help="how much further apart the --stances copies walk (m, drawn uniformly; default "
+                        f"{STANCE_EXTRA_M[0]:g} to {STANCE_EXTRA_M[1]:g}: about the widest stance of the training "
+                        "takes, chimpira's sideways walks, against a normal walk's)")
     g.add_argument("--posture-range", type=posture_range, nargs="*", default=[], metavar="NAME=LOW,HIGH",
                    help="with --postures, draw the posture change NAME from LOW to HIGH degrees instead of "
                         "reference_motion.transforms.PostureRanges' default (NAME: trunk_flexion, neck_flexion, "
@@ -388,11 +389,12 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
     motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
                                     reversed_clips(clips, args.reverse), warped_clips(clips, args.warp))
     return (motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM], posture_ranges(args))
-            + stance_copies(motions, args.stances, [args.seed, STANCE_STREAM], tuple(args.stance_extra)))
+            + stance_copies(motions, args.stances, [args.seed, STANCE_STREAM], stance_extra(args)))
 
 
 POSTURE_STREAM, STANCE_STREAM = 7, 8
-"""Stream of ``--seed``'s random numbers that draws the posture copies (apart from PPO's)."""
+"""Streams of ``--seed``'s random numbers that draw the posture and the stance copies (apart from
+PPO's and from each other's)."""
 
 
 def matching_clips(clips: list[str], globs: list[str], option: str) -> list[str]:
@@ -454,6 +456,19 @@ def posture_ranges(args: argparse.Namespace) -> PostureRanges:
         raise ValueError("--posture-range changes the postures of --postures copies; give --postures N as well (or "
                          "a bare --posture-range to drop the ranges)")
     return PostureRanges(**dict(parse_posture_range(v) for v in args.posture_range))
+
+
+def stance_extra(args: argparse.Namespace) -> tuple[float, float]:
+    """``--stance-extra LOW HIGH`` (m), checked: finite, ``LOW <= HIGH``, and no closer than feet
+    together (``LOW > -0.3``)."""
+    low, high = args.stance_extra
+    if not (math.isfinite(low) and math.isfinite(high) and -MAX_NARROWING_M < low <= high):
+        raise ValueError(f"--stance-extra {low:g} {high:g}: expected finite metres, {-MAX_NARROWING_M:g} < LOW <= HIGH")
+    return float(low), float(high)
+
+
+MAX_NARROWING_M = 0.3
+"""The most :func:`stance_extra` lets a stance narrow (m): a walk's feet are rarely 0.3 m apart."""
 
 
 def glob_speeds(text: str) -> str:
@@ -598,7 +613,7 @@ class CheckpointAndEvaluate(BaseCallback):
             warps=warped_clips(clips, args.warp),
             postures=args.postures, posture_seed=args.seed,
             posture_ranges=asdict(posture_ranges(args)) if args.postures else None,
-            stances=args.stances, stance_extra_m=tuple(args.stance_extra) if args.stances else None,
+            stances=args.stances, stance_extra_m=stance_extra(args) if args.stances else None,
             pushes=asdict(push) if push is not None else None,
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
@@ -714,7 +729,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if args.resume:  # the stored settings, except what this command line sets explicitly
         stored = vars(run_args(run_dir, parser))
         history = stored.get("commands", [stored["command"]] if "command" in stored else [])
-        explicit = {a.dest for a in parser._actions if any(o in argv for o in a.option_strings)}
+        given = {a.split("=", 1)[0] for a in argv if a.startswith("--")}  # "--stances=2" names --stances too
+        explicit = {a.dest for a in parser._actions if given & set(a.option_strings)}
         for option, (before, after) in changed_settings(parser, stored, args, explicit).items():
             print(f"resuming with {option} changed: {before} -> {after} (checkpoints from now on record the new "
                   f"value; args.json's commands keep every command)", flush=True)
@@ -734,10 +750,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if args.denoise is not None:
         check_denoiser(args)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
-    posture_ranges(args)
-    low, high = args.stance_extra
-    if not (math.isfinite(low) and math.isfinite(high) and low <= high):
-        raise ValueError(f"--stance-extra {low:g} {high:g}: expected LOW <= HIGH, finite metres")
+    posture_ranges(args), stance_extra(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
     torch.set_num_threads(collect_threads)
     clips = training_motions(args)

@@ -144,8 +144,13 @@ def posture_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[
     return [postured(m, random_posture(m.model, rng, ranges), f"posture {k}") for m in motions for k in range(copies)]
 
 
+STANCE_EXTRA_M = (0.0, 0.35)
+"""How much further apart :func:`stance_copies` walks by default (m, low and high): up to about the
+widest stance of the training takes (chimpira's sideways walks) against a normal walk's."""
+
+
 def stance_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[int],
-                  extra_m: tuple[float, float] = (0.0, 0.35)) -> list[Motion]:
+                  extra_m: tuple[float, float] = STANCE_EXTRA_M) -> list[Motion]:
     """``copies`` copies of each of ``motions`` (clip by clip), each walked with the feet further
     apart by its own distance drawn uniformly from ``extra_m`` (m, low and high) with
     ``numpy.random.default_rng(seed)``, the body swaying as the wider steps need

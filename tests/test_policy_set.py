@@ -11,7 +11,7 @@ from agents import evaluate
 from agents.policy import PolicyError
 from agents.policy_set import PolicySet, heading_speeds, load_policy_set, route_clips, source_name, walks_backward
 from reference_motion.library import load_motion
-from reference_motion.library import posture_copies
+from reference_motion.library import posture_copies, stance_copies
 from reference_motion.transforms import mirror, reversed_in_time, time_warp, turned
 
 MODELS = Path(__file__).parents[1] / "models"
@@ -108,6 +108,9 @@ def test_a_glob_naming_a_take_exactly_routes_its_copies_with_it(tmp_path):
     posture, turn = posture_copies([walk], 1, seed=0)[0], turned(mirror(walk), np.pi / 2)
     assert [source_name(m.name) for m in (posture, turn)] == ["deepmimic:walk"] * 2, (posture.name, turn.name)
     assert source_name("deepmimic:walk (mirrored) (cleaned)") == "deepmimic:walk (mirrored) (cleaned)"  # not a copy
+    wide = stance_copies([mirror(walk)], 1, seed=0, extra_m=(-0.05, -0.05))[0]
+    assert wide.name == "deepmimic:walk (mirrored) (stance -0.05 m)" and source_name(wide.name) == "deepmimic:walk"
+    assert source_name("deepmimic:walk (stance 0.3 m)") == "deepmimic:walk (stance 0.3 m)"  # no sign: not a copy
     exact = PolicySet(tmp_path / "a", MODELS / "mimic_imu", MODELS / "mimic_imu",
                       clips=(("deepmimic:walk", MODELS / "mimic_walk"),))
     assert all(exact.route(m) == MODELS / "mimic_walk" for m in (walk, *copies))

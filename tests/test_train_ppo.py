@@ -2,6 +2,7 @@
 
 import argparse
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -11,7 +12,8 @@ from stable_baselines3 import PPO
 
 from agents.policy import PolicyError, load_policy, mlp_mean_action
 from agents.train_ppo import (build_parser, changed_settings, deferred_signals, env_kwargs, main, newest_checkpoint,
-                              posture_ranges, recorded_progress, run_args, training_motions, warped_clips)
+                              posture_ranges, recorded_progress, run_args, stance_extra, training_motions,
+                              warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 from envs.config import MimicConfig
 from reference_motion.cli import UsageError
@@ -180,6 +182,8 @@ def test_sidecar_reads_both_layouts_and_rebuilds_the_env():
     assert record.training.steps == 1_500_000 and record.metrics["SR90"] == 1.0
     again = PolicySidecar.from_dict(record.to_dict())
     assert again.env == record.env and again.ppo == record.ppo and again.training == record.training
+    wide = replace(record, training=replace(record.training, stances=1, stance_extra_m=(0.1, 0.2)))
+    assert PolicySidecar.from_dict(json.loads(json.dumps(wide.to_dict()))).training == wide.training  # via JSON
     env = policy.make_env(["deepmimic:walk"])
     assert env.unwrapped.config.episode_frames == 300 and env.observation_space.shape == (273,)
 
@@ -546,4 +550,14 @@ def test_stance_copies_walk_wider_and_sway_with_the_steps():
     (narrow_feet, narrow_sway), (wide_feet, wide_sway) = (sideways(hm.forward_kinematics(m.qpos)) for m in (walk, wide))
     assert 0.25 < wide_feet - narrow_feet < 0.33
     assert wide_sway > 1.3 * narrow_sway and wide_sway - narrow_sway < 0.15  # more, far from the feet's 0.15 each
-    assert np.array_equal(training_motions(args)[1].qpos, wide.qpos)  # the same copy again
+    drawn = build_parser().parse_args(["--run-dir", "unused", "--clips", "deepmimic:walk", "deepmimic:run",
+                                       "--stances", "2", "--stance-extra", "0.1", "0.3", "--seed", "3"])
+    copies = training_motions(drawn)[2:]
+    extras = [c.source["extra_stance_m"] for c in copies]
+    assert all(0.1 <= e <= 0.3 for e in extras) and len(set(extras)) == 4  # each copy its own draw
+    assert [c.source["extra_stance_m"] for c in training_motions(drawn)[2:]] == extras  # the same copies again
+    drawn.seed = 4
+    assert [c.source["extra_stance_m"] for c in training_motions(drawn)[2:]] != extras
+    for bad in (["0.3", "0.1"], ["nan", "0.1"], ["-0.5", "0.1"]):
+        with pytest.raises(ValueError, match="--stance-extra"):
+            stance_extra(build_parser().parse_args(["--run-dir", "unused", "--stance-extra", *bad]))
