@@ -66,8 +66,8 @@ import envs  # noqa: F401  (registers the ids)
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
-from agents.train_ppo import (POSTURE_STREAM, STANCE_STREAM, glob_speeds, load_training_motions, policy_kwargs,
-                              posture_range, posture_ranges, stance_extra, warped_clips)
+from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
+                              reposed_copies, stance_extra, warped_clips)
 from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
@@ -75,7 +75,7 @@ from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
                                   positive_float, positive_int, resumable_run)
-from reference_motion.library import STANCE_EXTRA_M, expand_clips, posture_copies, stance_copies
+from reference_motion.library import STANCE_EXTRA_M, expand_clips
 from reference_motion.motion import Motion
 
 
@@ -452,8 +452,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
 
     def motions(foot: str) -> list[Motion]:
         loaded = load_training_motions(clips, FOOT_MODELS[foot], args.mirror, warps=warps)
-        return (loaded + posture_copies(loaded, args.postures, [config.seed, POSTURE_STREAM], ranges)
-                + stance_copies(loaded, args.stances, [config.seed, STANCE_STREAM], extra))
+        return loaded + reposed_copies(loaded, args, config.seed)
 
     teachers = load_teachers(args.teacher, motions)
     names, default = teachers.names, teachers.policies[teachers.default]

@@ -388,8 +388,15 @@ def training_motions(args: argparse.Namespace) -> list[str] | list[Motion]:
         return clips
     motions = load_training_motions(clips, FOOT_MODELS[foot(args)], args.mirror, args.speeds, mocap,
                                     reversed_clips(clips, args.reverse), warped_clips(clips, args.warp))
-    return (motions + posture_copies(motions, args.postures, [args.seed, POSTURE_STREAM], posture_ranges(args))
-            + stance_copies(motions, args.stances, [args.seed, STANCE_STREAM], stance_extra(args)))
+    return motions + reposed_copies(motions, args, args.seed)
+
+
+def reposed_copies(motions: list[Motion], args: argparse.Namespace, seed: int) -> list[Motion]:
+    """The ``--postures`` and then the ``--stances`` copies of ``motions``, drawn with ``seed``'s
+    streams (:data:`POSTURE_STREAM`, :data:`STANCE_STREAM`): the same copies for the same seed and
+    ranges (``distill.py`` makes them so too)."""
+    return (posture_copies(motions, args.postures, [seed, POSTURE_STREAM], posture_ranges(args))
+            + stance_copies(motions, args.stances, [seed, STANCE_STREAM], stance_extra(args)))
 
 
 POSTURE_STREAM, STANCE_STREAM = 7, 8

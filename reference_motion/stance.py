@@ -103,16 +103,18 @@ def wider_stance(motion: Motion, extra_m: float, smoothing_s: float = 0.1, label
                          motion.fps, smoothing_s)
     half = 0.5 * extra_m
     cop = (half * (2.0 * left - 1.0))[:, None] * outward  # (T, 2) where the weight's support moved
+    carried = pendulum_com_shift(cop, motion.fps, float(kin.com[:, 2].mean()))  # (T, 2) the root's sideways shift
     qpos = motion.qpos.copy()
-    qpos[:, :2] += pendulum_com_shift(cop, motion.fps, float(kin.com[:, 2].mean()))
+    qpos[:, :2] += carried
     targets, hips_now, reach = [], [], []
-    moved = model.forward_kinematics(qpos)
     for side, sign in (("left", 1.0), ("right", -1.0)):
         leg = legs[side]
         target = kin.body_pos[:, leg.foot].copy()
         target[:, :2] += sign * half * outward
         targets.append(target)
-        hips_now.append(moved.body_pos[:, leg.thigh])
+        hip = kin.body_pos[:, leg.thigh].copy()  # the root only translated: each hip moved with it
+        hip[:, :2] += carried
+        hips_now.append(hip)
         as_taken = np.linalg.norm(kin.body_pos[:, leg.foot] - kin.body_pos[:, leg.thigh], axis=1)
         reach.append(np.maximum(as_taken, 0.995 * (leg.thigh_len + leg.shin_len)))  # a straight leg stays straight
     qpos[:, 2] -= pelvis_drop(np.stack(hips_now, 1), np.stack(targets, 1), np.stack(reach, 1), motion.fps)
