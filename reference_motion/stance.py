@@ -64,7 +64,8 @@ def pendulum_com_shift(cop_shift: np.ndarray, fps: float, com_height_m: float) -
     if not com_height_m > 0:
         raise ValueError(f"com_height_m must be > 0, got {com_height_m}")
     rate = np.sqrt(GRAVITY / com_height_m)
-    lags = np.arange(-int(np.ceil(10.0 / rate * fps)), int(np.ceil(10.0 / rate * fps)) + 1) / fps
+    reach = int(np.ceil(10.0 / rate * fps))  # frames in 10 time constants
+    lags = np.arange(-reach, reach + 1) / fps
     kernel = np.exp(-rate * np.abs(lags))
     mean = np.mean(cop_shift, axis=0)
     return convolve1d(cop_shift - mean, kernel / kernel.sum(), axis=0, mode="constant") + mean
