@@ -1,0 +1,76 @@
+#!/bin/bash
+# Lent-machine run of validation's registered choice (README "Wider stances": the rule, the
+# confirmation, then the held-out sets once), every evaluation a process of its own on 16 cores.
+# usage: FIRST=100000 CONFIRM=110000 bash bench/device/score_candidates.sh BASELINE CANDIDATE...
+#  1. each policy: validation clean (agents/evaluate.py, 20 rollouts per take) and ten IMU draws behind
+#     models/imu_denoiser_dm (bench/imu_draws.py, one draw per process, seeds FIRST+); the rule
+#     (bench/select_policy.py) names a winner.
+#  2. if the winner is not the baseline: both on ten more draws (seeds CONFIRM+). Meanwhile the winner's
+#     held-out evaluations (test split and DeepMimic walkers; clean, IMU strength 1, IMU behind the
+#     denoiser) run, and are deleted unread unless the winner leads the confirmation too.
+# Carried as in heading_eval.sh: .whl/ (py3.12 wheels of mujoco, mujoco-core, mujoco-studio, glfw,
+# pyopengl, websockets, gymnasium, stable-baselines3, farama-notifications) and .devpkgs/ (the stand-in
+# pybullet_data; lib/ = data/library's manifest and the humanoid_1seg files of the takes scored here).
+# Writes $OUT/choice.tar (every JSON and log of step 1 and 2) and, if the winner replaces the
+# baseline, $OUT/heldout.tar.
+set -u
+BASE=$1; shift; CANDIDATES="$*"
+FIRST=${FIRST:-100000}; CONFIRM=${CONFIRM:-110000}; DRAWS=${DRAWS:-10}
+# rollouts (lower them only for a smoke test of this script): per validation take, per take and draw, per
+# test take, per walker
+HELDOUT=${HELDOUT:-1}  # 0: stop after the confirmation, the held-out sets untouched (smoke tests)
+VAL_EPISODES=${VAL_EPISODES:-20}; DRAW_EPISODES=${DRAW_EPISODES:-2}; TEST_EPISODES=${TEST_EPISODES:-5}; WALKER_EPISODES=${WALKER_EPISODES:-20}
+OUT=${OUT:-/tmp/score_candidates}; W=$(mktemp -d); mkdir -p $OUT $W/choice $W/heldout
+PY=${PY:-python3}; JOBS=${JOBS:-$(nproc)}
+if [ -d .whl ] && ! $PY -c "import mujoco" 2>/dev/null; then
+  python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl || exit 1
+  export PYTHONPATH=/tmp/site:$PWD/.devpkgs:$PWD
+  mkdir -p data && rm -rf data/library && cp -r .devpkgs/lib data/library
+fi
+export PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
+VAL=library:data/library/val
+STRIDE=$($PY -c "from reference_motion.library import expand_clips; print(len(expand_clips(['$VAL'])))") || exit 1
+name() { echo "$1" | tr '/.' '__'; }
+draw_jobs() {  # $1: first seed; the policies after it; one line per (policy, draw)
+  local first=$1; shift
+  for P in "$@"; do for j in $(seq 0 $((DRAWS - 1))); do
+    echo "$PY bench/imu_draws.py --policies $P --draws 1 --episodes $DRAW_EPISODES --stride $STRIDE --first-seed $((first + j * STRIDE)) --json $W/choice/draws_${first}_$(name $P)_$j.json"
+  done; done
+}
+{
+  for P in $BASE $CANDIDATES; do
+    echo "$PY agents/evaluate.py --policy $P --clips $VAL --episodes $VAL_EPISODES --per-clip --json $W/choice/clean_$(name $P).json"
+  done
+  draw_jobs $FIRST $BASE $CANDIDATES
+} | xargs -P $JOBS -I{} sh -c '{} > /dev/null 2>> '$W'/choice/errors.log'
+SELECT="$PY bench/select_policy.py --baseline $BASE --clean $W/choice/clean_*.json --draws $W/choice/draws_${FIRST}_*.json"
+$SELECT --json $W/choice/choice.json | tee $W/choice/choice.txt
+tar -C $W -cf $OUT/choice.tar choice
+WINNER=$($PY -c "import json; print(json.load(open('$W/choice/choice.json'))['winner'])") || exit 1
+[ "$WINNER" = "$BASE" ] && { echo "the baseline stays; nothing held out is scored"; exit 0; }
+WALKERS="deepmimic:walker/0walk_forward deepmimic:walker/turn_left1 deepmimic:walker/turn_right1"
+EVAL="$PY agents/evaluate.py --policy $WINNER --per-clip"
+DEN="--denoise models/imu_denoiser_dm"
+{
+  draw_jobs $CONFIRM $BASE $WINNER
+  [ "$HELDOUT" = 1 ] || exit 0
+  echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --json $W/heldout/test_clean.json"
+  echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --corrupt imu --strength 1 --seed 1000 --json $W/heldout/test_imu1.json"
+  echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --corrupt imu --strength 1 --seed 1000 $DEN --json $W/heldout/test_imu1_dm.json"
+  echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --json $W/heldout/walkers_clean.json"
+  echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --corrupt imu --strength 1 --seed 1000 --json $W/heldout/walkers_imu1.json"
+  echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --corrupt imu --strength 1 --seed 1000 $DEN --json $W/heldout/walkers_imu1_dm.json"
+} | xargs -P $JOBS -I{} sh -c '{} > /dev/null 2>> '$W'/choice/errors.log'
+$SELECT --confirm $W/choice/draws_${CONFIRM}_*.json --json $W/choice/choice.json | tee $W/choice/choice.txt
+tar -C $W -cf $OUT/choice.tar choice
+REPLACES=$($PY -c "import json; print(json.load(open('$W/choice/choice.json'))['replaces_baseline'])")
+if [ "$HELDOUT" != 1 ]; then
+  echo "HELDOUT=$HELDOUT: the held-out sets were not scored"
+elif [ "$REPLACES" = True ]; then
+  tar -C $W -cf $OUT/heldout.tar heldout
+  for f in $W/heldout/*.json; do
+    $PY -c "import json,sys; d=json.load(open('$f')); print(f\"{sys.argv[1]:<20} ELR {d['ELR_mean']:.3f}  SR90 {d['SR90']:.3f}\")" $(basename $f .json)
+  done
+else
+  echo "the winner did not lead the confirmation: its held-out evaluations are deleted unread"
+fi
