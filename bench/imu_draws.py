@@ -29,17 +29,9 @@ from agents.evaluation import evaluate_tracking
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from paired_draws import paired
 from perception.weights import load_network
 from reference_motion.library import expand_clips
-
-
-def paired(elr: np.ndarray, first: np.ndarray) -> dict:
-    """``elr`` ``(draws,)`` against ``first`` ``(draws,)``, draw by draw: mean difference, its
-    standard error, and the draws above / equal / below."""
-    diff = elr - first
-    se = float(diff.std(ddof=1) / np.sqrt(len(diff))) if len(diff) > 1 else float("nan")
-    return {"mean_difference": float(diff.mean()), "standard_error": se, "draws_above": int(np.sum(diff > 0)),
-            "draws_equal": int(np.sum(diff == 0)), "draws_below": int(np.sum(diff < 0))}
 
 
 def main() -> None:

@@ -11,9 +11,10 @@ Each policy's score is the rule registered in the README ("Wider stances"):
 field); ``--draws`` and ``--confirm`` take ``bench/imu_draws.py --json`` files, whole or split into
 one draw per file (``--draws 1 --first-seed S``, as ``bench/device/score_candidates.sh`` runs them):
 the draws of each policy are gathered and put in seed order, and every policy must have been scored
-on the same seeds. The winner is the best score; it replaces ``--baseline`` only if it is another
-policy and, where ``--confirm`` draws are given, its mean ELR over them is above the baseline's.
-Prints a table and the verdict; ``--json`` writes them (``winner``, ``replaces_baseline``).
+on the same seeds, with the same clips, rollouts and denoiser. The winner is the best score (a tie
+keeps the baseline); ``leads_by_rule`` says it is another policy, and ``replaces_baseline`` that it
+also leads the baseline's mean ELR over the ``--confirm`` draws (false while none are given).
+Prints a table and the verdict; ``--json`` writes them.
 """
 
 from __future__ import annotations
@@ -24,8 +25,8 @@ from pathlib import Path
 
 import numpy as np
 
-from imu_draws import paired  # bench/imu_draws.py: the scripts run from bench/
-from json_report import emit_json
+from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from paired_draws import paired
 
 IMU_WEIGHT = 2.0
 """Weight of the IMU draws against validation clean in the registered rule."""
@@ -50,20 +51,42 @@ def read_json(path: Path, fields: tuple[str, ...]) -> dict:
 
 def gather_draws(paths: list[Path]) -> dict[str, np.ndarray]:
     """Per policy, its ELR on each draw in the given ``imu_draws.py`` files, in order of the draws'
-    first-clip seeds ``(draws,)``. Raises if a seed repeats for a policy or the policies' seeds differ."""
+    first-clip seeds ``(draws,)``. Raises if the files differ in clips, rollouts or denoiser, a seed
+    repeats for a policy, or the policies' seeds differ."""
     by_policy: dict[str, dict[int, float]] = {}
+    settings: dict[str, tuple] = {}
     for path in paths:
-        data = read_json(path, ("seeds_of_first_clip", "rows"))
-        for row in data["rows"]:
+        data = read_json(path, ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser"))
+        settings[str(path)] = (tuple(data["clips"]), data["episodes"], data["denoiser"])
+        for i, row in enumerate(data["rows"]):
+            if "policy" not in row or len(row.get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
+                raise SystemExit(f"{path}: rows[{i}] needs 'policy' and one 'ELR_per_draw' per seed in "
+                                 f"'seeds_of_first_clip' ({len(data['seeds_of_first_clip'])})")
             draws = by_policy.setdefault(row["policy"], {})
             for seed, elr in zip(data["seeds_of_first_clip"], row["ELR_per_draw"]):
                 if seed in draws:
                     raise SystemExit(f"{path}: {row['policy']} has draw seed {seed} twice")
                 draws[seed] = elr
+    if len(set(settings.values())) > 1:
+        raise SystemExit(f"the draw files differ in clips, rollouts or denoiser: {settings}")
     seed_sets = {policy: sorted(draws) for policy, draws in by_policy.items()}
     if len({tuple(s) for s in seed_sets.values()}) > 1:
         raise SystemExit(f"the policies were scored on different draws: {seed_sets}")
     return {policy: np.array([draws[s] for s in sorted(draws)]) for policy, draws in by_policy.items()}
+
+
+def clean_scores(paths: list[Path]) -> dict[str, float]:
+    """Per policy, its validation clean ELR from ``evaluate.py --json`` files (one policy each)."""
+    scores: dict[str, float] = {}
+    for path in paths:
+        data = read_json(path, ("policy", "ELR_mean", "corrupt"))
+        if data["corrupt"] is not None:
+            raise SystemExit(f"{path}: corrupt is {data['corrupt']!r}; validation clean needs an evaluation of "
+                             f"the takes as recorded (corrupt null)")
+        if data["policy"] in scores:
+            raise SystemExit(f"{path}: a second validation clean evaluation of {data['policy']}")
+        scores[data["policy"]] = data["ELR_mean"]
+    return scores
 
 
 def main() -> None:
@@ -72,11 +95,18 @@ def main() -> None:
     p.add_argument("--clean", nargs="+", type=Path, required=True, help="validation clean, evaluate.py --json")
     p.add_argument("--draws", nargs="+", type=Path, required=True, help="IMU draws behind the denoiser")
     p.add_argument("--confirm", nargs="*", type=Path, default=[], help="more draws the winner must also lead on")
+    p.add_argument("--draws-per-policy", type=int, default=10, help="draws each policy must have (both sets)")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
 
-    clean = {d["policy"]: d["ELR_mean"] for d in (read_json(f, ("policy", "ELR_mean")) for f in args.clean)}
+    clean = clean_scores(args.clean)
+    denoisers = {read_json(f, ("denoiser",))["denoiser"] for f in args.draws + args.confirm}
+    if None in denoisers or len(denoisers) > 1:
+        p.error(f"the rule's draws are tracked behind one denoiser; these files name {sorted(map(str, denoisers))}")
     draws = gather_draws(args.draws)
+    short = {policy: len(elr) for policy, elr in draws.items() if len(elr) != args.draws_per_policy}
+    if short:
+        p.error(f"expected {args.draws_per_policy} draws per policy, got {short}")
     if set(clean) != set(draws):
         p.error(f"validation clean covers {sorted(clean)} but the draws cover {sorted(draws)}")
     if args.baseline not in clean:
@@ -89,21 +119,30 @@ def main() -> None:
         print(f"{r['policy']:<52} clean {r['clean_ELR']:.3f}  IMU {r['imu_ELR']:.3f} ({c['mean_difference']:+.3f} "
               f"± {c['standard_error']:.3f}, above on {c['draws_above']} of {len(draws[r['policy']])})  "
               f"rule {r['score']:.3f}")
-    winner = max(rows, key=lambda r: r["score"])["policy"]
-    report = {"baseline": args.baseline, "rows": rows, "winner": winner, "imu_weight": IMU_WEIGHT}
-    replaces = winner != args.baseline
-    if replaces and args.confirm:
+    winner = max(rows, key=lambda r: (r["score"], r["policy"] == args.baseline))["policy"]
+    leads = winner != args.baseline
+    report = {"baseline": args.baseline, "rows": rows, "winner": winner, "imu_weight": IMU_WEIGHT,
+              "leads_by_rule": leads}
+    replaces = False
+    if leads and args.confirm:
         confirm = gather_draws(args.confirm)
         if winner not in confirm or args.baseline not in confirm:
             p.error(f"--confirm must score both {winner} and {args.baseline}")
+        if len(confirm[winner]) != args.draws_per_policy:
+            p.error(f"expected {args.draws_per_policy} confirmation draws, got {len(confirm[winner])}")
+        ranges = [sorted(s for f in files for s in read_json(f, ("seeds_of_first_clip",))["seeds_of_first_clip"])
+                  for files in (args.draws, args.confirm)]
+        if ranges[0][0] <= ranges[1][-1] and ranges[1][0] <= ranges[0][-1]:
+            p.error(f"the confirmation draws (seeds {ranges[1][0]}..{ranges[1][-1]}) overlap the draws "
+                    f"({ranges[0][0]}..{ranges[0][-1]}); they must be unused ones")
         report["confirmation"] = paired(confirm[winner], confirm[args.baseline])
         replaces = report["confirmation"]["mean_difference"] > 0
         c = report["confirmation"]
         print(f"confirmation: {winner} {c['mean_difference']:+.3f} ± {c['standard_error']:.3f} against the baseline, "
               f"above on {c['draws_above']} of {len(confirm[winner])} draws")
     report["replaces_baseline"] = replaces
-    verdict = (f"{args.baseline} stays" if not replaces else f"replaces {args.baseline}" if args.confirm
-               else "leads the baseline; no confirmation draws given")
+    verdict = (f"{args.baseline} stays" if not leads else f"replaces {args.baseline}" if replaces
+               else f"{args.baseline} stays: the confirmation draws " + ("were not led" if args.confirm else "are to come"))
     print(f"winner by the rule: {winner}; {verdict}")
     emit_json(report, args.json)
 

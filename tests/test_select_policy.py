@@ -17,9 +17,13 @@ def write(path: Path, data: dict) -> Path:
     return path
 
 
-def draws_file(path: Path, seeds: list[int], elr: dict[str, list[float]]) -> Path:
-    return write(path, {"seeds_of_first_clip": seeds,
+def draws_file(path: Path, seeds: list[int], elr: dict[str, list[float]], denoiser: str | None = "dm") -> Path:
+    return write(path, {"seeds_of_first_clip": seeds, "clips": ["val"], "episodes": 2, "denoiser": denoiser,
                         "rows": [{"policy": p, "ELR_per_draw": e} for p, e in elr.items()]})
+
+
+def clean_file(path: Path, policy: str, elr: float) -> Path:
+    return write(path, {"policy": policy, "ELR_mean": elr, "corrupt": None})
 
 
 def test_rule_weights_the_imu_draws_twice():
@@ -48,27 +52,66 @@ def test_a_repeated_draw_is_refused(tmp_path):
         gather_draws([one, one])
 
 
-def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, str(BENCH / "select_policy.py"), *args], capture_output=True, text=True)
+def test_draws_with_other_settings_or_missing_fields_are_refused(tmp_path):
+    one = draws_file(tmp_path / "a.json", [100], {"a": [0.8]})
+    raw = draws_file(tmp_path / "b.json", [107], {"a": [0.6]}, denoiser=None)
+    with pytest.raises(SystemExit, match="differ in clips, rollouts or denoiser"):
+        gather_draws([one, raw])
+    short = draws_file(tmp_path / "c.json", [100, 107], {"a": [0.8]})
+    with pytest.raises(SystemExit, match=r"c\.json: rows\[0\] needs 'policy' and one 'ELR_per_draw' per seed"):
+        gather_draws([short])
 
 
-def test_the_winner_replaces_the_baseline_only_if_it_also_leads_the_confirmation(tmp_path):
-    clean = [write(tmp_path / "c_base.json", {"policy": "base", "ELR_mean": 0.96}),
-             write(tmp_path / "c_new.json", {"policy": "new", "ELR_mean": 0.93})]
+def select(tmp_path: Path, *extra: str, draws_per_policy: int = 2) -> tuple[subprocess.CompletedProcess, dict]:
+    """select_policy.py on two policies: base (0.96 clean, 0.75 IMU: rule 0.820) and new (0.93, 0.85:
+    rule 0.877); returns the process and its JSON report."""
+    clean = [clean_file(tmp_path / "c_base.json", "base", 0.96), clean_file(tmp_path / "c_new.json", "new", 0.93)]
     draws = draws_file(tmp_path / "d.json", [100, 107], {"base": [0.70, 0.80], "new": [0.85, 0.85]})
-    # base: (0.96 + 2 * 0.75) / 3 = 0.820; new: (0.93 + 2 * 0.85) / 3 = 0.877
-    common = ["--baseline", "base", "--clean", *map(str, clean), "--draws", str(draws), "--json", "-"]
-    lost = run(*common, "--confirm", str(draws_file(tmp_path / "k1.json", [200], {"base": [0.9], "new": [0.8]})))
-    assert lost.returncode == 0, lost.stderr
-    report = json.loads(lost.stdout[lost.stdout.index("{"):])
-    assert report["winner"] == "new" and report["replaces_baseline"] is False
-    assert report["rows"][1]["score"] == pytest.approx((0.93 + 2 * 0.85) / 3)
-    won = run(*common, "--confirm", str(draws_file(tmp_path / "k2.json", [200], {"base": [0.7], "new": [0.8]})))
-    assert json.loads(won.stdout[won.stdout.index("{"):])["replaces_baseline"] is True
+    result = subprocess.run([sys.executable, str(BENCH / "select_policy.py"), "--baseline", "base",
+                             "--clean", *map(str, clean), "--draws", str(draws), "--draws-per-policy",
+                             str(draws_per_policy), "--json", "-", *extra], capture_output=True, text=True, timeout=120)
+    report = json.loads(result.stdout[result.stdout.index("{"):]) if result.returncode == 0 else {}
+    return result, report
+
+
+def test_the_winner_replaces_the_baseline_only_once_it_also_leads_the_confirmation(tmp_path):
+    result, unconfirmed = select(tmp_path)
+    assert result.returncode == 0, result.stderr
+    assert unconfirmed["rows"][1]["score"] == pytest.approx((0.93 + 2 * 0.85) / 3)
+    assert unconfirmed["winner"] == "new" and unconfirmed["leads_by_rule"] is True
+    assert unconfirmed["replaces_baseline"] is False
+    lost = draws_file(tmp_path / "k1.json", [200, 207], {"base": [0.9, 0.9], "new": [0.8, 0.9]})
+    result, report = select(tmp_path, "--confirm", str(lost))
+    assert result.returncode == 0, result.stderr
+    assert report["replaces_baseline"] is False and report["confirmation"]["draws_below"] == 1
+    won = draws_file(tmp_path / "k2.json", [200, 207], {"base": [0.7, 0.9], "new": [0.8, 0.9]})
+    result, report = select(tmp_path, "--confirm", str(won))
+    assert result.returncode == 0, result.stderr
+    assert report["replaces_baseline"] is True
+
+
+def test_confirmation_draws_must_be_unused_and_complete(tmp_path):
+    reused = draws_file(tmp_path / "k.json", [107, 114], {"base": [0.7, 0.7], "new": [0.8, 0.8]})
+    result, _ = select(tmp_path, "--confirm", str(reused))
+    assert result.returncode != 0 and "overlap the draws" in result.stderr
+    result, _ = select(tmp_path, draws_per_policy=10)
+    assert result.returncode != 0 and "expected 10 draws per policy" in result.stderr
+
+
+def test_a_tie_keeps_the_baseline(tmp_path):
+    clean = [clean_file(tmp_path / "c_base.json", "base", 0.9), clean_file(tmp_path / "c_zzz.json", "a", 0.9)]
+    draws = draws_file(tmp_path / "d.json", [100], {"base": [0.7], "a": [0.7]})
+    result = subprocess.run([sys.executable, str(BENCH / "select_policy.py"), "--baseline", "base", "--clean",
+                             *map(str, clean), "--draws", str(draws), "--draws-per-policy", "1"],
+                            capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert "winner by the rule: base; base stays" in result.stdout
 
 
 def test_a_baseline_that_was_not_scored_is_a_clear_error(tmp_path):
-    clean = write(tmp_path / "c.json", {"policy": "base", "ELR_mean": 0.9})
+    clean = clean_file(tmp_path / "c.json", "base", 0.9)
     draws = draws_file(tmp_path / "d.json", [100], {"base": [0.7]})
-    result = run("--baseline", "other", "--clean", str(clean), "--draws", str(draws))
+    result = subprocess.run([sys.executable, str(BENCH / "select_policy.py"), "--baseline", "other", "--clean",
+                             str(clean), "--draws", str(draws), "--draws-per-policy", "1"],
+                            capture_output=True, text=True, timeout=120)
     assert result.returncode != 0 and "--baseline other is none of the scored policies" in result.stderr

@@ -11,14 +11,14 @@
 # Carried as in heading_eval.sh: .whl/ (py3.12 wheels of mujoco, mujoco-core, mujoco-studio, glfw,
 # pyopengl, websockets, gymnasium, stable-baselines3, farama-notifications) and .devpkgs/ (the stand-in
 # pybullet_data; lib/ = data/library's manifest and the humanoid_1seg files of the takes scored here).
-# Writes $OUT/choice.tar (every JSON and log of step 1 and 2) and, if the winner replaces the
+# Writes $OUT/choice.tar (the JSON and logs of steps 1 and 2) and, if the winner replaces the
 # baseline, $OUT/heldout.tar.
-set -u
+set -u -o pipefail
+[ $# -ge 2 ] || { echo "usage: [FIRST=S] [CONFIRM=S] bash $0 BASELINE CANDIDATE..." >&2; exit 2; }
 BASE=$1; shift; CANDIDATES="$*"
 FIRST=${FIRST:-100000}; CONFIRM=${CONFIRM:-110000}; DRAWS=${DRAWS:-10}
-# rollouts (lower them only for a smoke test of this script): per validation take, per take and draw, per
-# test take, per walker
 HELDOUT=${HELDOUT:-1}  # 0: stop after the confirmation, the held-out sets untouched (smoke tests)
+# rollouts (lower them only for a smoke test): per validation take, per take and draw, per test take, per walker
 VAL_EPISODES=${VAL_EPISODES:-20}; DRAW_EPISODES=${DRAW_EPISODES:-2}; TEST_EPISODES=${TEST_EPISODES:-5}; WALKER_EPISODES=${WALKER_EPISODES:-20}
 OUT=${OUT:-/tmp/score_candidates}; W=$(mktemp -d); mkdir -p $OUT $W/choice $W/heldout
 PY=${PY:-python3}; JOBS=${JOBS:-$(nproc)}
@@ -29,48 +29,57 @@ if [ -d .whl ] && ! $PY -c "import mujoco" 2>/dev/null; then
 fi
 export PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
 VAL=library:data/library/val
+DEN=models/imu_denoiser_dm
 STRIDE=$($PY -c "from reference_motion.library import expand_clips; print(len(expand_clips(['$VAL'])))") || exit 1
 name() { echo "$1" | tr '/.' '__'; }
-draw_jobs() {  # $1: first seed; the policies after it; one line per (policy, draw)
+draw_jobs() {  # $1: first seed; the policies after it; one command per (policy, draw)
   local first=$1; shift
   for P in "$@"; do for j in $(seq 0 $((DRAWS - 1))); do
-    echo "$PY bench/imu_draws.py --policies $P --draws 1 --episodes $DRAW_EPISODES --stride $STRIDE --first-seed $((first + j * STRIDE)) --json $W/choice/draws_${first}_$(name $P)_$j.json"
+    echo "$PY bench/imu_draws.py --policies $P --clips $VAL --denoise $DEN --draws 1 --episodes $DRAW_EPISODES" \
+         "--stride $STRIDE --first-seed $((first + j * STRIDE)) --json $W/choice/draws_${first}_$(name $P)_$j.json"
   done; done
+}
+run_all() {  # $1: the log for the jobs' stderr; the commands on stdin, JOBS at a time; stops the script if one fails
+  xargs -P $JOBS -I{} sh -c "{} > /dev/null 2>> $1" || { echo "a job failed; the end of $1:" >&2; tail -n 20 $1 >&2; exit 1; }
 }
 {
   for P in $BASE $CANDIDATES; do
     echo "$PY agents/evaluate.py --policy $P --clips $VAL --episodes $VAL_EPISODES --per-clip --json $W/choice/clean_$(name $P).json"
   done
   draw_jobs $FIRST $BASE $CANDIDATES
-} | xargs -P $JOBS -I{} sh -c '{} > /dev/null 2>> '$W'/choice/errors.log'
-SELECT="$PY bench/select_policy.py --baseline $BASE --clean $W/choice/clean_*.json --draws $W/choice/draws_${FIRST}_*.json"
-$SELECT --json $W/choice/choice.json | tee $W/choice/choice.txt
+} | run_all $W/choice/errors.log || exit 1
+SELECT="$PY bench/select_policy.py --baseline $BASE --draws-per-policy $DRAWS --clean $W/choice/clean_*.json --draws $W/choice/draws_${FIRST}_*.json"
+$SELECT --json $W/choice/rule.json | tee $W/choice/rule.txt || exit 1
 tar -C $W -cf $OUT/choice.tar choice
-WINNER=$($PY -c "import json; print(json.load(open('$W/choice/choice.json'))['winner'])") || exit 1
-[ "$WINNER" = "$BASE" ] && { echo "the baseline stays; nothing held out is scored"; exit 0; }
+field() { $PY -c "import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$@"; }
+WINNER=$(field $W/choice/rule.json winner) || exit 1
+[ "$(field $W/choice/rule.json leads_by_rule)" = True ] || { echo "the baseline stays; nothing held out is scored"; exit 0; }
 WALKERS="deepmimic:walker/0walk_forward deepmimic:walker/turn_left1 deepmimic:walker/turn_right1"
 EVAL="$PY agents/evaluate.py --policy $WINNER --per-clip"
-DEN="--denoise models/imu_denoiser_dm"
+IMU="--corrupt imu --strength 1 --seed 1000"
 {
   draw_jobs $CONFIRM $BASE $WINNER
-  [ "$HELDOUT" = 1 ] || exit 0
-  echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --json $W/heldout/test_clean.json"
-  echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --corrupt imu --strength 1 --seed 1000 --json $W/heldout/test_imu1.json"
-  echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --corrupt imu --strength 1 --seed 1000 $DEN --json $W/heldout/test_imu1_dm.json"
-  echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --json $W/heldout/walkers_clean.json"
-  echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --corrupt imu --strength 1 --seed 1000 --json $W/heldout/walkers_imu1.json"
-  echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --corrupt imu --strength 1 --seed 1000 $DEN --json $W/heldout/walkers_imu1_dm.json"
-} | xargs -P $JOBS -I{} sh -c '{} > /dev/null 2>> '$W'/choice/errors.log'
-$SELECT --confirm $W/choice/draws_${CONFIRM}_*.json --json $W/choice/choice.json | tee $W/choice/choice.txt
+  if [ "$HELDOUT" = 1 ]; then
+    echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --json $W/heldout/test_clean.json"
+    echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES $IMU --json $W/heldout/test_imu1.json"
+    echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES $IMU --denoise $DEN --json $W/heldout/test_imu1_dm.json"
+    echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --json $W/heldout/walkers_clean.json"
+    echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES $IMU --json $W/heldout/walkers_imu1.json"
+    echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES $IMU --denoise $DEN --json $W/heldout/walkers_imu1_dm.json"
+  fi
+} | run_all $W/heldout/errors.log || { rm -rf $W/heldout; exit 1; }
+$SELECT --confirm $W/choice/draws_${CONFIRM}_*.json --json $W/choice/confirmed.json | tee $W/choice/confirmed.txt \
+  || { rm -rf $W/heldout; exit 1; }
 tar -C $W -cf $OUT/choice.tar choice
-REPLACES=$($PY -c "import json; print(json.load(open('$W/choice/choice.json'))['replaces_baseline'])")
 if [ "$HELDOUT" != 1 ]; then
   echo "HELDOUT=$HELDOUT: the held-out sets were not scored"
-elif [ "$REPLACES" = True ]; then
+elif [ "$(field $W/choice/confirmed.json replaces_baseline)" = True ]; then
   tar -C $W -cf $OUT/heldout.tar heldout
   for f in $W/heldout/*.json; do
-    $PY -c "import json,sys; d=json.load(open('$f')); print(f\"{sys.argv[1]:<20} ELR {d['ELR_mean']:.3f}  SR90 {d['SR90']:.3f}\")" $(basename $f .json)
+    $PY -c "import json, sys; d = json.load(open(sys.argv[1])); print(f\"{sys.argv[2]:<20} ELR {d['ELR_mean']:.3f}  SR90 {d['SR90']:.3f}\")" \
+      $f $(basename $f .json)
   done
 else
-  echo "the winner did not lead the confirmation: its held-out evaluations are deleted unread"
+  rm -rf $W/heldout
+  echo "the winner did not lead the confirmation: its held-out evaluations were deleted unread"
 fi
