@@ -1,11 +1,11 @@
 #!/bin/bash
 # Lent-machine run of validation's registered choice (README "Wider stances": the rule, the
 # confirmation, then the held-out sets once), every evaluation a process of its own on 16 cores.
-# usage: FIRST=100000 CONFIRM=110000 bash bench/device/score_candidates.sh BASELINE CANDIDATE...
-#  1. each policy: validation clean (agents/evaluate.py, 20 rollouts per take) and ten IMU draws behind
+# usage: [FIRST=100000] [CONFIRM=110000] [DRAWS=10] bash bench/device/score_candidates.sh BASELINE CANDIDATE...
+#  1. each policy: validation clean (agents/evaluate.py, 20 rollouts per take) and DRAWS IMU draws behind
 #     models/imu_denoiser_dm (bench/imu_draws.py, one draw per process, seeds FIRST+); the rule
 #     (bench/select_policy.py) names a winner.
-#  2. if the winner is not the baseline: both on ten more draws (seeds CONFIRM+). Meanwhile the winner's
+#  2. if the winner is not the baseline: both on DRAWS more draws (seeds CONFIRM+). Meanwhile the winner's
 #     held-out evaluations (test split and DeepMimic walkers; clean, IMU strength 1, IMU behind the
 #     denoiser) run, and are deleted unread unless the winner leads the confirmation too.
 # Carried as in heading_eval.sh: .whl/ (py3.12 wheels of mujoco, mujoco-core, mujoco-studio, glfw,
@@ -14,7 +14,7 @@
 # Writes $OUT/choice.tar (the JSON and logs of steps 1 and 2) and, if the winner replaces the
 # baseline, $OUT/heldout.tar.
 set -u -o pipefail
-[ $# -ge 2 ] || { echo "usage: [FIRST=S] [CONFIRM=S] bash $0 BASELINE CANDIDATE..." >&2; exit 2; }
+[ $# -ge 2 ] || { echo "usage: [FIRST=S] [CONFIRM=S] [DRAWS=N] bash $0 BASELINE CANDIDATE..." >&2; exit 2; }
 BASE=$1; shift; CANDIDATES="$*"
 FIRST=${FIRST:-100000}; CONFIRM=${CONFIRM:-110000}; DRAWS=${DRAWS:-10}
 HELDOUT=${HELDOUT:-1}  # 0: stop after the confirmation, the held-out sets untouched (smoke tests)
