@@ -15,12 +15,7 @@ set -u
 ADAPT_S=${1:-300}; EPISODES=${2:-5}; TAKES=${3:-0 1 2 3 4 5 6 7 8 9}
 OUT=${OUT:-/tmp/heading_eval}; WORK=$(mktemp -d); mkdir -p $OUT
 PY=${PY:-python3}
-if [ -d .whl ] && ! $PY -c "import mujoco" 2>/dev/null; then
-  python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl || exit 1
-  export PYTHONPATH=/tmp/site:$PWD/.devpkgs:$PWD
-  mkdir -p data && rm -rf data/library && cp -r .devpkgs/lib data/library
-fi
-export PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
+source bench/device/setup.sh
 POLICY=${POLICY:-models/mimic_general}
 for i in $TAKES; do
   $PY bench/adapted_cleaning.py --policy $POLICY ${OBS_FRAME:+--obs-frame $OBS_FRAME} --only $i --denoise --adapt-budget-s $ADAPT_S \

@@ -22,12 +22,7 @@ HELDOUT=${HELDOUT:-1}  # 0: stop after the confirmation, the held-out sets untou
 VAL_EPISODES=${VAL_EPISODES:-20}; DRAW_EPISODES=${DRAW_EPISODES:-2}; TEST_EPISODES=${TEST_EPISODES:-5}; WALKER_EPISODES=${WALKER_EPISODES:-20}
 OUT=${OUT:-/tmp/score_candidates}; W=$(mktemp -d); mkdir -p $OUT $W/choice $W/heldout
 PY=${PY:-python3}; JOBS=${JOBS:-$(nproc)}
-if [ -d .whl ] && ! $PY -c "import mujoco" 2>/dev/null; then
-  python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl || exit 1
-  export PYTHONPATH=/tmp/site:$PWD/.devpkgs:$PWD
-  mkdir -p data && rm -rf data/library && cp -r .devpkgs/lib data/library
-fi
-export PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
+source bench/device/setup.sh
 VAL=library:data/library/val
 DEN=models/imu_denoiser_dm
 STRIDE=$($PY -c "from reference_motion.library import expand_clips; print(len(expand_clips(['$VAL'])))") || exit 1
