@@ -38,9 +38,9 @@ def averaged_weights(states: list[dict[str, torch.Tensor]], names: list[str]) ->
     """The element-wise mean of the ``states`` (``torch`` state dicts of one architecture);
     ``names`` label them in the error raised when their parameters differ in name or shape."""
     first = states[0]
+    expected = {k: tuple(v.shape) for k, v in first.items()}
     for state, name in zip(states[1:], names[1:]):
         shapes = {k: tuple(v.shape) for k, v in state.items()}
-        expected = {k: tuple(v.shape) for k, v in first.items()}
         if shapes != expected:
             differing = sorted(k for k in set(shapes) | set(expected) if shapes.get(k) != expected.get(k))
             raise PolicyError(f"{name}: a different network from {names[0]} (parameters {differing[:4]} differ); "

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import argparse
 import json
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -49,10 +50,24 @@ def read_json(path: Path, fields: tuple[str, ...]) -> dict:
     return data
 
 
-def gather_draws(paths: list[Path]) -> dict[str, np.ndarray]:
-    """Per policy, its ELR on each draw in the given ``imu_draws.py`` files, in order of the draws'
-    first-clip seeds ``(draws,)``. Raises if the files differ in clips, rollouts or denoiser, a seed
-    repeats for a policy, or the policies' seeds differ."""
+@dataclass(frozen=True)
+class Draws:
+    """IMU draws gathered from ``imu_draws.py`` files.
+
+    Attributes:
+        seeds: the first clip's artefact seed of each draw, ascending.
+        settings: ``(clips, rollouts per clip and draw, denoiser)``, the same in every file.
+        elr: per policy, its ELR on each draw ``(draws,)``, in the order of ``seeds``.
+    """
+
+    seeds: list[int]
+    settings: tuple
+    elr: dict[str, np.ndarray]
+
+
+def gather_draws(paths: list[Path]) -> Draws:
+    """The draws in the given ``imu_draws.py`` files. Raises if the files differ in clips, rollouts
+    or denoiser, a seed repeats for a policy, or the policies' seeds differ."""
     by_policy: dict[str, dict[int, float]] = {}
     settings: dict[str, tuple] = {}
     for path in paths:
@@ -72,7 +87,9 @@ def gather_draws(paths: list[Path]) -> dict[str, np.ndarray]:
     seed_sets = {policy: sorted(draws) for policy, draws in by_policy.items()}
     if len({tuple(s) for s in seed_sets.values()}) > 1:
         raise SystemExit(f"the policies were scored on different draws: {seed_sets}")
-    return {policy: np.array([draws[s] for s in sorted(draws)]) for policy, draws in by_policy.items()}
+    seeds = next(iter(seed_sets.values()))
+    return Draws(seeds=seeds, settings=next(iter(settings.values())),
+                 elr={policy: np.array([draws[s] for s in seeds]) for policy, draws in by_policy.items()})
 
 
 def clean_scores(paths: list[Path]) -> dict[str, float]:
@@ -100,10 +117,12 @@ def main() -> None:
     args = p.parse_args()
 
     clean = clean_scores(args.clean)
-    denoisers = {read_json(f, ("denoiser",))["denoiser"] for f in args.draws + args.confirm}
+    gathered = gather_draws(args.draws)
+    confirmation = gather_draws(args.confirm) if args.confirm else None
+    denoisers = {d.settings[2] for d in (gathered, confirmation) if d is not None}
     if None in denoisers or len(denoisers) > 1:
         p.error(f"the rule's draws are tracked behind one denoiser; these files name {sorted(map(str, denoisers))}")
-    draws = gather_draws(args.draws)
+    draws = gathered.elr
     short = {policy: len(elr) for policy, elr in draws.items() if len(elr) != args.draws_per_policy}
     if short:
         p.error(f"expected {args.draws_per_policy} draws per policy, got {short}")
@@ -124,17 +143,16 @@ def main() -> None:
     report = {"baseline": args.baseline, "rows": rows, "winner": winner, "imu_weight": IMU_WEIGHT,
               "leads_by_rule": leads}
     replaces = False
-    if leads and args.confirm:
-        confirm = gather_draws(args.confirm)
+    if leads and confirmation is not None:
+        confirm = confirmation.elr
         if winner not in confirm or args.baseline not in confirm:
             p.error(f"--confirm must score both {winner} and {args.baseline}")
         if len(confirm[winner]) != args.draws_per_policy:
             p.error(f"expected {args.draws_per_policy} confirmation draws, got {len(confirm[winner])}")
-        ranges = [sorted(s for f in files for s in read_json(f, ("seeds_of_first_clip",))["seeds_of_first_clip"])
-                  for files in (args.draws, args.confirm)]
-        if ranges[0][0] <= ranges[1][-1] and ranges[1][0] <= ranges[0][-1]:
-            p.error(f"the confirmation draws (seeds {ranges[1][0]}..{ranges[1][-1]}) overlap the draws "
-                    f"({ranges[0][0]}..{ranges[0][-1]}); they must be unused ones")
+        first, second = gathered.seeds, confirmation.seeds
+        if first[0] <= second[-1] and second[0] <= first[-1]:
+            p.error(f"the confirmation draws (seeds {second[0]}..{second[-1]}) overlap the draws "
+                    f"({first[0]}..{first[-1]}); they must be unused ones")
         report["confirmation"] = paired(confirm[winner], confirm[args.baseline])
         replaces = report["confirmation"]["mean_difference"] > 0
         c = report["confirmation"]

@@ -35,8 +35,9 @@ def test_split_draws_are_gathered_in_seed_order(tmp_path):
     late = draws_file(tmp_path / "b.json", [107], {"a": [0.2], "b": [0.4]})
     early = draws_file(tmp_path / "a.json", [100], {"a": [0.8], "b": [0.6]})
     gathered = gather_draws([late, early])
-    assert gathered["a"].tolist() == [0.8, 0.2]
-    assert gathered["b"].tolist() == [0.6, 0.4]
+    assert gathered.seeds == [100, 107]
+    assert gathered.elr["a"].tolist() == [0.8, 0.2]
+    assert gathered.elr["b"].tolist() == [0.6, 0.4]
 
 
 def test_policies_on_different_draws_are_refused(tmp_path):
