@@ -99,6 +99,13 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     g.add_argument("--windows-per-epoch", type=positive_int, default=d.windows_per_epoch)
     g.add_argument("--hidden", type=positive_int, default=d.hidden,
                    help="channels of every layer of the network (DenoiserTrainConfig.hidden)")
+    g.add_argument("--dilations", type=positive_int, nargs="+", default=list(d.dilations),
+                   help="dilation of each residual convolution (DenoiserTrainConfig.dilations)")
+    g.add_argument("--window", type=positive_int, default=d.window,
+                   help="longest training window, frames (DenoiserTrainConfig.window)")
+    g.add_argument("--sole-weight", type=non_negative_float, default=d.sole_weight,
+                   help="weight of the sole points' error relative to the pelvis in the loss "
+                        "(DenoiserTrainConfig.sole_weight)")
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=list(d.strength), metavar=("LOW", "HIGH"),
                    help="uniform artefact strength of a corrupted training window (DenoiserTrainConfig.strength)")
     g.add_argument("--clean-fraction", type=fraction, default=d.clean_fraction,
@@ -292,7 +299,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
     if args.command == "train-denoiser":
         config = DenoiserTrainConfig(max_epochs=args.epochs, patience=args.patience,
                                      windows_per_epoch=args.windows_per_epoch, hidden=args.hidden,
-                                     strength=tuple(args.strength), clean_fraction=args.clean_fraction,
+                                     dilations=tuple(args.dilations), window=args.window,
+                                     sole_weight=args.sole_weight, strength=tuple(args.strength),
+                                     clean_fraction=args.clean_fraction,
                                      postures=args.postures, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val RMS error {np.sqrt(best):.4f}")

@@ -24,9 +24,11 @@ import torch
 from torch import nn
 
 from perception.imu_denoiser import IMUDenoiser, motion_features
+from perception.kinematics import TorchKinematics, torch_kinematics
 from perception.training import fit
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
+from reference_motion.humanoid.model import load_model
 from reference_motion.library import augmented, expand_clips, load_motion, posture_copies
 from reference_motion.motion import Motion
 
@@ -58,6 +60,15 @@ class DenoiserTrainConfig:
             from mild to beyond the poor real take of strength 1).
         clean_fraction: share of windows left clean (0.2), so clean takes come out nearly as given.
         hidden: channels of the network (128: 0.3 M weights, 3 ms per second of motion on one core).
+        dilations: dilation of each residual convolution (kernel 3); the default (1…32) sees ±63
+            frames (±1 s at 60 Hz) around a frame, about half the hinge drift's 2 s timescale
+            (:class:`reference_motion.artefacts.ArtefactScales`); (1…128) sees ±4.25 s, and
+            needs ``window`` long enough to use it.
+        sole_weight: weight of a second loss term, the mean squared error (m²) of the four sole
+            points relative to the pelvis, in the pelvis frame, after the correction (forward
+            kinematics of the hinge angles alone, :mod:`perception.kinematics`): errors that move
+            the feet, which the policy stands on, count more than those of an elbow. 0: the hinge
+            angles and pelvis height alone, each equally. The validation score carries the same term.
         lr: initial Adam learning rate, halved after ``lr_patience`` epochs without a better
             validation score.
         max_epochs: upper bound on epochs.
@@ -81,6 +92,8 @@ class DenoiserTrainConfig:
     strength: tuple[float, float] = (0.0, 1.5)
     clean_fraction: float = 0.2
     hidden: int = 128
+    dilations: tuple[int, ...] = (1, 2, 4, 8, 16, 32)
+    sole_weight: float = 0.0
     lr: float = 1e-3
     max_epochs: int = 60
     lr_patience: int = 4
@@ -97,6 +110,10 @@ class DenoiserTrainConfig:
         if not 0 <= lo <= hi:
             raise ValueError(f"DenoiserTrainConfig.strength must be (low, high) with 0 <= low <= high, "
                              f"got {self.strength}")
+        if not self.dilations or min(self.dilations) < 1:
+            raise ValueError(f"DenoiserTrainConfig.dilations must be positive integers, got {self.dilations}")
+        if self.sole_weight < 0:
+            raise ValueError(f"DenoiserTrainConfig.sole_weight must be >= 0, got {self.sole_weight}")
         if self.postures < 0:
             raise ValueError(f"DenoiserTrainConfig.postures must be >= 0, got {self.postures}")
         if not 0 <= self.clean_fraction <= 1:
@@ -110,6 +127,32 @@ def correction_target(clean: Motion, corrupted: Motion) -> np.ndarray:
     return np.concatenate([diff[:, 7:], diff[:, 2:3]], axis=1).astype(np.float32)
 
 
+def sole_points_in_pelvis_frame(kinematics: TorchKinematics, hinges: torch.Tensor) -> torch.Tensor:
+    """The four sole points ``(..., 4, 3)`` (m) relative to the pelvis, in its frame, of hinge
+    angles ``hinges (..., n_hinge)`` (rad): the forward kinematics of the legs alone, whatever the
+    root's placement and orientation. Differentiable."""
+    flat = hinges.reshape(-1, hinges.shape[-1])
+    root = torch.zeros(len(flat), 7, dtype=flat.dtype)
+    root[:, 3] = 1.0  # the identity quaternion
+    _, soles = kinematics.points(torch.cat([root, flat], dim=1))
+    return soles.reshape(*hinges.shape[:-1], *soles.shape[1:])
+
+
+def correction_loss(prediction: torch.Tensor, target: torch.Tensor, given_hinges: torch.Tensor,
+                    kinematics: TorchKinematics, sole_weight: float) -> torch.Tensor:
+    """The denoiser's loss: the mean squared error of the corrections ``prediction`` against
+    ``target`` (both ``(B, T, n_hinge + 1)``: rad and m), plus ``sole_weight`` times the mean
+    squared error (m²) of the sole points relative to the pelvis
+    (:func:`sole_points_in_pelvis_frame`) that the corrected hinge angles ``given_hinges +
+    prediction`` give against those of the clean ones ``given_hinges + target``."""
+    loss = ((prediction - target) ** 2).mean()
+    if sole_weight:
+        corrected = sole_points_in_pelvis_frame(kinematics, given_hinges + prediction[..., :-1])
+        clean = sole_points_in_pelvis_frame(kinematics, given_hinges + target[..., :-1])
+        loss = loss + sole_weight * ((corrected - clean) ** 2).mean()
+    return loss
+
+
 def _window(motion: Motion, start: int, length: int) -> Motion:
     return Motion(motion.name, motion.fps, motion.qpos[start:start + length], motion.model, source=motion.source)
 
@@ -120,6 +163,8 @@ class DenoiserTask:
     def __init__(self, train_clips: Sequence[str], val_clips: Sequence[str], config: DenoiserTrainConfig,
                  model: str = "humanoid_1seg"):
         self.config, self.model = config, model
+        self.kinematics = torch_kinematics(model)
+        self.n_hinge = len(load_model(model).hinge_names)
         self.train_sources, self.val_sources = expand_clips(list(train_clips)), expand_clips(list(val_clips))
         overlap = sorted(set(self.train_sources) & set(self.val_sources))
         if overlap:
@@ -140,7 +185,8 @@ class DenoiserTask:
                                  torch.from_numpy(correction_target(clean, given))[None]))
 
     def network(self) -> nn.Module:
-        net = IMUDenoiser(self.model, fps=self.train[0].fps, hidden=self.config.hidden)
+        net = IMUDenoiser(self.model, fps=self.train[0].fps, hidden=self.config.hidden,
+                          dilations=self.config.dilations)
         net.set_statistics(np.concatenate([motion_features(m) for m in self.train]))
         return net
 
@@ -157,15 +203,19 @@ class DenoiserTask:
                 given = corrupt(clean, ArtefactRecipe.imu(float(rng.uniform(*c.strength))), int(rng.integers(2**31)))
             features.append(motion_features(given))
             targets.append(correction_target(clean, given))
-        prediction = net(torch.from_numpy(np.stack(features)))
-        return ((prediction - torch.from_numpy(np.stack(targets))) ** 2).mean()
+        return self._loss(net, torch.from_numpy(np.stack(features)), torch.from_numpy(np.stack(targets)))
+
+    def _loss(self, net: nn.Module, features: torch.Tensor, target: torch.Tensor) -> torch.Tensor:
+        return correction_loss(net(features), target, features[..., :self.n_hinge], self.kinematics,
+                               self.config.sole_weight)
 
     @torch.no_grad()
     def validation_score(self, net: nn.Module) -> float:
-        """Mean squared error left after correction, frame-weighted over the validation takes."""
+        """The loss (:func:`correction_loss`) left after correction, frame-weighted over the
+        validation takes."""
         total = frames = 0
         for features, target in self.val:
-            total += float(((net(features) - target) ** 2).mean()) * features.shape[1]
+            total += float(self._loss(net, features, target)) * features.shape[1]
             frames += features.shape[1]
         return total / frames
 

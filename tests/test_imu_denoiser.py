@@ -9,8 +9,10 @@ import pytest
 import torch
 
 from perception.__main__ import main as perception_main
-from perception.denoiser_training import DenoiserTask, DenoiserTrainConfig, correction_target, train_denoiser
+from perception.denoiser_training import (DenoiserTask, DenoiserTrainConfig, correction_loss, correction_target,
+                                          sole_points_in_pelvis_frame, train_denoiser)
 from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise, motion_features
+from perception.kinematics import torch_kinematics
 from perception.weights import load_network
 from reference_motion import rotations as rot
 from reference_motion.artefacts import ArtefactRecipe, corrupt
@@ -96,6 +98,41 @@ def test_posture_copies_join_the_training_takes_seeded():
     assert np.abs(other.train[3].qpos - task.train[3].qpos).max() > 0.01
     with pytest.raises(ValueError, match="postures must be >= 0"):
         DenoiserTrainConfig(postures=-1)
+    with pytest.raises(ValueError, match="dilations must be positive"):
+        DenoiserTrainConfig(dilations=(1, 0))
+    with pytest.raises(ValueError, match="sole_weight must be >= 0"):
+        DenoiserTrainConfig(sole_weight=-1.0)
+
+
+def test_sole_term_counts_errors_that_move_the_feet_and_only_those():
+    """A hand-made case on the standing pose (every hinge at zero): the sole points hang below the
+    pelvis, the left ones on the left; a 0.1 rad error on an elbow leaves the sole term at zero, the
+    same error on a knee moves the foot's two sole points by about 0.1 rad times their distance
+    from the knee (a heel ≈ 0.45 m below it: ≈ 4.5 cm), and the term scales with its weight."""
+    hm = load_model("humanoid_1seg")
+    kin, n = torch_kinematics("humanoid_1seg"), len(hm.hinge_names)
+    given = torch.zeros(1, 5, n)
+    soles = sole_points_in_pelvis_frame(kin, given[0])  # (5, 4, 3): left_toe, right_toe, left_heel, right_heel
+    assert soles.shape == (5, 4, 3)
+    assert (soles[..., 2] < -0.7).all() and (soles[:, [0, 2], 1] > 0.05).all() and (soles[:, [1, 3], 1] < -0.05).all()
+    target = torch.zeros(1, 5, n + 1)
+    for hinge, moves_feet in (("l_forearm_y", False), ("l_shin_y", True)):
+        prediction = target.clone()
+        prediction[..., hm.hinge_names.index(hinge)] = 0.1
+        plain = float(correction_loss(prediction, target, given, kin, 0.0))
+        assert plain == pytest.approx(0.01 / (n + 1))
+        with_soles = float(correction_loss(prediction, target, given, kin, 4.0))
+        sole_term = (with_soles - plain) / 4.0
+        if not moves_feet:
+            assert sole_term == pytest.approx(0.0, abs=1e-9)
+            continue
+        moved = sole_points_in_pelvis_frame(kin, prediction[0, :, :n])[0] - soles[0]
+        distance = moved.norm(dim=-1)
+        assert distance[[1, 3]].max() < 1e-6  # the right foot stays
+        assert 0.03 < float(distance[2]) < 0.06  # left heel, ~0.45 m below the knee
+        assert sole_term == pytest.approx(float((moved ** 2).sum()) / 12, rel=1e-4)
+        assert float(correction_loss(prediction, target, given, kin, 8.0)) == pytest.approx(plain + 8 * sole_term,
+                                                                                            rel=1e-5)
 
 
 def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path):
@@ -103,12 +140,14 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
                      "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
-                     "--no-progress"])
+                     "--dilations", "1", "4", "--window", "120", "--sole-weight", "2", "--no-progress"])
     net = load_network(out, "denoiser")
-    assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32
+    assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32 and tuple(net.config["dilations"]) == (1, 4)
+    assert [conv.dilation[0] for conv in net.convs] == [1, 4]
     config = json.loads((out / "sidecar.json").read_text())["config"]
-    given = (config["hidden"], config["strength"], config["clean_fraction"], config["postures"])
-    assert given == (32, [0.5, 1.0], 0.1, 1)
+    given = (config["hidden"], config["strength"], config["clean_fraction"], config["postures"], config["dilations"],
+             config["window"], config["sole_weight"])
+    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0)
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):
