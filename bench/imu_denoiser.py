@@ -9,8 +9,10 @@ every artefact kind together (``imu``) and with each joint-angle or height kind 
 (:mod:`perception.imu_denoiser`) corrects it. Reported per split and kind, before and after the
 correction, against the clean take: the RMS error of the hinge angles (degrees, over frames and
 hinges), the mean error of the pelvis height (cm), and the hip adduction offset (degrees: the mean
-over frames of the two hips' x-angle error, averaged over the hips and takes). On a clean take the
-"after" column is what the denoiser wrongly changes.
+over frames of the two hips' x-angle error, averaged over the hips and takes), and the RMS error of
+the four sole points relative to the pelvis, in its frame (cm: where the hinge angles put the feet,
+``perception.denoiser_training.sole_points_in_pelvis_frame``). On a clean take the "after" column is
+what the denoiser wrongly changes.
 """
 
 from __future__ import annotations
@@ -19,9 +21,12 @@ import argparse
 from pathlib import Path
 
 import numpy as np
+import torch
 
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from perception.denoiser_training import sole_points_in_pelvis_frame
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.kinematics import torch_kinematics
 from perception.weights import load_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
@@ -33,11 +38,21 @@ the pelvis height (what the denoiser corrects) alone."""
 
 
 def errors(clean, given, hips: list[int]) -> dict[str, float]:
-    """Hinge RMS error (deg), mean pelvis height error (cm) and hip adduction offset (deg) of ``given``."""
+    """Hinge RMS error (deg), mean pelvis height error (cm), hip adduction offset (deg) and sole
+    points' RMS error relative to the pelvis (cm) of ``given``."""
     diff = given.qpos - clean.qpos
+    kinematics = torch_kinematics(clean.model)
+    soles = [sole_points_in_pelvis_frame(kinematics, torch.from_numpy(m.qpos[:, 7:]).float()) for m in (given, clean)]
     return {"hinge_rms_deg": float(np.degrees(np.sqrt((diff[:, 7:] ** 2).mean()))),
             "height_cm": float(100 * np.abs(diff[:, 2]).mean()),
-            "hip_offset_deg": float(np.degrees(np.abs(diff[:, hips].mean(0)).mean()))}
+            "hip_offset_deg": float(np.degrees(np.abs(diff[:, hips].mean(0)).mean())),
+            "sole_rms_cm": float(100 * ((soles[0] - soles[1]) ** 2).sum(-1).mean().sqrt())}
+
+
+def pooled(rows: list[dict[str, float]], key: str) -> float:
+    """``key`` over the takes' ``rows``: the RMS of an RMS error, the mean of the others."""
+    values = np.array([r[key] for r in rows])
+    return float(np.sqrt(np.mean(values ** 2))) if "_rms_" in key else float(values.mean())
 
 
 def main() -> None:
@@ -53,7 +68,8 @@ def main() -> None:
     hm = load_model(net.model)
     hips = [hm.qpos_index("l_thigh_x"), hm.qpos_index("r_thigh_x")]
     table = {}
-    print(f"{'split':<6}{'kind':<11}{'hinge RMS (deg)':>18}{'height (cm)':>16}{'hip offset (deg)':>19}")
+    print(f"{'split':<6}{'kind':<11}{'hinge RMS (deg)':>18}{'height (cm)':>16}{'hip offset (deg)':>19}"
+          f"{'soles RMS (cm)':>17}")
     for split in args.splits:
         takes = [load_motion(s, net.model) for s in expand_clips([f"library:{args.library}/{split}"])]
         for kind in KINDS:
@@ -63,14 +79,10 @@ def main() -> None:
                                                               args.seed + i)
                 before.append(errors(clean, given, hips))
                 after.append(errors(clean, denoise(net, given), hips))
-            row = {}
-            for key in before[0]:
-                mean = (lambda rows: float(np.sqrt(np.mean([r[key] ** 2 for r in rows])))) if key == "hinge_rms_deg" \
-                    else (lambda rows: float(np.mean([r[key] for r in rows])))
-                row[key] = {"before": mean(before), "after": mean(after)}
+            row = {key: {"before": pooled(before, key), "after": pooled(after, key)} for key in before[0]}
             table[f"{split}/{kind}"] = {"takes": len(takes), **row}
             print(f"{split:<6}{kind:<11}" + "".join(f"{row[k]['before']:>9.2f} → {row[k]['after']:<5.2f}"
-                                                    for k in ("hinge_rms_deg", "height_cm", "hip_offset_deg")))
+                                                    for k in ("hinge_rms_deg", "height_cm", "hip_offset_deg", "sole_rms_cm")))
     emit_json({"denoiser": str(args.denoiser), "strength": args.strength, "seed": args.seed, "table": table},
               args.json)
 
