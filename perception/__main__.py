@@ -304,7 +304,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
                                      clean_fraction=args.clean_fraction,
                                      postures=args.postures, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
-        return _train_and_ship(args, trainer, config, lambda best: f"val RMS error {np.sqrt(best):.4f}")
+        return _train_and_ship(args, trainer, config, lambda best: f"val root of the loss {np.sqrt(best):.4f}")
     if args.command in ("train-vgrf", "train-mlp"):
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                              lr_patience=args.lr_patience,
