@@ -40,12 +40,15 @@ class DenoiserDraws:
 def read_draws(spec: str) -> DenoiserDraws:
     """``FILE`` or ``FILE:POLICY`` → its draws; a clear error if the file holds several policies and
     none is named, or lacks the named one or a denoiser."""
-    path, _, policy = spec.partition(":")
+    path, colon, policy = spec.rpartition(":")
+    if not colon or not path.endswith(".json"):  # no policy named (or a colon inside the path itself)
+        path, policy = spec, ""
     data = read_json(Path(path), ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser"))
     rows = [r for r in data["rows"] if not policy or r.get("policy") == policy]
     if len(rows) != 1:
-        raise SystemExit(f"{path}: holds policies {[r.get('policy') for r in data['rows']]}; name exactly one "
-                         f"as {path}:POLICY" + (f" ({policy!r} is not one of them)" if policy else ""))
+        found = [r.get("policy") for r in data["rows"]]
+        raise SystemExit(f"{path}: holds policies {found}; name exactly one of them once as {path}:POLICY"
+                         + (f" ({policy!r} is there {found.count(policy)} times)" if policy else ""))
     if data["denoiser"] is None:
         raise SystemExit(f"{path}: its draws were tracked without a denoiser")
     if len(rows[0].get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
@@ -90,17 +93,30 @@ def main() -> None:
     verdict = {"baseline": baseline.denoiser, "rows": rows, "leader": best["denoiser"] if leads else baseline.denoiser,
                "leads_by_rule": leads, "replaces_baseline": False}
     if args.confirm:
-        confirmation = compare(read_draws(args.confirm_baseline), [read_draws(args.confirm)])[0]
-        if confirmation["denoiser"] != verdict["leader"] or not leads:
+        if not leads:
+            p.error(f"no candidate leads {baseline.denoiser} by the rule; there is nothing to confirm")
+        confirm_baseline = read_draws(args.confirm_baseline)
+        if confirm_baseline.denoiser != baseline.denoiser:
+            p.error(f"--confirm-baseline is behind {confirm_baseline.denoiser}, --baseline behind {baseline.denoiser}")
+        reused = sorted(set(confirm_baseline.settings[0]) & set(baseline.settings[0]))
+        if reused:
+            p.error(f"the confirmation must be on fresh draws; seeds {reused[:3]}... are also the rule's")
+        confirmation = compare(confirm_baseline, [read_draws(args.confirm)])[0]
+        if confirmation["denoiser"] != verdict["leader"]:
             p.error(f"--confirm holds {confirmation['denoiser']}'s draws, but the rule's leader is {verdict['leader']}")
         verdict["confirmation"] = confirmation
         verdict["replaces_baseline"] = confirmation["against_baseline"]["mean_difference"] > 0
         c = confirmation["against_baseline"]
         print(f"confirmation: {confirmation['denoiser']} {c['mean_difference']:+.4f} ± {c['standard_error']:.4f} "
               f"(above on {c['draws_above']} of {c['draws_above'] + c['draws_equal'] + c['draws_below']})")
-    print("verdict:", f"{verdict['leader']} replaces {baseline.denoiser}" if verdict["replaces_baseline"]
-          else f"{verdict['leader']} leads by the rule" + ("" if args.confirm else "; confirmation not run yet")
-          if leads else f"{baseline.denoiser} stays")
+    if verdict["replaces_baseline"]:
+        print(f"verdict: {verdict['leader']} replaces {baseline.denoiser}")
+    elif not leads:
+        print(f"verdict: {baseline.denoiser} stays")
+    elif args.confirm:
+        print(f"verdict: {verdict['leader']} leads by the rule but not the confirmation; {baseline.denoiser} stays")
+    else:
+        print(f"verdict: {verdict['leader']} leads by the rule; confirmation not run yet")
     emit_json(verdict, args.json)
 
 

@@ -6,9 +6,11 @@ with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`) at a s
 ``DenoiserTrainConfig.strength``, a fresh seed each time, or leaves it clean
 (``clean_fraction``), and regresses what :func:`~perception.imu_denoiser.denoise` must add back:
 the clean hinge angles and pelvis height minus the corrupted ones (mean squared error; rad and m
-weigh alike, their errors being of one size: a few degrees, a few centimetres). The validation
-score is that error over the whole validation takes, each clean and corrupted at strengths 0.5
-and 1 with fixed seeds: a denoiser must fix corrupted takes and leave clean ones alone. The loop,
+weigh alike, their errors being of one size: a few degrees, a few centimetres), plus, with
+``DenoiserTrainConfig.sole_weight``, the squared error of where the corrected hinge angles put the
+soles (:func:`correction_loss`). The validation score is that loss over the whole validation
+takes, each clean and corrupted at strengths 0.5 and 1 with fixed seeds: a denoiser must fix
+corrupted takes and leave clean ones alone. The loop,
 checkpoints, early stopping and shipping are :func:`perception.training.fit`'s.
 """
 
@@ -110,7 +112,7 @@ class DenoiserTrainConfig:
         if not 0 <= lo <= hi:
             raise ValueError(f"DenoiserTrainConfig.strength must be (low, high) with 0 <= low <= high, "
                              f"got {self.strength}")
-        if not self.dilations or min(self.dilations) < 1:
+        if not self.dilations or not all(isinstance(d, int) and d >= 1 for d in self.dilations):
             raise ValueError(f"DenoiserTrainConfig.dilations must be positive integers, got {self.dilations}")
         if self.sole_weight < 0:
             raise ValueError(f"DenoiserTrainConfig.sole_weight must be >= 0, got {self.sole_weight}")
@@ -132,7 +134,7 @@ def sole_points_in_pelvis_frame(kinematics: TorchKinematics, hinges: torch.Tenso
     angles ``hinges (..., n_hinge)`` (rad): the forward kinematics of the legs alone, whatever the
     root's placement and orientation. Differentiable."""
     flat = hinges.reshape(-1, hinges.shape[-1])
-    root = torch.zeros(len(flat), 7, dtype=flat.dtype)
+    root = torch.zeros(len(flat), 7, dtype=flat.dtype, device=flat.device)
     root[:, 3] = 1.0  # the identity quaternion
     _, soles = kinematics.points(torch.cat([root, flat], dim=1))
     return soles.reshape(*hinges.shape[:-1], *soles.shape[1:])
@@ -144,11 +146,13 @@ def correction_loss(prediction: torch.Tensor, target: torch.Tensor, given_hinges
     ``target`` (both ``(B, T, n_hinge + 1)``: rad and m), plus ``sole_weight`` times the mean
     squared error (m²) of the sole points relative to the pelvis
     (:func:`sole_points_in_pelvis_frame`) that the corrected hinge angles ``given_hinges +
-    prediction`` give against those of the clean ones ``given_hinges + target``."""
+    prediction`` give against those of the clean ones ``given_hinges + target``; ``given_hinges``
+    ``(B, T, n_hinge)`` (rad) are the corrupted take's."""
     loss = ((prediction - target) ** 2).mean()
     if sole_weight:
         corrected = sole_points_in_pelvis_frame(kinematics, given_hinges + prediction[..., :-1])
-        clean = sole_points_in_pelvis_frame(kinematics, given_hinges + target[..., :-1])
+        with torch.no_grad():
+            clean = sole_points_in_pelvis_frame(kinematics, given_hinges + target[..., :-1])
         loss = loss + sole_weight * ((corrected - clean) ** 2).mean()
     return loss
 

@@ -111,14 +111,18 @@ def test_sole_term_counts_errors_that_move_the_feet_and_only_those():
     from the knee (a heel ≈ 0.45 m below it: ≈ 4.5 cm), and the term scales with its weight."""
     hm = load_model("humanoid_1seg")
     kin, n = torch_kinematics("humanoid_1seg"), len(hm.hinge_names)
-    given = torch.zeros(1, 5, n)
-    soles = sole_points_in_pelvis_frame(kin, given[0])  # (5, 4, 3): left_toe, right_toe, left_heel, right_heel
+    standing = torch.zeros(1, 5, n)
+    soles = sole_points_in_pelvis_frame(kin, standing[0])  # (5, 4, 3): left_toe, right_toe, left_heel, right_heel
     assert soles.shape == (5, 4, 3)
     assert (soles[..., 2] < -0.7).all() and (soles[:, [0, 2], 1] > 0.05).all() and (soles[:, [1, 3], 1] < -0.05).all()
+    # the corrupted take stands with its left knee bent 0.3 rad; the target bends it back straight
+    given = standing.clone()
+    given[..., hm.hinge_names.index("l_shin_y")] = 0.3
     target = torch.zeros(1, 5, n + 1)
+    target[..., hm.hinge_names.index("l_shin_y")] = -0.3
     for hinge, moves_feet in (("l_forearm_y", False), ("l_shin_y", True)):
         prediction = target.clone()
-        prediction[..., hm.hinge_names.index(hinge)] = 0.1
+        prediction[..., hm.hinge_names.index(hinge)] += 0.1
         plain = float(correction_loss(prediction, target, given, kin, 0.0))
         assert plain == pytest.approx(0.01 / (n + 1))
         with_soles = float(correction_loss(prediction, target, given, kin, 4.0))
@@ -126,13 +130,40 @@ def test_sole_term_counts_errors_that_move_the_feet_and_only_those():
         if not moves_feet:
             assert sole_term == pytest.approx(0.0, abs=1e-9)
             continue
-        moved = sole_points_in_pelvis_frame(kin, prediction[0, :, :n])[0] - soles[0]
+        moved = sole_points_in_pelvis_frame(kin, (given + prediction[..., :n])[0])[0] - soles[0]
         distance = moved.norm(dim=-1)
         assert distance[[1, 3]].max() < 1e-6  # the right foot stays
         assert 0.03 < float(distance[2]) < 0.06  # left heel, ~0.45 m below the knee
         assert sole_term == pytest.approx(float((moved ** 2).sum()) / 12, rel=1e-4)
         assert float(correction_loss(prediction, target, given, kin, 8.0)) == pytest.approx(plain + 8 * sole_term,
                                                                                             rel=1e-5)
+
+
+def test_sole_points_are_those_of_the_posed_body_seen_from_its_pelvis(walk):
+    """Against the world sole points of the take's own frames: moved into the pelvis's frame, they
+    are what :func:`sole_points_in_pelvis_frame` gives from the hinge angles alone."""
+    kin = torch_kinematics(walk.model)
+    qpos = torch.from_numpy(walk.qpos[::40]).float()
+    _, world = kin.points(qpos)
+    local = torch.einsum("tji,tkj->tki", torch.from_numpy(rot.to_matrix(walk.qpos[::40, 3:7])).float(),
+                         world - qpos[:, None, :3])
+    assert torch.allclose(sole_points_in_pelvis_frame(kin, qpos[:, 7:]), local, atol=1e-5)
+
+
+def test_the_task_loss_reads_the_corrupted_take_s_hinges():
+    """``DenoiserTask``'s loss with the sole term: an untrained network (corrections zero) costs what
+    :func:`correction_loss` gives for the corrupted take's own hinge angles."""
+    task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], DenoiserTrainConfig(hidden=16, sole_weight=3.0))
+    net = task.network()
+    clean = task.train[0]
+    given = corrupt(clean, ArtefactRecipe.imu(1.0), 3)
+    features = torch.from_numpy(motion_features(given))[None]
+    target = torch.from_numpy(correction_target(clean, given))[None]
+    expected = correction_loss(torch.zeros_like(target), target, torch.from_numpy(given.qpos[:, 7:]).float()[None],
+                               torch_kinematics(clean.model), 3.0)
+    with torch.no_grad():
+        assert float(task._loss(net, features, target)) == pytest.approx(float(expected), rel=1e-5)
+    assert float(expected) > 2 * float((target ** 2).mean())  # the soles' term is there and not small
 
 
 def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path):

@@ -97,6 +97,13 @@ def test_training_resumes_ships_and_loads(dataset, tmp_path):
     assert second["epochs"] == 2 and [h["epoch"] for h in second["history"]] == [1, 2]
     with pytest.raises(ValueError, match="other settings"):
         train(dataset, run, TrainConfig(**{**config.__dict__, "lr": 0.1}), progress=False)
+    # a run recorded before a setting existed resumes if the setting is at its default, not otherwise
+    recorded = json.loads((run / "config.json").read_text())
+    (run / "config.json").write_text(json.dumps({k: v for k, v in recorded.items() if k not in ("seed", "windows_per_epoch")}))
+    with pytest.raises(ValueError, match="other settings"):  # 64 windows per epoch is not the default
+        train(dataset, run, TrainConfig(**{**config.__dict__, "max_epochs": 3}), progress=False)
+    (run / "config.json").write_text(json.dumps({k: v for k, v in recorded.items() if k != "seed"}))
+    assert train(dataset, run, TrainConfig(**{**config.__dict__, "max_epochs": 3}), progress=False)["epochs"] == 3
     shipped = ship(run, tmp_path / "vgrf")
     net = load_network(shipped, "vgrf")
     assert isinstance(net, VGRFNet) and not net.training

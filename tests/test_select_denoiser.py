@@ -62,4 +62,18 @@ def test_the_best_candidate_leads_and_replaces_only_if_it_leads_the_confirmation
     rc, _, err = select("--baseline", base, "--candidates", weak, "--confirm-baseline", confirm_base,
                         "--confirm", draws_file(tmp_path / "cw.json", "weak", {"pi": [0.9, 0.9, 0.9]},
                                                 seeds=(200, 207, 214)))
-    assert rc != 0 and "the rule's leader is dm" in err
+    assert rc != 0 and "no candidate leads dm" in err
+    tie = draws_file(tmp_path / "t.json", "tie", {"pi": [0.7, 0.7, 0.7]})
+    rc, verdict, _ = select("--baseline", base, "--candidates", tie)
+    assert rc == 0 and verdict["leader"] == "dm" and not verdict["leads_by_rule"]  # a tie keeps the baseline
+
+
+def test_a_confirmation_on_the_rule_s_draws_or_behind_another_baseline_is_refused(tmp_path):
+    base = draws_file(tmp_path / "b.json", "dm", {"pi": [0.8, 0.6, 0.7]})
+    strong = draws_file(tmp_path / "s.json", "strong", {"pi": [0.9, 0.7, 0.7]})
+    rc, _, err = select("--baseline", base, "--candidates", strong, "--confirm-baseline", base, "--confirm", strong)
+    assert rc != 0 and "fresh draws" in err
+    other = draws_file(tmp_path / "ob.json", "other", {"pi": [0.5, 0.5, 0.5]}, seeds=(200, 207, 214))
+    confirm = draws_file(tmp_path / "cs.json", "strong", {"pi": [0.6, 0.5, 0.5]}, seeds=(200, 207, 214))
+    rc, _, err = select("--baseline", base, "--candidates", strong, "--confirm-baseline", other, "--confirm", confirm)
+    assert rc != 0 and "--confirm-baseline is behind other" in err
