@@ -7,6 +7,7 @@ Examples::
     python -m perception evaluate-contacts --dataset data/physics --split test --json out/contacts.json
     python -m perception train-keypoints --dataset data/physics --run-dir runs/contact_transformer
     python -m perception train-denoiser --run-dir runs/imu_denoiser --out models/imu_denoiser
+    python -m perception ensemble-denoisers models/imu_denoiser_soles runs/denoiser_soles_s1/shipped --out DIR
     python -m perception evaluate-keypoints --dataset data/physics --split test --json out/keypoints.json
     python -m perception contacts deepmimic:walk --plot out/walk_contacts.png --json out/walk_contacts.json
     python -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --out out/turn_left1_clean.npz
@@ -40,7 +41,7 @@ from perception.training import TrainConfig, train
 from perception.underpressure_data import load_underpressure
 from perception.vgrf import estimate
 from perception.video import VIDEO_SUFFIXES, video_keypoints
-from perception.weights import load_network, record_metrics, ship
+from perception.weights import load_network, record_metrics, ship, ship_denoiser_ensemble
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.bvh_export import write_bvh
@@ -115,6 +116,10 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
                         "(DenoiserTrainConfig.postures)")
     g.add_argument("--seed", type=int, default=d.seed)
     g.add_argument("--no-progress", action="store_true")
+    g = sub.add_parser("ensemble-denoisers", help="ship shipped IMU denoisers as one that averages their corrections",
+                       formatter_class=argparse.ArgumentDefaultsHelpFormatter)
+    g.add_argument("members", nargs="+", type=Path, help="shipped IMU denoiser folders (two or more)")
+    g.add_argument("--out", type=output_dir, required=True, help="where the ensemble is shipped")
     k = KeypointTrainConfig()
     g = sub.add_parser("train-keypoints", help="train the ContactTransformer on filmed physics data (ContactVision)",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
@@ -305,6 +310,10 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
                                      postures=args.postures, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val root of the loss {np.sqrt(best):.4f}")
+    if args.command == "ensemble-denoisers":
+        out = ship_denoiser_ensemble(args.members, args.out)
+        print(f"an ensemble of {len(args.members)} IMU denoisers shipped to {out}")
+        return {"out": str(out), "members": [str(m) for m in args.members]}
     if args.command in ("train-vgrf", "train-mlp"):
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,
                              lr_patience=args.lr_patience,

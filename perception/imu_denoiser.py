@@ -114,8 +114,37 @@ class IMUDenoiser(nn.Module):
         return self.out(z).transpose(1, 2)
 
 
+class DenoiserEnsemble(nn.Module):
+    """The mean correction ``(B, T, n_hinge + 1)`` of several :class:`IMUDenoiser` s trained apart
+    (other seeds, other settings) for the same humanoid and frame rate: each network's own errors
+    partly average out. Built from the members' constructor arguments (``members``, one dict each,
+    as :attr:`IMUDenoiser.config`); reads and returns what :class:`IMUDenoiser` does."""
+
+    def __init__(self, members: list[dict]):
+        super().__init__()
+        nets = [IMUDenoiser(**config) for config in members]
+        if len(nets) < 2:
+            raise ValueError(f"an ensemble of IMU denoisers needs at least two members, got {len(nets)}")
+        if len({(net.model, net.fps) for net in nets}) > 1:
+            raise ValueError("the members of an ensemble of IMU denoisers must be for one humanoid and frame rate, "
+                             f"got {sorted({(net.model, net.fps) for net in nets})}")
+        self.members = nn.ModuleList(nets)
+        self.model, self.fps = nets[0].model, nets[0].fps
+        self.input_names, self.output_names = nets[0].input_names, nets[0].output_names
+        self.config = {"members": [dict(net.config) for net in nets]}
+
+    def forward(self, features: torch.Tensor) -> torch.Tensor:
+        return torch.stack([net(features) for net in self.members]).mean(dim=0)
+
+
+def denoiser_network(**config) -> nn.Module:
+    """The IMU denoiser a shipped file's ``network`` field describes: a :class:`DenoiserEnsemble`
+    when it lists ``members``, else an :class:`IMUDenoiser`."""
+    return DenoiserEnsemble(**config) if "members" in config else IMUDenoiser(**config)
+
+
 @torch.no_grad()
-def denoise(net: IMUDenoiser, motion: Motion) -> Motion:
+def denoise(net: IMUDenoiser | DenoiserEnsemble, motion: Motion) -> Motion:
     """``motion`` with ``net``'s corrections added to its hinge angles and pelvis height; its
     ``source`` records ``denoised: True``. A clear ``ValueError`` when the motion is for another
     humanoid or at another frame rate than the network."""

@@ -5,6 +5,7 @@ loading them with clear errors."""
 from __future__ import annotations
 
 import json
+import sys
 from functools import lru_cache
 from pathlib import Path
 
@@ -12,11 +13,12 @@ import torch
 from torch import nn
 
 from perception.contact_transformer import ContactTransformer
-from perception.imu_denoiser import IMUDenoiser
+from perception.imu_denoiser import DenoiserEnsemble, denoiser_network
 from perception.vgrf import ContactMLP, VGRFNet
 
-KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP, "keypoints": ContactTransformer, "denoiser": IMUDenoiser}
-"""Network classes by kind; each has ``input_names`` (the points or features it reads, in order) and ``fps``."""
+KINDS = {"vgrf": VGRFNet, "mlp": ContactMLP, "keypoints": ContactTransformer, "denoiser": denoiser_network}
+"""Network constructors by kind (a denoiser may be one network or an ensemble); each network has
+``input_names`` (the points or features it reads, in order) and ``fps``."""
 TRAIN_COMMANDS = {"vgrf": "train-vgrf", "mlp": "train-mlp", "keypoints": "train-keypoints",
                   "denoiser": "train-denoiser"}
 WEIGHTS_FILE, SIDECAR_FILE = "model.pt", "sidecar.json"
@@ -49,6 +51,27 @@ def read_torch_file(file: Path, what: str, missing_hint: str) -> object:
         return torch.load(file, weights_only=False, map_location="cpu")
     except Exception as err:  # noqa: BLE001 (torch raises many types for a corrupt file)
         raise ValueError(f"{file}: not a readable {what} ({err.__class__.__name__}: {err})") from None
+
+
+def ship_denoiser_ensemble(folders: list[Path], out: Path) -> Path:
+    """Ship the shipped IMU denoisers in ``folders`` as one :class:`DenoiserEnsemble` in ``out``
+    (``model.pt``; ``sidecar.json`` records the command and each member's folder and sidecar)."""
+    nets = [load_network(folder, "denoiser") for folder in folders]
+    if any(isinstance(net, DenoiserEnsemble) for net in nets):
+        raise ValueError("the members of an ensemble must be single IMU denoisers, not ensembles")
+    ensemble = DenoiserEnsemble([dict(net.config) for net in nets])
+    for member, net in zip(ensemble.members, nets):
+        member.load_state_dict(net.state_dict())
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    torch.save({"kind": "denoiser", "joints": list(ensemble.input_names), "fps": ensemble.fps,
+                "network": ensemble.config, "state_dict": ensemble.state_dict()}, out / WEIGHTS_FILE)
+    members = [{"folder": str(folder), "sidecar": json.loads((Path(folder) / SIDECAR_FILE).read_text())
+                if (Path(folder) / SIDECAR_FILE).exists() else None} for folder in folders]
+    (out / SIDECAR_FILE).write_text(json.dumps({"kind": "denoiser", "ensemble_of": members,
+                                                "command": "python -m perception " + " ".join(sys.argv[1:])},
+                                               indent=1))
+    return out
 
 
 def load_network(path: Path, kind: str = "vgrf") -> nn.Module:

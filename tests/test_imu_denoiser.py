@@ -200,3 +200,32 @@ def test_shipped_denoiser_undoes_hip_adduction_and_leaves_clean_takes_alone():
     assert after.max() < 3.0, after
     change = np.degrees(np.sqrt(((denoise(net, clean).qpos - clean.qpos)[:, 7:] ** 2).mean()))
     assert change < 3.5, change
+
+
+def test_an_ensemble_averages_its_members_and_ships_and_loads(tmp_path, walk):
+    """Two tiny denoisers with other weights, shipped as one by the CLI: its correction is the mean
+    of theirs on a corrupted take; an ensemble of one, of ensembles, or of other humanoids is refused."""
+    from perception.imu_denoiser import DenoiserEnsemble
+    folders = []
+    for seed in (1, 2):
+        out = tmp_path / f"member{seed}"
+        perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
+                         str(tmp_path / f"run{seed}"), "--out", str(out), "--epochs", "1", "--windows-per-epoch",
+                         "32", "--hidden", "16", "--seed", str(seed), "--no-progress"])
+        folders.append(out)
+    perception_main(["ensemble-denoisers", *map(str, folders), "--out", str(tmp_path / "both")])
+    both = load_network(tmp_path / "both", "denoiser")
+    assert isinstance(both, DenoiserEnsemble) and len(both.members) == 2
+    given = corrupt(walk, ArtefactRecipe.imu(1.0), 4)
+    corrections = [denoise(load_network(f, "denoiser"), given).qpos - given.qpos for f in folders]
+    assert np.abs(corrections[0] - corrections[1]).max() > 1e-4  # the members differ
+    np.testing.assert_allclose(denoise(both, given).qpos - given.qpos, (corrections[0] + corrections[1]) / 2,
+                               atol=1e-6)
+    sidecar = json.loads((tmp_path / "both" / "sidecar.json").read_text())
+    assert [m["folder"] for m in sidecar["ensemble_of"]] == [str(f) for f in folders]
+    with pytest.raises(ValueError, match="at least two members"):
+        DenoiserEnsemble([both.members[0].config])
+    with pytest.raises(ValueError, match="one humanoid and frame rate"):
+        DenoiserEnsemble([both.members[0].config, {**both.members[0].config, "fps": 30.0}])
+    with pytest.raises(SystemExit):
+        perception_main(["ensemble-denoisers", str(tmp_path / "both"), str(folders[0]), "--out", str(tmp_path / "x")])
