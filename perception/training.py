@@ -157,10 +157,10 @@ def fit(task: TrainingTask, run_dir: Path, config, progress: bool = True) -> dic
     settings = run_dir / "config.json"
     extendable = ("max_epochs", "patience", "lr_patience")  # a resumed run may be given more epochs or patience
     if settings.exists():
-        stored = {k: v for k, v in json.loads(settings.read_text()).items() if k not in extendable}
         # a setting added after the run began is read as its default, so older runs still resume
         defaults = json.loads(json.dumps({f.name: f.default for f in fields(config) if f.default is not MISSING}))
-        stored = {**{k: v for k, v in defaults.items() if k not in extendable}, **stored}
+        recorded = {**defaults, **json.loads(settings.read_text())}
+        stored = {k: v for k, v in recorded.items() if k not in extendable}
         if stored != {k: v for k, v in json.loads(json.dumps(asdict(config))).items() if k not in extendable}:
             raise ValueError(f"{settings}: {run_dir} holds a run with other settings; use a new run directory")
     settings.write_text(json.dumps(asdict(config), indent=1))

@@ -24,16 +24,23 @@ TRAIN_COMMANDS = {"vgrf": "train-vgrf", "mlp": "train-mlp", "keypoints": "train-
 WEIGHTS_FILE, SIDECAR_FILE = "model.pt", "sidecar.json"
 
 
-def ship(run_dir: Path, out: Path) -> Path:
-    """Copy ``run_dir``'s best weights to ``out/model.pt`` with its sidecar."""
-    run_dir, out = Path(run_dir), Path(out)
-    sidecar = json.loads((run_dir / SIDECAR_FILE).read_text())
+def _write_shipped(out: Path, weights: dict, sidecar: dict) -> Path:
+    """Write ``out/model.pt`` (``weights``: kind, joints, fps, network, state_dict, as
+    :func:`load_network` reads them) and ``out/sidecar.json``; returns ``out``."""
+    out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    torch.save({"kind": sidecar["kind"], "joints": sidecar["joints"], "fps": sidecar["fps"],
-                "network": sidecar.get("network", {"fps": sidecar["fps"]}),
-                "state_dict": torch.load(run_dir / "best.pt")}, out / WEIGHTS_FILE)
+    torch.save(weights, out / WEIGHTS_FILE)
     (out / SIDECAR_FILE).write_text(json.dumps(sidecar, indent=1))
     return out
+
+
+def ship(run_dir: Path, out: Path) -> Path:
+    """Copy ``run_dir``'s best weights to ``out/model.pt`` with its sidecar."""
+    run_dir = Path(run_dir)
+    sidecar = json.loads((run_dir / SIDECAR_FILE).read_text())
+    return _write_shipped(out, {"kind": sidecar["kind"], "joints": sidecar["joints"], "fps": sidecar["fps"],
+                                "network": sidecar.get("network", {"fps": sidecar["fps"]}),
+                                "state_dict": torch.load(run_dir / "best.pt")}, sidecar)
 
 
 def record_metrics(folder: Path, metrics: dict) -> None:
@@ -62,16 +69,12 @@ def ship_denoiser_ensemble(folders: list[Path], out: Path) -> Path:
     ensemble = DenoiserEnsemble([dict(net.config) for net in nets])
     for member, net in zip(ensemble.members, nets):
         member.load_state_dict(net.state_dict())
-    out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
-    torch.save({"kind": "denoiser", "joints": list(ensemble.input_names), "fps": ensemble.fps,
-                "network": ensemble.config, "state_dict": ensemble.state_dict()}, out / WEIGHTS_FILE)
     members = [{"folder": str(folder), "sidecar": json.loads((Path(folder) / SIDECAR_FILE).read_text())
                 if (Path(folder) / SIDECAR_FILE).exists() else None} for folder in folders]
-    (out / SIDECAR_FILE).write_text(json.dumps({"kind": "denoiser", "ensemble_of": members,
-                                                "command": "python -m perception " + " ".join(sys.argv[1:])},
-                                               indent=1))
-    return out
+    return _write_shipped(out, {"kind": "denoiser", "joints": list(ensemble.input_names), "fps": ensemble.fps,
+                                "network": ensemble.config, "state_dict": ensemble.state_dict()},
+                          {"kind": "denoiser", "ensemble_of": members,
+                           "command": "python -m perception " + " ".join(sys.argv[1:])})
 
 
 def load_network(path: Path, kind: str = "vgrf") -> nn.Module:
