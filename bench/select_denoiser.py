@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from paired_draws import paired
+from paired_draws import overlapping_draws, paired
 from select_policy import read_json
 
 
@@ -98,9 +98,9 @@ def main() -> None:
         confirm_baseline = read_draws(args.confirm_baseline)
         if confirm_baseline.denoiser != baseline.denoiser:
             p.error(f"--confirm-baseline is behind {confirm_baseline.denoiser}, --baseline behind {baseline.denoiser}")
-        reused = sorted(set(confirm_baseline.settings[0]) & set(baseline.settings[0]))
-        if reused:
-            p.error(f"the confirmation must be on fresh draws; seeds {reused[:3]}... are also the rule's")
+        overlap = overlapping_draws(list(baseline.settings[0]), list(confirm_baseline.settings[0]))
+        if overlap:
+            p.error(overlap)
         confirmation = compare(confirm_baseline, [read_draws(args.confirm)])[0]
         if confirmation["denoiser"] != verdict["leader"]:
             p.error(f"--confirm holds {confirmation['denoiser']}'s draws, but the rule's leader is {verdict['leader']}")

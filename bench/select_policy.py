@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from paired_draws import paired
+from paired_draws import overlapping_draws, paired
 
 IMU_WEIGHT = 2.0
 """Weight of the IMU draws against validation clean in the registered rule."""
@@ -149,10 +149,9 @@ def main() -> None:
             p.error(f"--confirm must score both {winner} and {args.baseline}")
         if len(confirm[winner]) != args.draws_per_policy:
             p.error(f"expected {args.draws_per_policy} confirmation draws, got {len(confirm[winner])}")
-        first, second = gathered.seeds, confirmation.seeds
-        if first[0] <= second[-1] and second[0] <= first[-1]:
-            p.error(f"the confirmation draws (seeds {second[0]}..{second[-1]}) overlap the draws "
-                    f"({first[0]}..{first[-1]}); they must be unused ones")
+        overlap = overlapping_draws(gathered.seeds, confirmation.seeds)
+        if overlap:
+            p.error(overlap)
         report["confirmation"] = paired(confirm[winner], confirm[args.baseline])
         replaces = report["confirmation"]["mean_difference"] > 0
         c = report["confirmation"]

@@ -72,7 +72,7 @@ def test_a_confirmation_on_the_rule_s_draws_or_behind_another_baseline_is_refuse
     base = draws_file(tmp_path / "b.json", "dm", {"pi": [0.8, 0.6, 0.7]})
     strong = draws_file(tmp_path / "s.json", "strong", {"pi": [0.9, 0.7, 0.7]})
     rc, _, err = select("--baseline", base, "--candidates", strong, "--confirm-baseline", base, "--confirm", strong)
-    assert rc != 0 and "fresh draws" in err
+    assert rc != 0 and "overlap the rule's draws" in err
     other = draws_file(tmp_path / "ob.json", "other", {"pi": [0.5, 0.5, 0.5]}, seeds=(200, 207, 214))
     confirm = draws_file(tmp_path / "cs.json", "strong", {"pi": [0.6, 0.5, 0.5]}, seeds=(200, 207, 214))
     rc, _, err = select("--baseline", base, "--candidates", strong, "--confirm-baseline", other, "--confirm", confirm)

@@ -94,7 +94,7 @@ def test_the_winner_replaces_the_baseline_only_once_it_also_leads_the_confirmati
 def test_confirmation_draws_must_be_unused_and_complete(tmp_path):
     reused = draws_file(tmp_path / "k.json", [107, 114], {"base": [0.7, 0.7], "new": [0.8, 0.8]})
     result, _ = select(tmp_path, "--confirm", str(reused))
-    assert result.returncode != 0 and "overlap the draws" in result.stderr
+    assert result.returncode != 0 and "overlap the rule's draws" in result.stderr
     result, _ = select(tmp_path, draws_per_policy=10)
     assert result.returncode != 0 and "expected 10 draws per policy" in result.stderr
 

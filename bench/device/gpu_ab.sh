@@ -5,10 +5,9 @@
 # lib/ = data/library trimmed to train+val) carried.
 set -u
 SECS=${1:-300}
-python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl || exit 1
-export PYTHONPATH=/tmp/site:$PWD/.devpkgs:$PWD PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
+source bench/device/setup.sh
 python3 -c "import mujoco, gymnasium, stable_baselines3, torch, numpy, sys; print(sys.version, numpy.__version__, mujoco.__version__, stable_baselines3.__version__, torch.__version__, torch.cuda.is_available())"
-mkdir -p runs data && rm -rf data/library && cp -r .devpkgs/lib data/library
+mkdir -p runs
 for d in cuda cpu; do rm -rf runs/ab_$d; cp -r models/mimic_general/run runs/ab_$d; done
 for d in cuda cpu; do
   timeout --foreground -s TERM $SECS python3 agents/train_ppo.py --run-dir runs/ab_$d --resume --vec sharded --n-envs 64 --workers 8 --device $d --torch-threads 1 --checkpoint-every 131072 --eval-every 100000000 --total-steps 15158592 --no-progress > $OUT/train_$d.log 2>&1 &

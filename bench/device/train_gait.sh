@@ -4,9 +4,8 @@
 # (.devpkgs/lib holding humanoid_2seg of the 24 Bandai walks it trains and validates on).
 set -u
 SECS=${1:-500}
-python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --upgrade --target /tmp/site .whl/*.whl || exit 1
-export PYTHONPATH=/tmp/site:$PWD/.devpkgs:$PWD PYTHONUNBUFFERED=1 MUJOCO_GL=disable OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 MKL_NUM_THREADS=1
-mkdir -p runs data && rm -rf data/library && cp -r .devpkgs/lib data/library && ln -sfn library data/library_level
+source bench/device/setup.sh
+mkdir -p runs && ln -sfn library data/library_level
 rm -rf runs/gait && cp -r models/mimic_gait_ff/run runs/gait
 [ -d .devpkgs/gckpt ] && cp .devpkgs/gckpt/step_* runs/gait/checkpoints/ && cp .devpkgs/gckpt/args.json .devpkgs/gckpt/evaluations.jsonl runs/gait/ && cp .devpkgs/gckpt/wall.json runs/gait/ 2>/dev/null
 [ -d .devpkgs/gckpt/best ] && cp -r .devpkgs/gckpt/best runs/gait/
