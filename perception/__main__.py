@@ -8,6 +8,7 @@ Examples::
     python -m perception train-keypoints --dataset data/physics --run-dir runs/contact_transformer
     python -m perception train-denoiser --run-dir runs/imu_denoiser --out models/imu_denoiser
     python -m perception ensemble-denoisers models/imu_denoiser_soles runs/denoiser_soles_s1/shipped --out DIR
+    python -m perception ensemble-denoisers models/imu_denoiser_soles_trio --mirror-average --out DIR
     python -m perception evaluate-keypoints --dataset data/physics --split test --json out/keypoints.json
     python -m perception contacts deepmimic:walk --plot out/walk_contacts.png --json out/walk_contacts.json
     python -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --out out/turn_left1_clean.npz
@@ -118,7 +119,11 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     g.add_argument("--no-progress", action="store_true")
     g = sub.add_parser("ensemble-denoisers", help="ship shipped IMU denoisers as one that averages their corrections",
                        formatter_class=argparse.ArgumentDefaultsHelpFormatter)
-    g.add_argument("members", nargs="+", type=Path, help="shipped IMU denoiser folders (two or more)")
+    g.add_argument("members", nargs="+", type=Path,
+                   help="shipped IMU denoiser folders (two or more, or one with --mirror-average); an ensemble's "
+                        "folder gives its members")
+    g.add_argument("--mirror-average", action="store_true",
+                   help="also average each member's correction of the take's mirror image, mirrored back")
     g.add_argument("--out", type=output_dir, required=True, help="where the ensemble is shipped")
     k = KeypointTrainConfig()
     g = sub.add_parser("train-keypoints", help="train the ContactTransformer on filmed physics data (ContactVision)",
@@ -311,8 +316,9 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val root of the loss {np.sqrt(best):.4f}")
     if args.command == "ensemble-denoisers":
-        out = ship_denoiser_ensemble(args.members, args.out)
-        print(f"an ensemble of {len(args.members)} IMU denoisers shipped to {out}")
+        out = ship_denoiser_ensemble(args.members, args.out, mirror_average=args.mirror_average)
+        print(f"an ensemble of {len(load_network(out, 'denoiser').members)} IMU denoisers"
+              f"{' averaged with their mirror images' if args.mirror_average else ''} shipped to {out}")
         return {"out": str(out), "members": [str(m) for m in args.members]}
     if args.command in ("train-vgrf", "train-mlp"):
         config = TrainConfig(kind=args.kind, max_epochs=args.epochs, patience=args.patience, lr=args.lr,

@@ -31,6 +31,7 @@ from torch import nn
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
+from reference_motion.transforms import mirror_map
 
 DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser"
 """The shipped IMU denoiser (``python -m perception train-denoiser``)."""
@@ -114,27 +115,62 @@ class IMUDenoiser(nn.Module):
         return self.out(z).transpose(1, 2)
 
 
+def mirror_maps(model: str) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray]]:
+    """Index permutation and sign, ``(perm, sign)``, of the features ``(n_hinge + 18,)``
+    (:func:`motion_features`) and of the corrections ``(n_hinge + 1,)`` under the left/right
+    mirror (:func:`reference_motion.transforms.mirror`): ``features(mirror(m)) ==
+    features(m)[..., perm] * sign``, and likewise for corrections. Each map is its own inverse."""
+    qpos_perm, qpos_sign = mirror_map(model)
+    hinge_perm, hinge_sign = qpos_perm[7:] - 7, qpos_sign[7:]
+    n = len(hinge_perm)
+    points = list(CONTACT_CHANNELS)
+    twin = [points.index(p.replace("left", "#").replace("right", "left").replace("#", "right")) for p in points]
+    # after the hinges: root_z, up (x, y, z), velocity (forward, left), sole points (forward, left) each, heights
+    body_perm = np.concatenate([[0, 1, 2, 3, 4, 5], [6 + 2 * twin[k] + a for k in range(4) for a in (0, 1)],
+                                [14 + twin[k] for k in range(4)]])
+    body_sign = np.concatenate([[1, 1, -1, 1, 1, -1], [1, -1] * 4, [1] * 4]).astype(float)
+    features = (np.concatenate([hinge_perm, n + body_perm]), np.concatenate([hinge_sign, body_sign]))
+    corrections = (np.append(hinge_perm, n), np.append(hinge_sign, 1.0))
+    return features, corrections
+
+
 class DenoiserEnsemble(nn.Module):
     """The mean correction ``(B, T, n_hinge + 1)`` of several :class:`IMUDenoiser` s trained apart
     (other seeds, other settings) for the same humanoid and frame rate: each network's own errors
-    partly average out. Built from the members' constructor arguments (``members``, one dict each,
-    as :attr:`IMUDenoiser.config`); reads and returns what :class:`IMUDenoiser` does."""
+    partly average out. With ``mirror_average``, each member also corrects the take's mirror image
+    (left and right swapped, :func:`mirror_maps`) and that correction, mirrored back, joins the
+    mean (test-time augmentation: the members trained on mirrored takes too, so both images are
+    ones they know); an ensemble of one member is then allowed. Built from the members' constructor
+    arguments (``members``, one dict each, as :attr:`IMUDenoiser.config`); reads and returns what
+    :class:`IMUDenoiser` does."""
 
-    def __init__(self, members: list[dict]):
+    def __init__(self, members: list[dict], mirror_average: bool = False):
         super().__init__()
         nets = [IMUDenoiser(**config) for config in members]
-        if len(nets) < 2:
-            raise ValueError(f"an ensemble of IMU denoisers needs at least two members, got {len(nets)}")
+        if len(nets) < (1 if mirror_average else 2):
+            raise ValueError(f"an ensemble of IMU denoisers needs at least two members (one with mirror_average), "
+                             f"got {len(nets)}")
         if len({(net.model, net.fps) for net in nets}) > 1:
             raise ValueError("the members of an ensemble of IMU denoisers must be for one humanoid and frame rate, "
                              f"got {sorted({(net.model, net.fps) for net in nets})}")
         self.members = nn.ModuleList(nets)
         self.model, self.fps = nets[0].model, nets[0].fps
         self.input_names, self.output_names = nets[0].input_names, nets[0].output_names
-        self.config = {"members": [dict(net.config) for net in nets]}
+        self.mirror_average = bool(mirror_average)
+        self.config = {"members": [dict(net.config) for net in nets]} | (
+            {"mirror_average": True} if mirror_average else {})
+        (feature_perm, feature_sign), (out_perm, out_sign) = mirror_maps(self.model)
+        for name, value in (("feature_perm", feature_perm), ("out_perm", out_perm)):
+            self.register_buffer(name, torch.as_tensor(value, dtype=torch.long), persistent=False)
+        for name, value in (("feature_sign", feature_sign), ("out_sign", out_sign)):
+            self.register_buffer(name, torch.as_tensor(value, dtype=torch.float32), persistent=False)
 
     def forward(self, features: torch.Tensor) -> torch.Tensor:
-        return torch.stack([net(features) for net in self.members]).mean(dim=0)
+        corrections = [net(features) for net in self.members]
+        if self.mirror_average:
+            mirrored = features[..., self.feature_perm] * self.feature_sign
+            corrections += [net(mirrored)[..., self.out_perm] * self.out_sign for net in self.members]
+        return torch.stack(corrections).mean(dim=0)
 
 
 def denoiser_network(**config) -> nn.Module:

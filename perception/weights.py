@@ -60,20 +60,23 @@ def read_torch_file(file: Path, what: str, missing_hint: str) -> object:
         raise ValueError(f"{file}: not a readable {what} ({err.__class__.__name__}: {err})") from None
 
 
-def ship_denoiser_ensemble(folders: list[Path], out: Path) -> Path:
+def ship_denoiser_ensemble(folders: list[Path], out: Path, mirror_average: bool = False) -> Path:
     """Ship the shipped IMU denoisers in ``folders`` as one :class:`DenoiserEnsemble` in ``out``
-    (``model.pt``; ``sidecar.json`` records the command and each member's folder and sidecar)."""
-    nets = [load_network(folder, "denoiser") for folder in folders]
-    if any(isinstance(net, DenoiserEnsemble) for net in nets):
-        raise ValueError("the members of an ensemble must be single IMU denoisers, not ensembles")
-    ensemble = DenoiserEnsemble([dict(net.config) for net in nets])
+    (``model.pt``; ``sidecar.json`` records the command and each folder and its sidecar). A folder
+    that holds an ensemble gives its members (each counts once in the mean); ``mirror_average``
+    also averages each member's correction of the take's mirror image (then one member will do)."""
+    nets = []
+    for folder in folders:
+        net = load_network(folder, "denoiser")
+        nets.extend(net.members if isinstance(net, DenoiserEnsemble) else [net])
+    ensemble = DenoiserEnsemble([dict(net.config) for net in nets], mirror_average=mirror_average)
     for member, net in zip(ensemble.members, nets):
         member.load_state_dict(net.state_dict())
     members = [{"folder": str(folder), "sidecar": json.loads((Path(folder) / SIDECAR_FILE).read_text())
                 if (Path(folder) / SIDECAR_FILE).exists() else None} for folder in folders]
     return _write_shipped(out, {"kind": "denoiser", "joints": list(ensemble.input_names), "fps": ensemble.fps,
                                 "network": ensemble.config, "state_dict": ensemble.state_dict()},
-                          {"kind": "denoiser", "ensemble_of": members,
+                          {"kind": "denoiser", "ensemble_of": members, "mirror_average": ensemble.mirror_average,
                            "command": "python -m perception " + " ".join(sys.argv[1:])})
 
 

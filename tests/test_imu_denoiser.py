@@ -11,14 +11,14 @@ import torch
 from perception.__main__ import main as perception_main
 from perception.denoiser_training import (DenoiserTask, DenoiserTrainConfig, correction_loss, correction_target,
                                           sole_points_in_pelvis_frame, train_denoiser)
-from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise, motion_features
+from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise, mirror_maps, motion_features
 from perception.kinematics import torch_kinematics
 from perception.weights import load_network
 from reference_motion import rotations as rot
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
-from reference_motion.transforms import resample
+from reference_motion.transforms import mirror, resample
 
 
 @pytest.fixture(scope="module")
@@ -227,5 +227,26 @@ def test_an_ensemble_averages_its_members_and_ships_and_loads(tmp_path, walk):
         DenoiserEnsemble([both.members[0].config])
     with pytest.raises(ValueError, match="one humanoid and frame rate"):
         DenoiserEnsemble([both.members[0].config, {**both.members[0].config, "fps": 30.0}])
-    with pytest.raises(SystemExit):
-        perception_main(["ensemble-denoisers", str(tmp_path / "both"), str(folders[0]), "--out", str(tmp_path / "x")])
+    with pytest.raises(SystemExit):  # one member and no mirror images
+        perception_main(["ensemble-denoisers", str(folders[0]), "--out", str(tmp_path / "x")])
+    # an ensemble's folder gives its members; with the mirror images, each member's correction of the
+    # mirrored take, mirrored back, joins the mean: exactly denoising the mirror image and mirroring back
+    perception_main(["ensemble-denoisers", str(tmp_path / "both"), "--mirror-average", "--out", str(tmp_path / "m")])
+    both_mirrored = load_network(tmp_path / "m", "denoiser")
+    assert len(both_mirrored.members) == 2 and both_mirrored.mirror_average
+    mirrored_back = mirror(denoise(both, mirror(given)))
+    np.testing.assert_allclose(denoise(both_mirrored, given).qpos, (denoise(both, given).qpos + mirrored_back.qpos) / 2,
+                               atol=1e-6)
+    assert np.abs(mirrored_back.qpos - denoise(both, given).qpos).max() > 1e-4  # the mirror image is corrected otherwise
+    assert json.loads((tmp_path / "m" / "sidecar.json").read_text())["mirror_average"] is True
+
+
+def test_features_of_the_mirror_image_are_the_features_mirrored(walk):
+    """mirror_maps: the features of the mirrored take are the take's features permuted and signed
+    (left and right swapped, lateral components negated), and the map is its own inverse."""
+    (perm, sign), (out_perm, out_sign) = mirror_maps(walk.model)
+    features = motion_features(walk)
+    np.testing.assert_allclose(motion_features(mirror(walk)), features[:, perm] * sign, atol=1e-6)
+    np.testing.assert_array_equal(features[:, perm][:, perm] * sign[perm] * sign, features)
+    assert len(out_perm) == len(IMUDenoiser().output_names) and out_perm[-1] == len(out_perm) - 1  # height stays
+    assert np.abs(features[:, perm] * sign - features).max() > 0.1  # a turning walk is not its own mirror image
