@@ -37,16 +37,20 @@ KINDS = ("clean", "imu", "adduction", "bias", "drift", "noise", "height")
 the pelvis height (what the denoiser corrects) alone."""
 
 
-def errors(clean, given, hips: list[int]) -> dict[str, float]:
+def soles(motion) -> torch.Tensor:
+    """The four sole points of ``motion`` relative to its pelvis, in its frame ``(T, 4, 3)`` (m)."""
+    return sole_points_in_pelvis_frame(torch_kinematics(motion.model), torch.from_numpy(motion.qpos[:, 7:]).float())
+
+
+def errors(clean, clean_soles: torch.Tensor, given, hips: list[int]) -> dict[str, float]:
     """Hinge RMS error (deg), mean pelvis height error (cm), hip adduction offset (deg) and sole
-    points' RMS error relative to the pelvis (cm) of ``given``."""
+    points' RMS error relative to the pelvis (cm) of ``given`` against ``clean`` (whose
+    :func:`soles` are ``clean_soles``)."""
     diff = given.qpos - clean.qpos
-    kinematics = torch_kinematics(clean.model)
-    soles = [sole_points_in_pelvis_frame(kinematics, torch.from_numpy(m.qpos[:, 7:]).float()) for m in (given, clean)]
     return {"hinge_rms_deg": float(np.degrees(np.sqrt((diff[:, 7:] ** 2).mean()))),
             "height_cm": float(100 * np.abs(diff[:, 2]).mean()),
             "hip_offset_deg": float(np.degrees(np.abs(diff[:, hips].mean(0)).mean())),
-            "sole_rms_cm": float(100 * ((soles[0] - soles[1]) ** 2).sum(-1).mean().sqrt())}
+            "sole_rms_cm": float(100 * ((soles(given) - clean_soles) ** 2).sum(-1).mean().sqrt())}
 
 
 def pooled(rows: list[dict[str, float]], key: str) -> float:
@@ -72,13 +76,14 @@ def main() -> None:
           f"{'soles RMS (cm)':>17}")
     for split in args.splits:
         takes = [load_motion(s, net.model) for s in expand_clips([f"library:{args.library}/{split}"])]
+        take_soles = [soles(clean) for clean in takes]
         for kind in KINDS:
             before, after = [], []
-            for i, clean in enumerate(takes):
+            for i, (clean, clean_soles) in enumerate(zip(takes, take_soles)):
                 given = clean if kind == "clean" else corrupt(clean, ArtefactRecipe.named(kind, args.strength),
                                                               args.seed + i)
-                before.append(errors(clean, given, hips))
-                after.append(errors(clean, denoise(net, given), hips))
+                before.append(errors(clean, clean_soles, given, hips))
+                after.append(errors(clean, clean_soles, denoise(net, given), hips))
             row = {key: {"before": pooled(before, key), "after": pooled(after, key)} for key in before[0]}
             table[f"{split}/{kind}"] = {"takes": len(takes), **row}
             print(f"{split:<6}{kind:<11}" + "".join(f"{row[k]['before']:>9.2f} → {row[k]['after']:<5.2f}"
