@@ -25,6 +25,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate_tracking, per_clip, summarize
+from agents.mirror import actor_label
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
@@ -62,6 +63,9 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--steer-gain", type=non_negative_float, metavar="HZ",
                    help="steer the observed reference velocities back onto the reference's position at this rate, "
                         "1/s (MimicConfig.steer_gain_hz; default: the gain its sidecar records)")
+    p.add_argument("--mirror-average", action="store_true",
+                   help="act with the mean of the policy's action and its action on the mirrored observation, "
+                        "mapped back: an exactly mirror-symmetric policy from the same weights (agents/mirror.py)")
     p.add_argument("--episodes", type=positive_int, default=20, help="rollouts per clip")
     p.add_argument("--offset-step", type=non_negative_int, default=3, help="frames between the rollouts' start offsets")
     p.add_argument("--per-clip", action="store_true",
@@ -128,15 +132,17 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
         tracked, judged = tracked_and_judged(clips, denoiser)
-        runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step)[1]
+        runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
+                                  mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": str(args.policy), "clips": args.clips, "corrupt": args.corrupt,
+    result = {"policy": actor_label(args.policy, args.mirror_average), "mirror_average": args.mirror_average,
+              "clips": args.clips, "corrupt": args.corrupt,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
-    print(f"{len(runs)} rollouts ({args.episodes} per clip) of {args.policy} on {', '.join(args.clips)}"
+    print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
           + (f", denoised by {args.denoise}" if args.denoise else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")

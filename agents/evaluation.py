@@ -17,6 +17,7 @@ import gymnasium as gym
 import numpy as np
 
 from agents.metrics import episode_length_ratio, max_reward_ratio, root_displacement_error, survived
+from agents.mirror import MirrorAveraged, MirrorMaps
 from agents.rollout import Policy, run_episode
 from reference_motion.motion import Motion
 
@@ -90,16 +91,20 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
 
 
 def evaluate_tracking(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion] | None = None,
-                      episodes: int = 20, offset_step: int = 3,
-                      actor: Policy | None = None) -> tuple[dict[str, float], list[Rollout]]:
+                      episodes: int = 20, offset_step: int = 3, actor: Policy | None = None,
+                      mirror_average: bool = False) -> tuple[dict[str, float], list[Rollout]]:
     """:func:`evaluate` of ``policy`` in the environment it was trained in, tracking the clips
     ``tracked`` (no artefacts added) and judged, rewarded and terminated, against ``judged`` (the
     same clips in the same order, e.g. the IMU takes as given, which a denoiser cleaned; default:
     ``tracked``). ``actor`` acts instead of ``policy`` in that environment (e.g. an ensemble with
-    ``policy`` among its members); default: ``policy``."""
+    ``policy`` among its members); default: ``policy``. ``mirror_average``: that actor made mirror
+    symmetric (:class:`agents.mirror.MirrorAveraged`)."""
     env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
     env.reset(seed=0)
-    return evaluate(env, policy if actor is None else actor, episodes=episodes, offset_step=offset_step)
+    actor = policy if actor is None else actor
+    if mirror_average:
+        actor = MirrorAveraged(actor, MirrorMaps.of(env))
+    return evaluate(env, actor, episodes=episodes, offset_step=offset_step)
 
 
 def summarize(runs: list[Rollout]) -> dict[str, float]:

@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--json [OUT]]``
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
@@ -26,6 +26,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips, tracked_and_judged
 from agents.evaluation import evaluate_tracking
+from agents.mirror import actor_label
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -44,6 +45,8 @@ def main() -> None:
     p.add_argument("--stride", type=int, default=None, help="seed step from one draw to the next (default: the "
                                                             "number of clips)")
     p.add_argument("--episodes", type=int, default=2, help="rollouts per clip and draw")
+    p.add_argument("--mirror-average", action="store_true",
+                   help="every policy acts mirror-symmetrically (agents/mirror.py); rows name it 'PATH (mirror-averaged)'")
     denoising = p.add_mutually_exclusive_group()
     denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
@@ -69,10 +72,12 @@ def main() -> None:
              for seed in seeds]
     rows = []
     for path, policy in zip(args.policies, policies):
-        elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes)[0]["ELR_mean"]
+        elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes,
+                                          mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        rows.append({"policy": path, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
-        print(f"{path:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
+        label = actor_label(path, args.mirror_average)
+        rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
+        print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
     for row in rows[1:]:
         row["against_first"] = paired(np.array(row["ELR_per_draw"]), first)
@@ -81,7 +86,7 @@ def main() -> None:
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
+               "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None, "mirror_average": args.mirror_average,
                "rows": rows}, args.json)
 
 

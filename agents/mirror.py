@@ -1,0 +1,115 @@
+"""A mirror-symmetric actor: a policy's action averaged with its action on the mirrored observation.
+
+PPO trains on every clip and its mirror image (``train_ppo.py --mirror``), but nothing makes the
+network itself symmetric: given an observation and the same observation mirrored, its two actions,
+mapped onto each other, can differ by more than the action range, and a policy that favours one
+side veers off a take it should walk straight. :class:`MirrorAveraged` acts with
+
+    a(o) = ½ (π(o) + M_a π(M_o o)),
+
+where ``M_o`` mirrors an observation (left and right bodies swapped, lateral components negated)
+and ``M_a`` an action (left and right hinges swapped, hinges about x and z negated): an exactly
+mirror-symmetric policy from the same weights, at twice the network's cost per step. The maps
+(:class:`MirrorMaps`) are those of the left/right mirror about the x–z plane
+(:func:`reference_motion.transforms.mirror`), which the environment reproduces exactly: the
+observation of a mirrored clip's state is the mirrored observation (``tests/test_mirror.py``).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import gymnasium as gym
+import numpy as np
+
+from agents.rollout import Policy
+from envs.mimic import actuator_qpos
+from reference_motion.transforms import mirror_map
+
+LATERAL_VECTORS = ("v_com", "ref_v_com", "dv_com", "ref_v_hor", "dv_hor", "dp_com")
+"""Observation slices that are one vector (x, y[, z]) each: under the mirror only y changes sign."""
+BODY_VECTORS = ("p", "v", "dp", "dv")
+"""Observation slices holding one 3-vector per observed body."""
+
+
+def twin_body(name: str) -> str:
+    """The body's mirror twin: ``l_x`` ↔ ``r_x``; a body on the midline is its own twin."""
+    if name[:2] in ("l_", "r_"):
+        return {"l": "r", "r": "l"}[name[0]] + name[1:]
+    return name
+
+
+@dataclass(frozen=True)
+class MirrorMaps:
+    """Index permutation and sign of the observation ``(D,)`` and the action ``(A,)`` under the
+    left/right mirror: ``mirrored = x[perm] * sign``. Each map is its own inverse."""
+
+    obs_perm: np.ndarray
+    obs_sign: np.ndarray
+    action_perm: np.ndarray
+    action_sign: np.ndarray
+
+    @classmethod
+    def of(cls, env: gym.Env) -> MirrorMaps:
+        """The maps of a mimic environment's observation and action (``MimicIMU-v0`` and its
+        ablations: the 8 key joints or every hinge, ADAPT's or DReCon's bodies, any observation
+        frame). A clear ``ValueError`` for a layout it does not know (``MimicGait-v0``'s contact
+        and toe inputs, the reference ahead)."""
+        base = env.unwrapped
+        slices = getattr(base, "obs_slices", None)
+        known = set(LATERAL_VECTORS) | set(BODY_VECTORS) | {"prev_action"}
+        if slices is None or not set(slices) <= known:
+            extra = sorted(set(slices or {}) - known) or ["no obs_slices"]
+            raise ValueError(f"{base.spec.id if base.spec else type(base).__name__}: the mirror-symmetric actor "
+                             f"knows the mimic observation ({', '.join(sorted(known))}), not {', '.join(extra)}")
+        names = list(base.humanoid.body_names)
+        observed = names if isinstance(base.observed, slice) else [names[i] for i in base.observed]
+        if sorted(twin_body(n) for n in observed) != sorted(observed):
+            raise ValueError(f"the observed bodies {observed} are not closed under the mirror")
+        size = base.observation_space.shape[0]
+        obs_perm, obs_sign = np.arange(size), np.ones(size, dtype=np.float32)
+        for name in LATERAL_VECTORS:
+            if name in slices:
+                obs_sign[slices[name].start + 1] = -1.0
+        for name in BODY_VECTORS:
+            start = slices[name].start
+            for b, body in enumerate(observed):
+                twin = observed.index(twin_body(body))
+                obs_perm[start + 3 * b:start + 3 * b + 3] = np.arange(start + 3 * twin, start + 3 * twin + 3)
+                obs_sign[start + 3 * b + 1] = -1.0
+        hinge_qpos = actuator_qpos(base.humanoid.model)[base.driven]
+        qpos_perm, qpos_sign = mirror_map(base.humanoid.name)
+        component = {int(q): k for k, q in enumerate(hinge_qpos)}
+        action_perm = np.array([component[int(qpos_perm[q])] for q in hinge_qpos])
+        action_sign = qpos_sign[hinge_qpos].astype(np.float32)
+        start = slices["prev_action"].start
+        obs_perm[start:start + len(action_perm)] = start + action_perm
+        obs_sign[start:start + len(action_perm)] = action_sign
+        return cls(obs_perm, obs_sign, action_perm, action_sign)
+
+    def observation(self, obs: np.ndarray) -> np.ndarray:
+        """The mirrored observation ``(D,)``."""
+        return obs[self.obs_perm] * self.obs_sign
+
+    def action(self, action: np.ndarray) -> np.ndarray:
+        """The mirrored action ``(A,)``."""
+        return action[self.action_perm] * self.action_sign
+
+
+class MirrorAveraged:
+    """``policy``'s action averaged with its action on the mirrored observation, mapped back
+    (the module's equation): one raw observation ``(D,)`` → an action ``(A,)`` (rad), exactly
+    mirror symmetric. ``maps``: :meth:`MirrorMaps.of` the environment the policy acts in."""
+
+    def __init__(self, policy: Policy, maps: MirrorMaps):
+        self.policy, self.maps = policy, maps
+
+    def __call__(self, obs: np.ndarray) -> np.ndarray:
+        mirrored = self.maps.action(self.policy(self.maps.observation(obs)))
+        return 0.5 * (np.asarray(self.policy(obs)) + mirrored)
+
+
+def actor_label(policy: object, mirror_average: bool) -> str:
+    """How results name a policy's actor: its path, marked when the symmetric actor acted (so
+    ``bench/select_policy.py`` tells the two apart)."""
+    return f"{policy} (mirror-averaged)" if mirror_average else str(policy)

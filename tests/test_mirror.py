@@ -1,0 +1,67 @@
+"""The mirror-symmetric actor (agents/mirror.py): its maps are what the environment does to a
+mirrored clip, exactly, and the actor it makes is mirror symmetric whatever the policy."""
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import envs  # noqa: F401  (registers the ids)
+from agents.mirror import MirrorAveraged, MirrorMaps, actor_label
+from reference_motion.library import load_motion
+from reference_motion.transforms import mirror
+
+
+@pytest.fixture(scope="module")
+def walk():
+    return load_motion("deepmimic:walker/turn_left0")
+
+
+@pytest.mark.parametrize("env_id,obs_frame", [("MimicIMU-v0", "reference"), ("MimicIMU-v0", "world"),
+                                              ("MimicDReCon-v0", "heading"), ("MimicFullAction-v0", "heading")])
+def test_the_maps_are_what_the_environment_does_to_the_mirrored_clip(walk, env_id, obs_frame):
+    """A clip and its mirror image in one environment, from the same frame: the mirrored clip's
+    observation is the clip's observation mirrored, at the reset and after a step in which the
+    mirrored clip gets the mirrored action (the model is left/right symmetric, so to float precision)."""
+    from envs.config import MimicConfig
+    env = gym.make(env_id, clips=[walk, mirror(walk)], config=MimicConfig(obs_frame=obs_frame), artefacts=None)
+    maps = MirrorMaps.of(env)
+    action = np.random.default_rng(0).normal(0.0, 0.3, env.action_space.shape).astype(np.float32)
+    observed = []
+    for clip, act in ((0, action), (1, maps.action(action))):
+        first, _ = env.reset(seed=0, options={"clip": clip, "start_frame": 30})
+        observed.append((first, env.step(act)[0]))
+    for (obs, obs_mirrored) in zip(*observed):
+        assert np.abs(obs - obs_mirrored).max() > 0.1  # a walk's frame is not its own mirror image
+        np.testing.assert_allclose(maps.observation(obs), obs_mirrored, atol=1e-5)
+    obs = observed[0][1]
+    np.testing.assert_array_equal(maps.observation(maps.observation(obs)), obs)  # each map undoes itself
+    np.testing.assert_array_equal(maps.action(maps.action(action)), action)
+
+
+def test_the_symmetric_actor_is_mirror_symmetric_and_keeps_a_symmetric_policy(walk):
+    """For any policy (here a random nonlinear one), actor(mirrored o) = mirrored actor(o); a policy
+    that is symmetric already is left as it is."""
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=None)
+    maps = MirrorMaps.of(env)
+    rng = np.random.default_rng(1)
+    weights = rng.normal(0.0, 0.1, (env.action_space.shape[0], env.observation_space.shape[0]))
+
+    def lopsided(o: np.ndarray) -> np.ndarray:
+        return np.tanh(weights @ o)
+
+    obs, _ = env.reset(seed=0, options={"clip": 0, "start_frame": 10})
+    actor = MirrorAveraged(lopsided, maps)
+    assert np.abs(lopsided(maps.observation(obs)) - maps.action(lopsided(obs))).max() > 0.05
+    np.testing.assert_allclose(actor(maps.observation(obs)), maps.action(actor(obs)), atol=1e-6)
+
+    def symmetric(o: np.ndarray) -> np.ndarray:
+        return actor(o)
+
+    np.testing.assert_allclose(MirrorAveraged(symmetric, maps)(obs), actor(obs), atol=1e-6)
+    assert actor_label("models/x", True) == "models/x (mirror-averaged)" and actor_label("models/x", False) == "models/x"
+
+
+def test_an_observation_it_does_not_know_is_refused():
+    env = gym.make("MimicGait-v0", clips=["deepmimic:walk"])
+    with pytest.raises(ValueError, match="MimicGait-v0: the mirror-symmetric actor knows the mimic observation"):
+        MirrorMaps.of(env)
