@@ -433,6 +433,9 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "(perception/imu_denoiser.py; DIR default: the shipped one) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
+        p.add_argument("--mirror-average", action="store_true",
+                       help="re-perform with the policy's mirror-symmetric actor (agents/mirror.py: the mean of its "
+                            "action and, mapped back, its action on the mirrored observation), after any adaptation")
         p.add_argument("--touch-up", action="store_true",
                        help="after the simulation, lift the body out of the floor where soft contacts let it sink "
                             "and pin planted feet with leg IK (reference_motion.touch_up); the output and the "
@@ -575,8 +578,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     args = parser.parse_args(argv)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        if args.denoise:
-            parser.error("--denoise goes with --method ppo")
+        if args.denoise or args.mirror_average:
+            parser.error("--denoise and --mirror-average go with --method ppo")
         from agents.diffpd_clean import clean_from_args  # torch cycle only when asked for
 
         reference, cleaned, extra = clean_from_args(args, parser)
@@ -595,6 +598,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             print(f"denoised with {args.denoise}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
         adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
+        if args.mirror_average:
+            performer = performer.mirror_averaged(performer.make_env([performed], artefacts=None))
         cleaned = clean_motion(performer, performed, config)
     touch = None
     if args.touch_up:
@@ -622,7 +627,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "input": before, "cleaned": after, "simulated_fraction": source["simulated_fraction"],
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
-              "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None, **extra}
+              "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
+              "mirror_average": args.mirror_average, **extra}
     if args.json:
         write_json(args.json, result)
     return result

@@ -18,13 +18,16 @@ observation of a mirrored clip's state is the mirrored observation (``tests/test
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import gymnasium as gym
 import numpy as np
 
-from agents.rollout import Policy
 from envs.mimic import actuator_qpos
 from reference_motion.transforms import mirror_map
+
+if TYPE_CHECKING:
+    from agents.rollout import Policy
 
 LATERAL_VECTORS = ("v_com", "ref_v_com", "dv_com", "ref_v_hor", "dv_hor", "dp_com")
 """Observation slices that are one vector (x, y[, z]) each: under the mirror only y changes sign."""
@@ -99,7 +102,9 @@ class MirrorMaps:
 class MirrorAveraged:
     """``policy``'s action averaged with its action on the mirrored observation, mapped back
     (the module's equation): one raw observation ``(D,)`` → an action ``(A,)`` (rad), exactly
-    mirror symmetric. ``maps``: :meth:`MirrorMaps.of` the environment the policy acts in."""
+    mirror symmetric. ``maps``: :meth:`MirrorMaps.of` the environment the policy acts in. Any
+    actor (an ensemble, ...); a :class:`~agents.policy.MimicPolicy` also acts so by itself after
+    :meth:`~agents.policy.MimicPolicy.mirror_averaged`."""
 
     def __init__(self, policy: Policy, maps: MirrorMaps):
         self.policy, self.maps = policy, maps

@@ -26,6 +26,7 @@ from stable_baselines3 import PPO
 from stable_baselines3.common.torch_layers import FlattenExtractor
 from stable_baselines3.common.vec_env import VecNormalize
 
+from agents.mirror import MirrorAveraged, MirrorMaps
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar
 from envs.config import GAIT_ABLATIONS
 from envs.observations import SAME_LAYOUT_FRAMES, same_layout
@@ -49,18 +50,35 @@ class MimicPolicy:
         model: the SB3 PPO model.
         normalizer: the running observation statistics it was trained with (SB3 ``VecNormalize``).
         sidecar: the sidecar's contents (``{}`` when absent).
+        mirror: when set, the policy acts as its mirror-symmetric actor (:meth:`mirror_averaged`).
     """
 
     path: Path
     model: PPO
     normalizer: VecNormalize
     sidecar: dict = field(default_factory=dict)
+    mirror: MirrorMaps | None = None
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
-        """The deterministic action ``(A,)`` (rad offsets, clipped to the action space) for one raw
-        observation ``obs (D,)``: what ``model.predict(..., deterministic=True)`` returns, computed
-        with NumPy on the actor's current weights (:func:`mlp_mean_action`; 5× faster than
-        stable-baselines3's path for one observation, which a rollout calls every step)."""
+        """The deterministic action ``(A,)`` (rad offsets) for one raw observation ``obs (D,)``:
+        :meth:`mean_action`, or with :attr:`mirror` the mean of it and, mapped back, of its action
+        on the mirrored observation (:class:`agents.mirror.MirrorAveraged`)."""
+        if self.mirror is not None:
+            return MirrorAveraged(self.mean_action, self.mirror)(obs)
+        return self.mean_action(obs)
+
+    def mirror_averaged(self, env: gym.Env) -> MimicPolicy:
+        """This policy acting as its mirror-symmetric actor (:mod:`agents.mirror`) in ``env``, an
+        environment of its task: the same weights and statistics; its stochastic actions
+        (:func:`agents.rollout.sampling_policy`) are that actor's plus the policy's Gaussian
+        exploration noise. Training a copy (:mod:`agents.adaptation`) trains the network itself."""
+        return replace(self, mirror=MirrorMaps.of(env))
+
+    def mean_action(self, obs: np.ndarray) -> np.ndarray:
+        """The network's deterministic action ``(A,)`` (rad offsets, clipped to the action space)
+        for one raw observation ``obs (D,)``: what ``model.predict(..., deterministic=True)``
+        returns, computed with NumPy on the actor's current weights (:func:`mlp_mean_action`; 5×
+        faster than stable-baselines3's path for one observation, which a rollout calls every step)."""
         x = np.asarray(self.normalizer.normalize_obs(obs), dtype=np.float32)
         mean = mlp_mean_action(self.model.policy, x)
         if mean is None:  # an actor this shortcut does not cover

@@ -127,7 +127,18 @@ def run_episode(env: gym.Env, policy: Policy, options: dict, max_frames: int | N
 
 def sampling_policy(policy: MimicPolicy) -> Policy:
     """``policy``'s stochastic actions: its action distribution sampled (PPO's Gaussian exploration
-    noise around the deterministic action), as in training. Seed it with :func:`seeded`."""
+    noise around the deterministic action, clipped to the action space), as in training; for a
+    mirror-symmetric policy (:meth:`MimicPolicy.mirror_averaged`) the same noise around its
+    symmetric action. Seed it with :func:`seeded` (torch's random numbers draw the noise)."""
+    if policy.mirror is not None:
+        std = policy.model.policy.log_std.detach().exp().numpy()
+        space = policy.model.action_space
+
+        def act_symmetric(obs: np.ndarray) -> np.ndarray:
+            noise = std * torch.randn(len(std)).numpy()
+            return np.clip(policy(obs) + noise, space.low, space.high)
+
+        return act_symmetric
 
     def act(obs: np.ndarray) -> np.ndarray:
         action, _ = policy.model.predict(policy.normalizer.normalize_obs(obs), deterministic=False)

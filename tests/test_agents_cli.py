@@ -96,6 +96,35 @@ def test_clean_can_denoise_an_imu_take_first(policy_dir, tmp_path):
         clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--denoise"])
 
 
+def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
+    """--mirror-average: evaluate.py names the actor and scores it otherwise than the policy as it is;
+    clean.py re-performs with it (a different simulation) and records it; with diffpd it is refused.
+    Its stochastic actions are its symmetric action plus the policy's own Gaussian noise."""
+    from agents.policy import load_policy
+    from agents.rollout import sampling_policy, seeded
+    args = ["--policy", str(policy_dir), "--clips", "deepmimic:walker/turn_left0", "--episodes", "2"]
+    plain, symmetric = evaluate.main(args), evaluate.main(args + ["--mirror-average"])
+    assert symmetric["policy"] == f"{policy_dir} (mirror-averaged)" and symmetric["mirror_average"]
+    assert plain["RDE_mean"] != symmetric["RDE_mean"]
+    cleaning = ["deepmimic:walker/turn_left0", "--policy", str(policy_dir), "--no-adapt", "--search", "off"]
+    a = clean.main(cleaning + ["--out", str(tmp_path / "a.npz")])
+    b = clean.main(cleaning + ["--out", str(tmp_path / "b.npz"), "--mirror-average"])
+    assert not a["mirror_average"] and b["mirror_average"]
+    assert not np.allclose(Motion.load(tmp_path / "a.npz").qpos, Motion.load(tmp_path / "b.npz").qpos)
+    with pytest.raises(SystemExit):
+        clean.main(cleaning + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--mirror-average"])
+    policy = load_policy(policy_dir)
+    env = policy.make_env(["deepmimic:walker/turn_left0"], artefacts=None)
+    obs, _ = env.reset(seed=0)
+    actor = policy.mirror_averaged(env)
+    with seeded(0):
+        draws = np.array([sampling_policy(actor)(obs) for _ in range(2000)])
+    std = policy.model.policy.log_std.detach().exp().numpy()
+    np.testing.assert_allclose(draws.mean(0), actor(obs), atol=4 * std.max() / np.sqrt(2000))
+    np.testing.assert_allclose(draws.std(0), std, rtol=0.1)
+    assert np.abs(actor(obs) - policy(obs)).max() > 1e-3
+
+
 def test_bad_or_mismatched_policy_files_give_clear_errors(policy_dir, tmp_path):
     with pytest.raises(PolicyError, match="no such policy file"):
         load_policy(tmp_path / "nowhere")
