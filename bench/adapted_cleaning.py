@@ -4,7 +4,7 @@ Usage: ``python bench/adapted_cleaning.py --policy models/mimic_general [--takes
 [--seconds 10] [--strength 1] [--seed 5000] [--adapt-budget-s 300] [--adapt-steps N]
 [--adapt-target-kl KL] [--adapt-target SR90|none] [--adapt-keep evaluation|performance]
 [--physics-threads N] [--settings 0.5x4 1:searchall:16x64] [--denoise [DIR]] [--obs-frame F] [--physics-rate-hz HZ]
-[--out-dir DIR] [--only I ...]
+[--out-dir DIR] [--only I ...] [--no-adapt] [--mirror-average]
 [--json [OUT]]``; ``--merge RUN.json ...`` summarises runs of single takes (``--only``) together.
 
 For each of ``--takes`` takes of the library's test split (styles never trained on, spread over
@@ -38,6 +38,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
 from agents.clean import CleanConfig, clean_motion, sr90_target, touched_up
+from agents.evaluation import evaluate_tracking
 from clean_settings import label, setting  # bench/clean_settings.py: the scripts run from bench/
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
@@ -50,6 +51,8 @@ from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 
+ZERO_SHOT_EPISODES = 10
+"""Rollouts of the policy as given on each take with ``--no-adapt`` (ADAPT's protocol)."""
 ARTEFACTS = ("foot_skate_mps", "floating_m", "penetration_max_m", "penetration_mean_m", "jitter")
 """The artefacts compared with the input (the issue's goal names the first four; the touch-up's
 leg IK adds jitter)."""
@@ -152,6 +155,12 @@ def main() -> None:
     p.add_argument("--physics-rate-hz", type=float, default=None, metavar="HZ",
                    help="adapt and clean with the physics at this rate (MimicPolicy.simulating; default: the rate "
                         "its sidecar records)")
+    p.add_argument("--no-adapt", action="store_true",
+                   help="clean zero-shot with the policy as given (its ELR on each take by ADAPT's protocol, "
+                        f"{ZERO_SHOT_EPISODES} rollouts, stands for the adapted one)")
+    p.add_argument("--mirror-average", action="store_true",
+                   help="clean (and, with --no-adapt, score) with the policy's mirror-symmetric actor "
+                        "(agents/mirror.py), after any adaptation, as clean.py --mirror-average")
     p.add_argument("--only", nargs="+", type=int, default=None, metavar="I",
                    help="run only these of the takes (0-based, keeping their seeds seed + I): one process per take "
                         "on a machine with many cores, summarised together by --merge")
@@ -161,7 +170,7 @@ def main() -> None:
     args = p.parse_args()
     if args.merge:
         runs = [json.loads(path.read_text()) for path in args.merge]
-        differ = [k for k in ("policy", "obs_frame", "physics_rate_hz", "denoiser", "settings", "adapt_budget_s", "seconds", "strength")
+        differ = [k for k in ("policy", "no_adapt", "mirror_average", "obs_frame", "physics_rate_hz", "denoiser", "settings", "adapt_budget_s", "seconds", "strength")
                   if any(run.get(k) != runs[0].get(k) for run in runs)]
         if differ:
             p.error(f"--merge: the runs differ in {', '.join(differ)}; merge runs of one protocol only")
@@ -192,15 +201,24 @@ def main() -> None:
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
                                  keep=args.adapt_keep, physics_threads=args.physics_threads, cache_dir=Path(cache))
             performed = denoise(denoiser, reference) if denoiser else reference
-            adapted = adapt_policy(policy, performed, config, progress=False)
+            if args.no_adapt:  # zero-shot: the policy as given, its ELR on the take by ADAPT's protocol
+                zero_shot = evaluate_tracking(policy, [performed], [reference] if denoiser else None,
+                                              episodes=ZERO_SHOT_EPISODES, mirror_average=args.mirror_average)[0]
+                performer, adapt = policy, {"ELR_before": zero_shot["ELR_mean"], "ELR": zero_shot["ELR_mean"],
+                                            "SR90": zero_shot["SR90"], "adapt_s": 0.0, "adapt_steps": 0}
+            else:
+                adapted = adapt_policy(policy, performed, config, progress=False)
+                performer, adapt = adapted.policy, {"ELR_before": adapted.elr_before, "ELR": adapted.elr_after,
+                                                    "SR90": adapted.sr90_after, "adapt_s": adapted.wall_s,
+                                                    "adapt_steps": adapted.steps}
+            if args.mirror_average:
+                performer = performer.mirror_averaged(performer.make_env([performed], artefacts=None))
             stem = args.out_dir / f"{i:02d}_{clip.split('#')[-1]}" if args.out_dir else None
             if stem:
                 reference.save(stem.with_name(f"{stem.name}_input.npz"))
             before = motion_quality(reference).as_dict()
             row = {"clip": clip, "frames": reference.n_frames, "full_length": looped, "seed": args.seed + i,
-                   "ELR_before": adapted.elr_before, "ELR": adapted.elr_after, "SR90": adapted.sr90_after,
-                   "adapt_s": adapted.wall_s, "adapt_steps": adapted.steps,
-                   "cleanings": [cleaning(adapted.policy, performed, before, c,
+                   **adapt, "cleanings": [cleaning(performer, performed, before, c,
                                           stem and stem.with_name(f"{stem.name}_{k}"))
                                  for k, c in enumerate(args.settings)]}
             rows.append(row)
@@ -214,7 +232,8 @@ def main() -> None:
                       f"float {reduction(c['floating_m_touched_reduction'])}  "
                       f"pen {reduction(c['penetration_max_m_touched_reduction'])}", flush=True)
     report(rows, [label(c) for c in args.settings],
-           {"policy": args.policy, "obs_frame": args.obs_frame, "physics_rate_hz": args.physics_rate_hz,
+           {"policy": args.policy, "no_adapt": args.no_adapt, "mirror_average": args.mirror_average,
+            "obs_frame": args.obs_frame, "physics_rate_hz": args.physics_rate_hz,
             "denoiser": args.denoise, "seconds": args.seconds,
             "strength": args.strength,
             "adapt_budget_s": args.adapt_budget_s, "adapt_steps": args.adapt_steps,
