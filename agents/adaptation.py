@@ -57,7 +57,7 @@ from agents.batched_vec_env import BatchedMimicVecEnv
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy, set_action_variance
-from agents.rollout import torch_threads
+from agents.rollout import Policy, torch_threads
 from agents.sidecar import PolicySidecar
 from envs.config import MimicConfig
 from envs.mimic import MimicEnv
@@ -305,9 +305,10 @@ class _Budget(BaseCallback):
         return now < self.deadline
 
 
-def _evaluate(env: gym.Env, policy: MimicPolicy, episodes: int) -> dict[str, float]:
-    """SR90 and ELR of ``policy`` on ``env``'s one clip: ``episodes`` rollouts from start frames
-    spread evenly over the clip."""
+def evaluate_on_clip(env: gym.Env, policy: Policy, episodes: int) -> dict[str, float]:
+    """SR90 and ELR (:func:`agents.evaluation.evaluate`'s summary) of ``policy`` (any actor) on
+    ``env``'s one clip: ``episodes`` rollouts from start frames spread evenly over the clip, as
+    adaptation scores each chunk."""
     offset_step = env.unwrapped.last_start(0) // max(episodes - 1, 1)
     summary, _ = evaluate(env, policy, episodes=episodes, offset_step=offset_step)
     return summary
@@ -353,6 +354,9 @@ def adapt_policy(policy: MimicPolicy, reference: Motion, config: AdaptConfig = A
     if reference.n_frames < MIN_ADAPT_FRAMES:
         raise ValueError(f"{reference.name}: {reference.n_frames} frames; adaptation needs at least "
                          f"{MIN_ADAPT_FRAMES}")
+    if policy.mirror is not None:
+        raise ValueError(f"{policy.path}: adaptation trains the network itself; adapt the policy as it is and "
+                         "make the adapted one mirror-symmetric afterwards (MimicPolicy.mirror_averaged)")
     key = adaptation_key(reference, policy, config)
     path = Path(config.cache_dir) / key
     with torch_threads(config.torch_threads):
@@ -387,7 +391,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     def judge() -> tuple[dict, dict]:
         """The current policy's judgement (its evaluation, and where needed the figures of its whole
         performance and the hook's), and those figures alone (empty when neither is needed)."""
-        evaluation = _evaluate(eval_env, adapted, config.eval_episodes)
+        evaluation = evaluate_on_clip(eval_env, adapted, config.eval_episodes)
         if not (by_performance or on_chunk):
             return evaluation, {}
         performed, figures = _performance(adapted, reference)

@@ -50,6 +50,7 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
+from agents.mirror import actor_label
 from agents.policy import MimicPolicy
 from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
@@ -355,7 +356,8 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     """The simulated re-performance of ``reference`` (60 Hz, same length, at least
     :data:`MIN_FRAMES`) by ``policy`` (see the module's documentation).
 
-    The result's ``source`` adds ``cleaned_by`` (the policy's directory), ``reanchors`` and
+    The result's ``source`` adds ``cleaned_by`` (the policy's directory, marked when it acts as its
+    mirror-symmetric actor: :func:`agents.mirror.actor_label`), ``reanchors`` and
     ``recoveries`` (lists of :class:`Reanchor` / :class:`Recovery` as dicts) and
     ``simulated_fraction``: the share of frame-to-frame transitions that are physics steps, i.e.
     ``1 − re-anchors / (frames − 1)`` (1.0: one continuous simulation from the first frame), and
@@ -371,7 +373,7 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     if not np.isfinite(out).all():  # every frame is committed from a finite simulated state
         raise RuntimeError(f"cleaning {reference.name}: frames {np.flatnonzero(~np.isfinite(out).all(axis=1))} "
                            "were left without a simulated state")
-    source = {**reference.source, "cleaned_by": str(policy.path),
+    source = {**reference.source, "cleaned_by": actor_label(policy.path, policy.mirror is not None),
               "reanchors": [asdict(r) for r in performance.reanchors],
               "recoveries": [asdict(r) for r in performance.recoveries],
               "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last,
@@ -578,8 +580,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     args = parser.parse_args(argv)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        if args.denoise or args.mirror_average:
-            parser.error("--denoise and --mirror-average go with --method ppo")
+        given = [flag for flag, on in (("--denoise", args.denoise), ("--mirror-average", args.mirror_average)) if on]
+        if given:
+            parser.error(f"{' and '.join(given)} go{'es' if len(given) == 1 else ''} with --method ppo")
         from agents.diffpd_clean import clean_from_args  # torch cycle only when asked for
 
         reference, cleaned, extra = clean_from_args(args, parser)

@@ -83,6 +83,9 @@ class MirrorMaps:
         hinge_qpos = actuator_qpos(base.humanoid.model)[base.driven]
         qpos_perm, qpos_sign = mirror_map(base.humanoid.name)
         component = {int(q): k for k, q in enumerate(hinge_qpos)}
+        unmatched = [base.humanoid.hinge_names[q - 7] for q in hinge_qpos if int(qpos_perm[q]) not in component]
+        if unmatched:
+            raise ValueError(f"the driven hinges are not closed under the mirror: the twins of {unmatched} are not driven")
         action_perm = np.array([component[int(qpos_perm[q])] for q in hinge_qpos])
         action_sign = qpos_sign[hinge_qpos].astype(np.float32)
         start = slices["prev_action"].start

@@ -72,6 +72,7 @@ class MimicPolicy:
         environment of its task: the same weights and statistics; its stochastic actions
         (:func:`agents.rollout.sampling_policy`) are that actor's plus the policy's Gaussian
         exploration noise. Training a copy (:mod:`agents.adaptation`) trains the network itself."""
+        self.check_env(env)
         return replace(self, mirror=MirrorMaps.of(env))
 
     def mean_action(self, obs: np.ndarray) -> np.ndarray:

@@ -129,7 +129,9 @@ def sampling_policy(policy: MimicPolicy) -> Policy:
     """``policy``'s stochastic actions: its action distribution sampled (PPO's Gaussian exploration
     noise around the deterministic action, clipped to the action space), as in training; for a
     mirror-symmetric policy (:meth:`MimicPolicy.mirror_averaged`) the same noise around its
-    symmetric action. Seed it with :func:`seeded` (torch's random numbers draw the noise)."""
+    symmetric action, which is already inside the action space (so near a limit it differs from
+    SB3's, which adds the noise to the unclipped mean). Seed it with :func:`seeded` (torch's
+    random numbers draw the noise)."""
     if policy.mirror is not None:
         std = policy.model.policy.log_std.detach().exp().numpy()
         space = policy.model.action_space

@@ -36,9 +36,8 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy
+from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy, evaluate_on_clip
 from agents.clean import CleanConfig, clean_motion, sr90_target, touched_up
-from agents.evaluation import evaluate_tracking
 from clean_settings import label, setting  # bench/clean_settings.py: the scripts run from bench/
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
@@ -51,8 +50,6 @@ from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 
-ZERO_SHOT_EPISODES = 10
-"""Rollouts of the policy as given on each take with ``--no-adapt`` (ADAPT's protocol)."""
 ARTEFACTS = ("foot_skate_mps", "floating_m", "penetration_max_m", "penetration_mean_m", "jitter")
 """The artefacts compared with the input (the issue's goal names the first four; the touch-up's
 leg IK adds jitter)."""
@@ -156,11 +153,12 @@ def main() -> None:
                    help="adapt and clean with the physics at this rate (MimicPolicy.simulating; default: the rate "
                         "its sidecar records)")
     p.add_argument("--no-adapt", action="store_true",
-                   help="clean zero-shot with the policy as given (its ELR on each take by ADAPT's protocol, "
-                        f"{ZERO_SHOT_EPISODES} rollouts, stands for the adapted one)")
+                   help="clean zero-shot with the policy as given; its ELR is scored on each take as adaptation "
+                        "scores a chunk (agents.adaptation.evaluate_on_clip) and stands for the adapted one")
     p.add_argument("--mirror-average", action="store_true",
-                   help="clean (and, with --no-adapt, score) with the policy's mirror-symmetric actor "
-                        "(agents/mirror.py), after any adaptation, as clean.py --mirror-average")
+                   help="clean with the policy's mirror-symmetric actor (agents/mirror.py), after any adaptation, "
+                        "as clean.py --mirror-average; with --no-adapt the ELR is that actor's too, else the "
+                        "adapted network's own")
     p.add_argument("--only", nargs="+", type=int, default=None, metavar="I",
                    help="run only these of the takes (0-based, keeping their seeds seed + I): one process per take "
                         "on a machine with many cores, summarised together by --merge")
@@ -201,18 +199,20 @@ def main() -> None:
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
                                  keep=args.adapt_keep, physics_threads=args.physics_threads, cache_dir=Path(cache))
             performed = denoise(denoiser, reference) if denoiser else reference
-            if args.no_adapt:  # zero-shot: the policy as given, its ELR on the take by ADAPT's protocol
-                zero_shot = evaluate_tracking(policy, [performed], [reference] if denoiser else None,
-                                              episodes=ZERO_SHOT_EPISODES, mirror_average=args.mirror_average)[0]
-                performer, adapt = policy, {"ELR_before": zero_shot["ELR_mean"], "ELR": zero_shot["ELR_mean"],
-                                            "SR90": zero_shot["SR90"], "adapt_s": 0.0, "adapt_steps": 0}
-            else:
+            if args.no_adapt:  # zero-shot: the actor that cleans, scored on the take as adaptation scores it
+                env = policy.make_env([performed], artefacts=None)
+                performer = policy.mirror_averaged(env) if args.mirror_average else policy
+                zero_shot = evaluate_on_clip(env, performer, config.eval_episodes)
+                env.close()
+                adapt = {"ELR_before": zero_shot["ELR_mean"], "ELR": zero_shot["ELR_mean"], "SR90": zero_shot["SR90"],
+                         "adapt_s": 0.0, "adapt_steps": 0}
+            else:  # ELR: the adapted network's own, as adaptation scored it (before any --mirror-average)
                 adapted = adapt_policy(policy, performed, config, progress=False)
                 performer, adapt = adapted.policy, {"ELR_before": adapted.elr_before, "ELR": adapted.elr_after,
                                                     "SR90": adapted.sr90_after, "adapt_s": adapted.wall_s,
                                                     "adapt_steps": adapted.steps}
-            if args.mirror_average:
-                performer = performer.mirror_averaged(performer.make_env([performed], artefacts=None))
+                if args.mirror_average:
+                    performer = performer.mirror_averaged(performer.make_env([performed], artefacts=None))
             stem = args.out_dir / f"{i:02d}_{clip.split('#')[-1]}" if args.out_dir else None
             if stem:
                 reference.save(stem.with_name(f"{stem.name}_input.npz"))

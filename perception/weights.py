@@ -68,7 +68,15 @@ def ship_denoiser_ensemble(folders: list[Path], out: Path, mirror_average: bool 
     nets = []
     for folder in folders:
         net = load_network(folder, "denoiser")
+        if isinstance(net, DenoiserEnsemble) and net.mirror_average and not mirror_average:
+            raise ValueError(f"{folder}: its ensemble averages the mirror images too; ask for that again "
+                             "(--mirror-average) or give its members' folders")
         nets.extend(net.members if isinstance(net, DenoiserEnsemble) else [net])
+    for i, net in enumerate(nets):
+        for other in nets[:i]:
+            if all(torch.equal(a, b) for a, b in zip(net.state_dict().values(), other.state_dict().values())):
+                raise ValueError("the same IMU denoiser is given twice (a folder and an ensemble holding it?); "
+                                 "each member counts once")
     ensemble = DenoiserEnsemble([dict(net.config) for net in nets], mirror_average=mirror_average)
     for member, net in zip(ensemble.members, nets):
         member.load_state_dict(net.state_dict())

@@ -110,6 +110,7 @@ def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
     a = clean.main(cleaning + ["--out", str(tmp_path / "a.npz")])
     b = clean.main(cleaning + ["--out", str(tmp_path / "b.npz"), "--mirror-average"])
     assert not a["mirror_average"] and b["mirror_average"]
+    assert Motion.load(tmp_path / "b.npz").source["cleaned_by"] == f"{policy_dir} (mirror-averaged)"
     assert not np.allclose(Motion.load(tmp_path / "a.npz").qpos, Motion.load(tmp_path / "b.npz").qpos)
     with pytest.raises(SystemExit):
         clean.main(cleaning + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--mirror-average"])
@@ -123,6 +124,10 @@ def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
     np.testing.assert_allclose(draws.mean(0), actor(obs), atol=4 * std.max() / np.sqrt(2000))
     np.testing.assert_allclose(draws.std(0), std, rtol=0.1)
     assert np.abs(actor(obs) - policy(obs)).max() > 1e-3
+    from agents.adaptation import adapt_policy
+    from reference_motion.library import load_motion
+    with pytest.raises(ValueError, match="adaptation trains the network itself"):
+        adapt_policy(actor, load_motion("deepmimic:walker/turn_left0"))
 
 
 def test_bad_or_mismatched_policy_files_give_clear_errors(policy_dir, tmp_path):

@@ -239,6 +239,10 @@ def test_an_ensemble_averages_its_members_and_ships_and_loads(tmp_path, walk):
                                atol=1e-6)
     assert np.abs(mirrored_back.qpos - denoise(both, given).qpos).max() > 1e-4  # the mirror image is corrected otherwise
     assert json.loads((tmp_path / "m" / "sidecar.json").read_text())["mirror_average"] is True
+    with pytest.raises(SystemExit, match="averages the mirror images too"):  # refused, not dropped
+        perception_main(["ensemble-denoisers", str(tmp_path / "m"), "--out", str(tmp_path / "y")])
+    with pytest.raises(SystemExit, match="given twice"):  # an ensemble and one of its own members
+        perception_main(["ensemble-denoisers", str(tmp_path / "both"), str(folders[0]), "--out", str(tmp_path / "z")])
 
 
 def test_features_of_the_mirror_image_are_the_features_mirrored(walk):
