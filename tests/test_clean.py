@@ -232,7 +232,7 @@ def test_the_chunk_that_reaches_the_target_ends_the_adaptation_and_is_kept(walk_
         reanchors, recoveries, ratio = judged
         return reference, {"reanchors": reanchors, "recoveries": recoveries, "reward_ratio": ratio}
 
-    monkeypatch.setattr(adaptation, "_evaluate", evaluate)
+    monkeypatch.setattr(adaptation, "evaluate_on_clip", evaluate)
     monkeypatch.setattr(adaptation, "_performance", perform)
     walk = load_motion("deepmimic:walk", min_frames=300)
     config = AdaptConfig(budget_s=60, max_steps=4096, chunk_steps=1024, n_envs=2, n_steps=512, cache_dir=tmp_path)
