@@ -432,7 +432,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     if method:
         p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
                        help="an IMU take: undo its joint-angle and height errors with the IMU denoiser "
-                            "(perception/imu_denoiser.py; DIR default: the shipped one) before the policy is "
+                            "(perception/imu_denoiser.py; DIR default: validation's choice, "
+                            "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
         p.add_argument("--mirror-average", action="store_true",

@@ -53,7 +53,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
     p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
-                        "default: the shipped one) and is judged against the clip as given")
+                        "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
+                        "the clip as given")
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES,
                    help="run a world-frame policy observing in this frame (envs.observations; default: the frame its "
                         "sidecar records)")

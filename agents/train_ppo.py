@@ -90,7 +90,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "the policy observes (ADAPT), or the clean clip it was made from (envs.ArtefactMix.judge)")
     g.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
                    help="pass every corrupted reference (training, and --eval-strength evaluation) through the IMU "
-                        "denoiser in DIR (default: the shipped one) before the policy observes it, as clean.py "
+                        "denoiser in DIR (default: validation's choice, models/imu_denoiser_soles_quint_mirror) "
+                        "before the policy observes it, as clean.py "
                         "--denoise does (envs.ArtefactMix.denoiser); the --eval-strength evaluation then judges a "
                         "rollout against the denoised reference it follows, evaluate.py --denoise against the take as "
                         "given")

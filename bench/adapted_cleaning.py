@@ -141,8 +141,8 @@ def main() -> None:
     p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1:searchall:16x64")],
                    help="how each adapted take is cleaned (bench/clean_settings.py), side by side")
     p.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
-                   help="adapt to and clean each corrupted take after the IMU denoiser in DIR (default: the "
-                        "shipped one), as clean.py --denoise does; the artefacts are compared with the take as "
+                   help="adapt to and clean each corrupted take after the IMU denoiser in DIR (default: "
+                        "validation's choice, models/imu_denoiser_soles_quint_mirror), as clean.py --denoise does; the artefacts are compared with the take as "
                         "given, the ELR is the adapted policy's on the take it performs (the denoised one)")
     p.add_argument("--out-dir", type=Path, default=None,
                    help="also write each take's input and, per setting K, its simulated and touched-up clips here (.npz)")

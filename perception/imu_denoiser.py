@@ -33,8 +33,10 @@ from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
 from reference_motion.transforms import mirror_map
 
-DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser"
-"""The shipped IMU denoiser (``python -m perception train-denoiser``)."""
+DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser_soles_quint_mirror"
+"""The IMU denoiser a bare ``--denoise`` uses: validation's choice, five networks trained with
+``python -m perception train-denoiser --sole-weight 4`` and averaged with their mirror images
+(``ensemble-denoisers --mirror-average``; README, "Undoing the IMU suit's joint-angle errors")."""
 BODY_FEATURES = (("root_z", "up_x", "up_y", "up_z", "vel_forward", "vel_left")
                  + tuple(f"{point}_{axis}" for point in CONTACT_CHANNELS for axis in ("forward", "left"))
                  + tuple(f"{point}_z" for point in CONTACT_CHANNELS))

@@ -186,9 +186,10 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
 
 
 def test_shipped_denoiser_undoes_hip_adduction_and_leaves_clean_takes_alone():
-    """models/imu_denoiser on a DeepMimic walker held out of its training: the 8° per hip of the
-    adduction artefact (strength 1) mostly removed; the clean take changed by less than the
-    artefacts' own 3.8° RMS (2.6° measured: DeepMimic's actor is not the library's)."""
+    """The default IMU denoiser (models/imu_denoiser_soles_quint_mirror) on a DeepMimic walker held
+    out of its training: the 8° per hip of the adduction artefact (strength 1) mostly removed (2.8°
+    left); the clean take changed by less than the artefacts' own 3.8° RMS (2.1° measured:
+    DeepMimic's actor is not the library's)."""
     net = load_network(DEFAULT_DENOISER, "denoiser")
     clean = load_motion("deepmimic:walker/turn_right1")
     hm = load_model("humanoid_1seg")
