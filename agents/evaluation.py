@@ -101,9 +101,9 @@ def evaluate_tracking(policy: MimicPolicy, tracked: list[Motion], judged: list[M
     symmetric (:class:`agents.mirror.MirrorAveraged`)."""
     env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
     env.reset(seed=0)
-    if mirror_average:
-        actor = policy.mirror_averaged(env) if actor is None else MirrorAveraged(actor, MirrorMaps.of(env))
     actor = policy if actor is None else actor
+    if mirror_average:
+        actor = MirrorAveraged(actor, MirrorMaps.of(env))
     return evaluate(env, actor, episodes=episodes, offset_step=offset_step)
 
 

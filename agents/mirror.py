@@ -24,7 +24,7 @@ import gymnasium as gym
 import numpy as np
 
 from envs.mimic import actuator_qpos
-from reference_motion.transforms import mirror_map
+from reference_motion.transforms import mirror_map, mirror_twin
 
 if TYPE_CHECKING:
     from agents.rollout import Policy
@@ -33,13 +33,6 @@ LATERAL_VECTORS = ("v_com", "ref_v_com", "dv_com", "ref_v_hor", "dv_hor", "dp_co
 """Observation slices that are one vector (x, y[, z]) each: under the mirror only y changes sign."""
 BODY_VECTORS = ("p", "v", "dp", "dv")
 """Observation slices holding one 3-vector per observed body."""
-
-
-def twin_body(name: str) -> str:
-    """The body's mirror twin: ``l_x`` ↔ ``r_x``; a body on the midline is its own twin."""
-    if name[:2] in ("l_", "r_"):
-        return {"l": "r", "r": "l"}[name[0]] + name[1:]
-    return name
 
 
 @dataclass(frozen=True)
@@ -67,7 +60,7 @@ class MirrorMaps:
                              f"knows the mimic observation ({', '.join(sorted(known))}), not {', '.join(extra)}")
         names = list(base.humanoid.body_names)
         observed = names if isinstance(base.observed, slice) else [names[i] for i in base.observed]
-        if sorted(twin_body(n) for n in observed) != sorted(observed):
+        if sorted(mirror_twin(n) for n in observed) != sorted(observed):
             raise ValueError(f"the observed bodies {observed} are not closed under the mirror")
         size = base.observation_space.shape[0]
         obs_perm, obs_sign = np.arange(size), np.ones(size, dtype=np.float32)
@@ -77,7 +70,7 @@ class MirrorMaps:
         for name in BODY_VECTORS:
             start = slices[name].start
             for b, body in enumerate(observed):
-                twin = observed.index(twin_body(body))
+                twin = observed.index(mirror_twin(body))
                 obs_perm[start + 3 * b:start + 3 * b + 3] = np.arange(start + 3 * twin, start + 3 * twin + 3)
                 obs_sign[start + 3 * b + 1] = -1.0
         hinge_qpos = actuator_qpos(base.humanoid.model)[base.driven]

@@ -86,7 +86,8 @@ def main() -> None:
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None, "mirror_average": args.mirror_average,
+               "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
+               "mirror_average": args.mirror_average,
                "rows": rows}, args.json)
 
 

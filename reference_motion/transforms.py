@@ -124,6 +124,13 @@ def loop(motion: Motion, n_frames: int) -> Motion:
     return motion.with_qpos(qpos, source=dict(motion.source, looped_to_frames=n_frames))
 
 
+def mirror_twin(name: str) -> str:
+    """The name of a body or hinge's mirror twin: ``l_…`` ↔ ``r_…``; one on the midline is its own twin."""
+    if name[:2] in ("l_", "r_"):
+        return {"l": "r", "r": "l"}[name[0]] + name[1:]
+    return name
+
+
 def mirror_map(model_name: str) -> tuple[np.ndarray, np.ndarray]:
     """qpos permutation ``(nq,)`` and sign ``(nq,)`` of left/right mirroring (about the x–z plane).
 
@@ -136,9 +143,7 @@ def mirror_map(model_name: str) -> tuple[np.ndarray, np.ndarray]:
     sign[[1, 4, 6]] = -1.0  # pelvis y, quaternion x and z
     for name in hm.hinge_names:
         i = hm.qpos_index(name)
-        twin = {"l": "r", "r": "l"}.get(name[0]) if name[1] == "_" else None
-        if twin is not None:
-            perm[i] = hm.qpos_index(twin + name[1:])
+        perm[i] = hm.qpos_index(mirror_twin(name))
         sign[i] = 1.0 if name.endswith("_y") else -1.0
     return perm, sign
 
