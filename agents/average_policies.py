@@ -68,6 +68,10 @@ def average_policies(policies: list[MimicPolicy]) -> tuple[PPO, VecNormalize]:
         if env != envs[0]:
             raise PolicyError(f"{name}: trained in another environment than {names[0]} ({env} against {envs[0]}); "
                               f"average checkpoints of one run")
+    symmetric = [name for p, name in zip(policies, names) if p.symmetric_network]
+    if 0 < len(symmetric) < len(policies):
+        raise PolicyError(f"{', '.join(symmetric)}: trained as the symmetric actor (train_ppo.py --symmetric), the "
+                          f"others not; average checkpoints of one run")
     model = policies[-1].model
     model.policy.load_state_dict(averaged_weights([p.model.policy.state_dict() for p in policies], names))
     stats = policies[-1].normalizer

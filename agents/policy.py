@@ -28,6 +28,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.mirror import MirrorAveraged, MirrorMaps
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar
+from agents.symmetric_policy import SymmetricActorCriticPolicy
 from envs.config import GAIT_ABLATIONS
 from envs.observations import SAME_LAYOUT_FRAMES, same_layout
 
@@ -51,6 +52,7 @@ class MimicPolicy:
         normalizer: the running observation statistics it was trained with (SB3 ``VecNormalize``).
         sidecar: the sidecar's contents (``{}`` when absent).
         mirror: when set, the policy acts as its mirror-symmetric actor (:meth:`mirror_averaged`).
+            A network trained as that actor (:attr:`symmetric_network`) is one already.
     """
 
     path: Path
@@ -58,6 +60,13 @@ class MimicPolicy:
     normalizer: VecNormalize
     sidecar: dict = field(default_factory=dict)
     mirror: MirrorMaps | None = None
+
+    @property
+    def symmetric_network(self) -> bool:
+        """Whether PPO trained the symmetric actor itself (``train_ppo.py --symmetric``,
+        :class:`agents.symmetric_policy.SymmetricActorCriticPolicy`): the network's action is the
+        mean of its two mirror halves, on mirror-symmetric observation statistics."""
+        return isinstance(self.model.policy, SymmetricActorCriticPolicy)
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
         """The deterministic action ``(A,)`` (rad offsets) for one raw observation ``obs (D,)``:
@@ -75,13 +84,29 @@ class MimicPolicy:
         self.check_env(env)
         return replace(self, mirror=MirrorMaps.of(env))
 
+    def mirror_averaged_on(self, clip: Any) -> MimicPolicy:
+        """:meth:`mirror_averaged` in this policy's own task on ``clip`` (a clip SOURCE or
+        :class:`~reference_motion.motion.Motion`; the maps depend on the task, not the clip), the
+        environment built for the maps and closed."""
+        env = self.make_env([clip], artefacts=None)
+        try:
+            return self.mirror_averaged(env)
+        finally:
+            env.close()
+
     def mean_action(self, obs: np.ndarray) -> np.ndarray:
         """The network's deterministic action ``(A,)`` (rad offsets, clipped to the action space)
         for one raw observation ``obs (D,)``: what ``model.predict(..., deterministic=True)``
         returns, computed with NumPy on the actor's current weights (:func:`mlp_mean_action`; 5×
-        faster than stable-baselines3's path for one observation, which a rollout calls every step)."""
+        faster than stable-baselines3's path for one observation, which a rollout calls every step).
+        For a :attr:`symmetric_network`, the mean of its two mirror halves, as its Gaussian's."""
         x = np.asarray(self.normalizer.normalize_obs(obs), dtype=np.float32)
-        mean = mlp_mean_action(self.model.policy, x)
+        if self.symmetric_network:  # mirror-symmetric statistics: the normalised mirror image is the mirrored input
+            maps = self.model.policy.mirror_maps
+            halves = mlp_mean_action(self.model.policy, np.stack([x, maps.observation(x)]))
+            mean = None if halves is None else 0.5 * (halves[0] + maps.action(halves[1]))
+        else:
+            mean = mlp_mean_action(self.model.policy, x)
         if mean is None:  # an actor this shortcut does not cover
             action, _ = self.model.predict(x, deterministic=True)
             return action

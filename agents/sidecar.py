@@ -60,6 +60,10 @@ class EnvSpec:
     gait: dict | None = None
     contacts: str = "vgrf"
 
+    def __post_init__(self) -> None:  # as JSON holds them (tuples as lists), so that specs compare equal
+        for name in ("config", "gait"):
+            object.__setattr__(self, name, json.loads(json.dumps(getattr(self, name))))
+
     def mimic_config(self) -> MimicConfig:
         """The :class:`MimicConfig` (fields unknown to this version are dropped)."""
         return MimicConfig(**_known(MimicConfig, self.config))
@@ -122,6 +126,7 @@ class TrainingRecord:
         pushes: the training envs' random pushes (:class:`envs.config.Pushes` as a dict), if any.
         dynamics: the training envs' randomised physics (:class:`envs.config.Dynamics` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
+        symmetric: whether PPO trained the mirror-symmetric actor (``train_ppo.py --symmetric``).
         commands: every command that trained the run, in order.
         seed, steps, wall_s: the seed, control steps and training wall time (s) at this checkpoint.
     """
@@ -144,6 +149,7 @@ class TrainingRecord:
     pushes: dict | None = None
     dynamics: dict | None = None
     init_from: str | None = None
+    symmetric: bool = False
     commands: list[str] = field(default_factory=list)
     seed: int = 0
     steps: int = 0

@@ -48,6 +48,8 @@ from agents.policy import CHECKPOINTS_DIR, SIDECAR_FILE, MimicPolicy, load_polic
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
 from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
+from agents.mirror import MirrorMaps
+from agents.symmetric_policy import SymmetricActorCriticPolicy, maps_as_kwargs, symmetrise_statistics
 from agents.warm_start import observation_normalizer, warm_start
 from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
@@ -225,6 +227,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="start a new run from the weights and observation statistics of a shipped policy "
                         "(e.g. models/mimic_imu): same foot, observation and action set; --net the same or wider "
                         "(agents/warm_start.py: the run starts acting exactly as the source)")
+    g.add_argument("--symmetric", action="store_true",
+                   help="train the mirror-symmetric actor (agents/symmetric_policy.py: the mean of the actor's action "
+                        "and, mapped back, its action on the mirrored observation) with --init-from's weights; the "
+                        "source's observation statistics are made mirror symmetric and frozen")
     g.add_argument("--checkpoint-every", type=positive_int, default=100_000, help="steps between checkpoints")
     g.add_argument("--eval-every", type=positive_int, default=200_000, help="steps between evaluations")
     g.add_argument("--eval-episodes", type=positive_int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
@@ -625,6 +631,7 @@ class CheckpointAndEvaluate(BaseCallback):
             pushes=asdict(push) if push is not None else None,
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
+            symmetric=args.symmetric,
             commands=[shlex.join(["python", *c]) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None
@@ -757,6 +764,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     if args.denoise is not None:
         check_denoiser(args)
+    if args.symmetric and args.init_from is None and not args.resume:
+        raise ValueError("--symmetric trains the symmetric actor of a trained policy: give --init-from (frozen "
+                         "observation statistics need a policy's to start from)")
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args), stance_extra(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
@@ -791,15 +801,22 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     else:
         if args.resume:
             print(f"no checkpoint in {run_dir}; starting from scratch", flush=True)
-        model = PPO("MlpPolicy", venv, learning_rate=args.lr, n_steps=args.n_steps, batch_size=args.batch_size,
-                    n_epochs=args.epochs, gamma=args.gamma, gae_lambda=args.gae_lambda, clip_range=args.clip_range,
-                    seed=args.seed, device=args.device, tensorboard_log=str(run_dir / "tb"), verbose=0,
-                    policy_kwargs=policy_kwargs(args.net, args.action_variance))
+        maps = MirrorMaps.of(eval_env) if args.symmetric else None
+        kwargs = policy_kwargs(args.net, args.action_variance)
+        if maps is not None:
+            kwargs["mirror"] = maps_as_kwargs(maps)
+        model = PPO(SymmetricActorCriticPolicy if maps is not None else "MlpPolicy", venv, learning_rate=args.lr,
+                    n_steps=args.n_steps, batch_size=args.batch_size, n_epochs=args.epochs, gamma=args.gamma,
+                    gae_lambda=args.gae_lambda, clip_range=args.clip_range, seed=args.seed, device=args.device,
+                    tensorboard_log=str(run_dir / "tb"), verbose=0, policy_kwargs=kwargs)
         if args.init_from is not None:  # warm start: another run's weights and observation statistics
             venv = warm_start(model, venv, load_policy(args.init_from), env_config(args), args.gamma)
             set_action_variance(model, args.action_variance)  # this run's noise, not the source's
+            if maps is not None:  # the network mirrors normalised inputs: statistics symmetric, and kept so
+                venv.obs_rms, venv.training = symmetrise_statistics(venv.obs_rms, maps), False
             model.set_env(venv)
-            print(f"initialised from {args.init_from}", flush=True)
+            print(f"initialised from {args.init_from}{' as its symmetric actor' if maps is not None else ''}",
+                  flush=True)
         else:
             venv = observation_normalizer(venv, args.gamma)
             model.set_env(venv)
