@@ -603,7 +603,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
         if args.mirror_average:
-            performer = performer.mirror_averaged(performer.make_env([performed], artefacts=None))
+            performer = performer.mirror_averaged_on(performed)
         cleaned = clean_motion(performer, performed, config)
     touch = None
     if args.touch_up:

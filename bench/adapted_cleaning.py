@@ -212,7 +212,7 @@ def main() -> None:
                                                     "SR90": adapted.sr90_after, "adapt_s": adapted.wall_s,
                                                     "adapt_steps": adapted.steps}
                 if args.mirror_average:
-                    performer = performer.mirror_averaged(performer.make_env([performed], artefacts=None))
+                    performer = performer.mirror_averaged_on(performed)
             stem = args.out_dir / f"{i:02d}_{clip.split('#')[-1]}" if args.out_dir else None
             if stem:
                 reference.save(stem.with_name(f"{stem.name}_input.npz"))

@@ -31,7 +31,7 @@ from torch import nn
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
-from reference_motion.transforms import mirror_map
+from reference_motion.transforms import mirror_map, mirror_twin
 
 DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser_soles_quint_mirror"
 """The IMU denoiser a bare ``--denoise`` uses: validation's choice, five networks trained with
@@ -126,7 +126,7 @@ def mirror_maps(model: str) -> tuple[tuple[np.ndarray, np.ndarray], tuple[np.nda
     hinge_perm, hinge_sign = qpos_perm[7:] - 7, qpos_sign[7:]
     n = len(hinge_perm)
     points = list(CONTACT_CHANNELS)
-    twin = [points.index(p.replace("left", "#").replace("right", "left").replace("#", "right")) for p in points]
+    twin = [points.index(mirror_twin(p)) for p in points]
     # after the hinges: root_z, up (x, y, z), velocity (forward, left), sole points (forward, left) each, heights
     body_perm = np.concatenate([[0, 1, 2, 3, 4, 5], [6 + 2 * twin[k] + a for k in range(4) for a in (0, 1)],
                                 [14 + twin[k] for k in range(4)]])

@@ -124,10 +124,17 @@ def loop(motion: Motion, n_frames: int) -> Motion:
     return motion.with_qpos(qpos, source=dict(motion.source, looped_to_frames=n_frames))
 
 
+MIRROR_PREFIXES = {"l_": "r_", "r_": "l_", "left_": "right_", "right_": "left_"}
+"""Name prefixes of the left and right sides (bodies and hinges ``l_``/``r_``, contact channels
+``left_``/``right_``) and each one's twin."""
+
+
 def mirror_twin(name: str) -> str:
-    """The name of a body or hinge's mirror twin: ``l_…`` ↔ ``r_…``; one on the midline is its own twin."""
-    if name[:2] in ("l_", "r_"):
-        return {"l": "r", "r": "l"}[name[0]] + name[1:]
+    """The name of a body, hinge or contact channel's mirror twin: ``l_…`` ↔ ``r_…`` and ``left_…`` ↔
+    ``right_…``; one on the midline is its own twin."""
+    for prefix, twin in MIRROR_PREFIXES.items():
+        if name.startswith(prefix):
+            return twin + name[len(prefix):]
     return name
 
 

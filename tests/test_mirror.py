@@ -59,3 +59,11 @@ def test_an_observation_it_does_not_know_is_refused():
     env = gym.make("MimicGait-v0", clips=["deepmimic:walk"])
     with pytest.raises(ValueError, match="MimicGait-v0: the mirror-symmetric actor knows the mimic observation"):
         MirrorMaps.of(env)
+
+
+def test_mirror_twins_of_bodies_hinges_and_contact_channels():
+    from reference_motion.humanoid.model import CONTACT_CHANNELS
+    from reference_motion.transforms import mirror_twin
+    assert [mirror_twin(n) for n in ("l_knee", "r_ankle_x", "left_toe", "right_heel", "pelvis", "lower_back")] == \
+        ["r_knee", "l_ankle_x", "right_toe", "left_heel", "pelvis", "lower_back"]
+    assert sorted(mirror_twin(c) for c in CONTACT_CHANNELS) == sorted(CONTACT_CHANNELS)
