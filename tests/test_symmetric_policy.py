@@ -13,6 +13,7 @@ from stable_baselines3.common.running_mean_std import RunningMeanStd
 
 import envs  # noqa: F401  (registers the ids)
 from agents.mirror import MirrorMaps
+from agents.adaptation import AdaptConfig, adapt_policy
 from agents.average_policies import average_policies
 from agents.policy import PolicyError, load_policy, mlp_mean_action
 from agents.symmetric_policy import SymmetricActorCriticPolicy, maps_as_kwargs, symmetrise_statistics
@@ -98,6 +99,8 @@ def test_a_symmetric_run_starts_as_the_sources_symmetric_actor_and_keeps_its_sta
     np.testing.assert_allclose(policy(obs), action, atol=1e-5)
     with pytest.raises(PolicyError, match="checkpoints: trained as the symmetric actor .* the others not"):
         average_policies([source, policy])
+    with pytest.raises(ValueError, match="needs its mirror-symmetric observation statistics frozen"):
+        adapt_policy(policy, load_motion("deepmimic:walk"), AdaptConfig(update_normalizer=True))
 
 
 def test_symmetric_needs_a_policy_to_start_from(tmp_path):
