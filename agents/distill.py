@@ -340,6 +340,9 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
     freshly initialised, or with the default teacher's weights (``config.from_default``), embedded
     in wider hidden layers where ``config.net`` is wider (:func:`agents.warm_start.widen_hidden`: it
     acts as the default from the start; raises :class:`PolicyError` for a narrower or deeper ``net``)."""
+    if config.from_default and default.symmetric_network:
+        raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
+                          "so it cannot start from this default teacher's weights")
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
                 policy_kwargs=policy_kwargs(config.net, variance))
@@ -372,6 +375,9 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
                  config: DistillConfig) -> Path:
     """Write ``out/student`` whole (:func:`agents.policy.save_policy`): the model, the default
     teacher's statistics, and a sidecar naming the default teacher's task and this distillation."""
+    if config.from_default and default.symmetric_network:
+        raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
+                          "so it cannot start from this default teacher's weights")
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     sidecar = PolicySidecar(env=default.record.env, ppo=PPOSettings(net=config.net, action_variance=variance),
                             training=training, metrics={}, extra={"distillation": record})

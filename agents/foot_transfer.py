@@ -140,6 +140,9 @@ def transfer(source: MimicPolicy, foot: str, out: Path, command: str = "") -> Mi
         actions = _name_index(driven_joint_names(source_env.unwrapped), driven_joint_names(target_env.unwrapped),
                               "driven joints")
         old = source.model
+        if source.symmetric_network:
+            raise PolicyError(f"{source.path}: a network trained as the symmetric actor; its mirror maps are those of "
+                              f"the {source.foot}-foot task, so it cannot be carried to another foot")
         model = PPO(old.policy_class, DummyVecEnv([lambda: target_env]), device="cpu", verbose=0,
                     **{name: getattr(old, name) for name in KEPT_HYPERPARAMETERS})
         try:

@@ -82,6 +82,8 @@ class MimicPolicy:
         (:func:`agents.rollout.sampling_policy`) are that actor's plus the policy's Gaussian
         exploration noise. Training a copy (:mod:`agents.adaptation`) trains the network itself."""
         self.check_env(env)
+        if self.symmetric_network:  # already that actor
+            return self
         return replace(self, mirror=MirrorMaps.of(env))
 
     def mirror_averaged_on(self, clip: Any) -> MimicPolicy:

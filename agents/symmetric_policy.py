@@ -3,8 +3,8 @@
 :class:`agents.mirror.MirrorAveraged` makes any trained policy mirror symmetric at run time,
 ``a(o) = ½ (π(o) + M_a π(M_o o))``; PPO, though, improved ``π``, not ``a``. This policy class puts
 the same equation inside the network, so that PPO's rollouts, log-likelihoods and gradients are
-those of the symmetric actor (``train_ppo.py --symmetric``; a warm start from a policy begins at
-its symmetric actor):
+those of the symmetric actor (``train_ppo.py --symmetric``; a warm start from a policy begins as
+its symmetric actor, the halves unclipped):
 
 * the actor runs once on the batch of observations and once on their mirror images (one pass on
   a batch twice as long) and averages the two means, the second mapped back by ``M_a``;
@@ -14,8 +14,9 @@ its symmetric actor):
 
 The network sees *normalised* observations, so ``M_o`` acts on them, which equals mirroring the raw
 observation only when the observation statistics are themselves mirror symmetric:
-``μ = M_o μ`` and ``σ = |M_o| σ``. :func:`symmetrise_statistics` makes them so, and a run that
-trains this policy freezes them (they would drift off symmetry as they update), so the stored
+``μ = M_o μ`` and ``σ = |M_o| σ``. :func:`symmetrise_statistics` makes them so (a warm start folds
+the change into the first layers, :func:`agents.warm_start.renormalised_inputs`, so the network
+acts on raw observations as before), and a run that trains this policy freezes them (they would drift off symmetry as they update), so the stored
 policy acts as :class:`~agents.mirror.MirrorAveraged` of its own actor on raw observations, exactly:
 :class:`~agents.policy.MimicPolicy` acts that way on any policy of this class.
 """
@@ -71,7 +72,7 @@ class SymmetricActorCriticPolicy(ActorCriticPolicy):
     def symmetric_distribution(self, obs: torch.Tensor) -> Distribution:
         """The Gaussian of the symmetric actor for normalised observations ``obs (N, D)``."""
         both = torch.cat([obs, obs[:, self.obs_perm] * self.obs_sign])
-        features = self.extract_features(both, self.pi_features_extractor)
+        features = super().extract_features(both, self.pi_features_extractor)
         mean, mirrored = self.action_net(self.mlp_extractor.forward_actor(features)).chunk(2)
         mean = 0.5 * (mean + mirrored[:, self.action_perm] * self.action_sign)
         log_std = 0.5 * (self.log_std + self.log_std[self.action_perm])

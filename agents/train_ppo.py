@@ -50,7 +50,7 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.mirror import MirrorMaps
 from agents.symmetric_policy import SymmetricActorCriticPolicy, maps_as_kwargs, symmetrise_statistics
-from agents.warm_start import observation_normalizer, warm_start
+from agents.warm_start import observation_normalizer, renormalised_inputs, warm_start
 from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
                          Pushes)
@@ -227,7 +227,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="start a new run from the weights and observation statistics of a shipped policy "
                         "(e.g. models/mimic_imu): same foot, observation and action set; --net the same or wider "
                         "(agents/warm_start.py: the run starts acting exactly as the source)")
-    g.add_argument("--symmetric", action="store_true",
+    g.add_argument("--symmetric", action=argparse.BooleanOptionalAction, default=False,
                    help="train the mirror-symmetric actor (agents/symmetric_policy.py: the mean of the actor's action "
                         "and, mapped back, its action on the mirrored observation) with --init-from's weights; the "
                         "source's observation statistics are made mirror symmetric and frozen")
@@ -631,7 +631,7 @@ class CheckpointAndEvaluate(BaseCallback):
             pushes=asdict(push) if push is not None else None,
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
-            symmetric=args.symmetric,
+            symmetric=isinstance(self.model.policy, SymmetricActorCriticPolicy),
             commands=[shlex.join(["python", *c]) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None
@@ -704,6 +704,25 @@ def check_denoiser(args: argparse.Namespace) -> None:
                          f"simulate {model} at {fps:g} Hz")
 
 
+def check_symmetric(args: argparse.Namespace, run_dir: Path) -> None:
+    """Refuse, before any work, a run whose actor would not be what ``--symmetric`` says: the
+    symmetric actor without a policy to start from (its frozen statistics are the source's), a
+    warm start from a symmetric network without ``--symmetric`` (the plain half would act), and a
+    resumed run whose network is of the other kind."""
+    checkpoint = newest_checkpoint(run_dir) if args.resume else None
+    if checkpoint is not None:
+        trained = load_policy(checkpoint).symmetric_network
+        if trained != args.symmetric:
+            raise ValueError(f"{run_dir}: its network was trained {'as' if trained else 'without'} the symmetric actor; "
+                             f"resume it {'with' if trained else 'without'} --symmetric")
+    elif args.symmetric and args.init_from is None:
+        raise ValueError("--symmetric trains the symmetric actor of a trained policy: give --init-from (frozen "
+                         "observation statistics need a policy's to start from)")
+    elif args.init_from is not None and not args.symmetric and load_policy(args.init_from).symmetric_network:
+        raise ValueError(f"{args.init_from}: a network trained as the symmetric actor; train on with --symmetric "
+                         "(without it the run would act with one of its mirror halves)")
+
+
 def newest_checkpoint(run_dir: Path) -> Path | None:
     found = [(int(CHECKPOINT.search(p.name).group(1)), p) for p in (run_dir / CHECKPOINTS_DIR).glob("step_*.zip")
              if CHECKPOINT.search(p.name)]
@@ -764,9 +783,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     if args.denoise is not None:
         check_denoiser(args)
-    if args.symmetric and args.init_from is None and not args.resume:
-        raise ValueError("--symmetric trains the symmetric actor of a trained policy: give --init-from (frozen "
-                         "observation statistics need a policy's to start from)")
+    check_symmetric(args, run_dir)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args), stance_extra(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
@@ -785,6 +802,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
                                                variants_per_clip=args.eval_episodes, denoiser=args.denoise)
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
+    maps = MirrorMaps.of(eval_env) if args.symmetric else None  # refuses a layout it does not know, before the run
     # the run is recorded only now that every clip has loaded: bad input leaves no run behind
     run_dir.mkdir(parents=True, exist_ok=True)
     command = ["agents/train_ppo.py", *argv]
@@ -801,7 +819,6 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     else:
         if args.resume:
             print(f"no checkpoint in {run_dir}; starting from scratch", flush=True)
-        maps = MirrorMaps.of(eval_env) if args.symmetric else None
         kwargs = policy_kwargs(args.net, args.action_variance)
         if maps is not None:
             kwargs["mirror"] = maps_as_kwargs(maps)
@@ -813,7 +830,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
             venv = warm_start(model, venv, load_policy(args.init_from), env_config(args), args.gamma)
             set_action_variance(model, args.action_variance)  # this run's noise, not the source's
             if maps is not None:  # the network mirrors normalised inputs: statistics symmetric, and kept so
-                venv.obs_rms, venv.training = symmetrise_statistics(venv.obs_rms, maps), False
+                symmetric = symmetrise_statistics(venv.obs_rms, maps)  # the first layers absorb the change
+                model.policy.load_state_dict(renormalised_inputs(model.policy.state_dict(), venv.obs_rms, symmetric,
+                                                                 venv.epsilon))
+                venv.obs_rms, venv.training = symmetric, False
             model.set_env(venv)
             print(f"initialised from {args.init_from}{' as its symmetric actor' if maps is not None else ''}",
                   flush=True)

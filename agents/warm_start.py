@@ -30,6 +30,7 @@ import numpy as np
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.vec_env import VecEnv, VecNormalize
+from stable_baselines3.common.running_mean_std import RunningMeanStd
 
 from agents.policy import MimicPolicy, PolicyError
 from envs.config import FOOT_MODELS, MimicConfig
@@ -66,6 +67,23 @@ def sampled_statistics(venv: VecEnv, columns: slice, resets: int) -> tuple[np.nd
 def observation_normalizer(venv: VecEnv, gamma: float) -> VecNormalize:
     """The running observation normalisation every run uses (observations only, not rewards)."""
     return VecNormalize(venv, norm_obs=True, norm_reward=False, gamma=gamma)
+
+
+def renormalised_inputs(state_dict: dict[str, torch.Tensor], old: RunningMeanStd, new: RunningMeanStd,
+                        epsilon: float) -> dict[str, torch.Tensor]:
+    """A copy of an SB3 ``MlpPolicy`` ``state_dict`` whose first layers (:data:`FIRST_LAYERS` and
+    their biases), given observations normalised by the statistics ``new`` (``(o − μ) / √(σ² + ε)``,
+    VecNormalize's), compute what the source's did on the same raw observations normalised by
+    ``old``: ``W' = W diag(s_new / s_old)``, ``b' = b + W (μ_new − μ_old) / s_old``."""
+    s_old, s_new = np.sqrt(old.var + epsilon), np.sqrt(new.var + epsilon)
+    scale = torch.as_tensor(s_new / s_old, dtype=torch.float32)
+    shift = torch.as_tensor((new.mean - old.mean) / s_old, dtype=torch.float32)
+    out = dict(state_dict)
+    for name in FIRST_LAYERS:
+        weight, bias = state_dict[name], name.replace(".weight", ".bias")
+        out[name] = weight * scale.to(weight)
+        out[bias] = state_dict[bias] + weight @ shift.to(weight)
+    return out
 
 
 def widen_inputs(state_dict: dict[str, torch.Tensor], insert_at: int, n_new: int) -> dict[str, torch.Tensor]:

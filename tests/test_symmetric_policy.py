@@ -73,37 +73,47 @@ def test_symmetrised_statistics_are_those_of_the_data_pooled_with_its_mirror_ima
 
 
 def test_a_symmetric_run_starts_as_the_sources_symmetric_actor_and_keeps_its_statistics(tmp_path, env):
-    """``train_ppo.py --symmetric --init-from``: at learning rate ~0 the checkpoint's actor is the
-    source's two mirror halves averaged on the source's statistics made symmetric, which stay frozen;
-    load_policy acts with it (its deterministic action is the Gaussian's mean, clipped)."""
+    """``train_ppo.py --symmetric --init-from``: at learning rate ~0 the checkpoint acts as the
+    source's two mirror halves, each on the source's own statistics, averaged (the first layers
+    absorbed the statistics made symmetric, which stay frozen); load_policy acts with it (its
+    deterministic action is the Gaussian's mean, clipped)."""
     source = load_policy(WALK_POLICY)
+    maps = MirrorMaps.of(env)
     run = tmp_path / "run"
     main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--symmetric", "--mirror", "--run-dir",
           str(run), "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps",
           "128", "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "1000"])
     policy = load_policy(newest_checkpoint(run))
     assert policy.symmetric_network and policy.record.training.symmetric and policy.mirror is None
-    maps = MirrorMaps.of(env)
     expected = symmetrise_statistics(source.normalizer.obs_rms, maps)
+    assert np.abs(expected.var / source.normalizer.obs_rms.var - 1).max() > 0.1  # the source's were not symmetric
     np.testing.assert_allclose(policy.normalizer.obs_rms.mean, expected.mean)  # frozen while it trained
     np.testing.assert_allclose(policy.normalizer.obs_rms.var, expected.var)
     obs, _ = env.reset(seed=4)
-    x = np.asarray(policy.normalizer.normalize_obs(obs), dtype=np.float32)
-    halves = [mlp_mean_action(source.model.policy, v) for v in (x, maps.observation(x))]
+    halves = [mlp_mean_action(source.model.policy, np.asarray(source.normalizer.normalize_obs(o), dtype=np.float32))
+              for o in (obs, maps.observation(obs))]
     space = policy.model.action_space
     symmetric = np.clip(0.5 * (halves[0] + maps.action(halves[1])), space.low, space.high)
-    np.testing.assert_allclose(policy(obs), symmetric, atol=1e-5)
-    mirrored = maps.observation(obs)
-    np.testing.assert_allclose(policy(mirrored), maps.action(policy(obs)), atol=1e-5)
-    action, _ = policy.model.predict(x, deterministic=True)
+    np.testing.assert_allclose(policy(obs), symmetric, atol=1e-4)
+    np.testing.assert_allclose(policy(maps.observation(obs)), maps.action(policy(obs)), atol=1e-5)
+    action, _ = policy.model.predict(np.asarray(policy.normalizer.normalize_obs(obs), dtype=np.float32),
+                                     deterministic=True)
     np.testing.assert_allclose(policy(obs), action, atol=1e-5)
+    assert policy.mirror_averaged(env) is policy  # already that actor
     with pytest.raises(PolicyError, match="checkpoints: trained as the symmetric actor .* the others not"):
         average_policies([source, policy])
     with pytest.raises(ValueError, match="needs its mirror-symmetric observation statistics frozen"):
         adapt_policy(policy, load_motion("deepmimic:walk"), AdaptConfig(update_normalizer=True))
+    with pytest.raises(SystemExit, match="a network trained as the symmetric actor; train on with --symmetric"):
+        main(["--clips", "deepmimic:walk", "--init-from", str(newest_checkpoint(run)), "--run-dir",
+              str(tmp_path / "plain")])
+    assert not (tmp_path / "plain").exists()
+    with pytest.raises(SystemExit, match="its network was trained as the symmetric actor; resume it with --symmetric"):
+        main(["--run-dir", str(run), "--resume", "--no-symmetric", "--total-steps", "256"])
 
 
 def test_symmetric_needs_a_policy_to_start_from(tmp_path):
     with pytest.raises(SystemExit, match="--symmetric trains the symmetric actor of a trained policy: give "
                                          "--init-from"):
         main(["--clips", "deepmimic:walk", "--symmetric", "--run-dir", str(tmp_path / "run"), "--total-steps", "64"])
+    assert not (tmp_path / "run").exists()
