@@ -438,7 +438,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "stay the take as given")
         p.add_argument("--mirror-average", action="store_true",
                        help="re-perform with the policy's mirror-symmetric actor (agents/mirror.py: the mean of its "
-                            "action and, mapped back, its action on the mirrored observation), after any adaptation")
+                            "action and, mapped back, its action on the mirrored observation), after any adaptation; "
+                            "measured best with --no-adapt (after adaptation its retries re-anchor more)")
         p.add_argument("--touch-up", action="store_true",
                        help="after the simulation, lift the body out of the floor where soft contacts let it sink "
                             "and pin planted feet with leg IK (reference_motion.touch_up); the output and the "
