@@ -26,11 +26,12 @@ $(VENV)/.video-extra: $(PY)
 # (.npz, .bvh) and a side-by-side video (reference | cleaned, re-anchors framed in red) in out/. Then the
 # same take's foot skate removed by the vGRF-guided cleanup (UnderPressure §6): .npz, .bvh and a speed plot.
 DEMO_POLICY ?= models/mimic_general
-DEMO_ADAPT_S ?= 90
+DEMO_ADAPT_S ?= 150
+DEMO_ADAPT_STEPS ?= 143360
 demo: setup
 	mkdir -p out
 	$(PY) agents/clean.py deepmimic:walker/turn_left1 --policy $(DEMO_POLICY) --corrupt imu --strength 1 \
-		--seed 1000 --min-frames 600 --adapt-budget-s $(DEMO_ADAPT_S) --out out/turn_left1_cleaned.npz \
+		--seed 1000 --min-frames 600 --adapt-budget-s $(DEMO_ADAPT_S) --adapt-steps $(DEMO_ADAPT_STEPS) --out out/turn_left1_cleaned.npz \
 		--bvh out/turn_left1_cleaned.bvh --video out/turn_left1_imu_vs_cleaned.mp4 --json out/turn_left1_metrics.json
 	$(PY) -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --strength 1 --seed 1000 \
 		--min-frames 600 --out out/turn_left1_noskate.npz --bvh out/turn_left1_noskate.bvh \
