@@ -21,7 +21,8 @@ reference state at a frame just before where the longest try failed. By default
 (:mod:`agents.search`: per 1/6 s window, ``--search-samples`` rollouts of the policy with seeded
 Gaussian action noise, one draw held over the window; rollouts that fall or whose root strays
 ``--search-max-drift`` from the reference's dropped; the ``--search-beam`` best simulated states
-kept, ranked by the reward so far plus the policy's critic's estimate of the return to come),
+kept, ranked by the reward so far plus the policy's critic's estimate of the return to come; a
+search that fails is tried once more without the drift limit before the re-anchor),
 which gets through half of the places where the policy alone falls, zero-shot, while keeping
 closer to the take's path than the policy alone (``bench/retry_strategies.py``);
 ``--search retries`` searches only after a failure, ``--search off`` runs the policy alone and
@@ -39,7 +40,7 @@ from __future__ import annotations
 import argparse
 import sys
 from collections import deque
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/clean.py`: make the repository importable
@@ -312,16 +313,23 @@ class _Performance:
         """After ``failed`` failed: search from the committed state of ``rewound`` to ``goal``, else
         re-anchor. Returns the new last committed frame."""
         attempt, rollouts = self._search_from(rewound, goal)
+        if not self._survived(attempt, goal) and self.config.search.max_drift_m is not None:
+            # the drift limit is the search's own (the task ends an episode further off): before
+            # re-anchoring, search again without it
+            unlimited, more = self._search_from(rewound, goal, replace(self.config.search, max_drift_m=None))
+            rollouts += more
+            if unlimited.end_frame > attempt.end_frame:
+                attempt = unlimited
         if self._survived(attempt, goal):
             return self._recovered(attempt, rewound, goal, failed, rollouts)
         best = attempt if attempt.end_frame > failed.end_frame else failed
         return self._reanchor(best, rewound, failed.end_frame, failed.ended_by, rollouts)
 
-    def _search_from(self, frame: int, stop: int) -> tuple[Episode, int]:
-        """The search's simulation from the committed state of ``frame`` towards ``stop`` and the
-        rollouts it took (counted in :attr:`tries`)."""
-        episode, rollouts = search(self.env, self.policy, frame, self.ring.state(frame), stop, self.config.search,
-                                   self.rng)
+    def _search_from(self, frame: int, stop: int, config: SearchConfig | None = None) -> tuple[Episode, int]:
+        """The search's simulation (``config``, default the cleaning's) from the committed state of
+        ``frame`` towards ``stop`` and the rollouts it took (counted in :attr:`tries`)."""
+        episode, rollouts = search(self.env, self.policy, frame, self.ring.state(frame), stop,
+                                   config or self.config.search, self.rng)
         self.tries += rollouts
         return episode, rollouts
 

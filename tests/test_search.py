@@ -189,3 +189,14 @@ def test_a_rollout_that_strays_past_max_drift_fails_as_lagging(walk_policy, walk
     assert tight.ended_by == "lagging" and tight.end_frame == 10 and rollouts == 3
     with pytest.raises(ValueError, match="max_drift_m must be > 0"):
         SearchConfig(max_drift_m=0.0)
+
+
+def test_a_search_failed_by_its_own_drift_limit_searches_again_without_it(walk_policy, walk):
+    """clean.py's retry: where every rollout strays past the search's drift limit (a micrometre
+    here) but the task's own terminations do not end them, the search is tried again without the
+    limit and gets past, so the walk needs recoveries but no re-anchor."""
+    config = CleanConfig(search=SearchConfig(beam=2, samples=3, patience=0, max_drift_m=1e-6))
+    cleaned = clean_motion(walk_policy, walk, config, progress=False)
+    assert cleaned.source["reanchors"] == [] and cleaned.source["simulated_fraction"] == 1.0
+    assert len(cleaned.source["recoveries"]) >= 3
+    assert {r["reason"] for r in cleaned.source["recoveries"]} == {"lagging"}
