@@ -94,6 +94,11 @@ class MirrorMaps:
         """The mirrored action ``(A,)``."""
         return action[self.action_perm] * self.action_sign
 
+    def averaged(self, action: np.ndarray, action_on_mirrored: np.ndarray) -> np.ndarray:
+        """The symmetric actor's action ``(A,)``: the mean of a policy's ``action`` on an observation
+        and, mapped back, its ``action_on_mirrored`` on that observation's mirror image."""
+        return 0.5 * (np.asarray(action) + self.action(np.asarray(action_on_mirrored)))
+
 
 class MirrorAveraged:
     """``policy``'s action averaged with its action on the mirrored observation, mapped back
@@ -106,8 +111,7 @@ class MirrorAveraged:
         self.policy, self.maps = policy, maps
 
     def __call__(self, obs: np.ndarray) -> np.ndarray:
-        mirrored = self.maps.action(self.policy(self.maps.observation(obs)))
-        return 0.5 * (np.asarray(self.policy(obs)) + mirrored)
+        return self.maps.averaged(self.policy(obs), self.policy(self.maps.observation(obs)))
 
 
 def actor_label(policy: object, mirror_average: bool) -> str:

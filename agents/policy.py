@@ -106,7 +106,7 @@ class MimicPolicy:
         if self.symmetric_network:  # mirror-symmetric statistics: the normalised mirror image is the mirrored input
             maps = self.model.policy.mirror_maps
             halves = mlp_mean_action(self.model.policy, np.stack([x, maps.observation(x)]))
-            mean = None if halves is None else 0.5 * (halves[0] + maps.action(halves[1]))
+            mean = None if halves is None else maps.averaged(*halves)
         else:
             mean = mlp_mean_action(self.model.policy, x)
         if mean is None:  # an actor this shortcut does not cover

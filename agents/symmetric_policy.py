@@ -64,10 +64,9 @@ class SymmetricActorCriticPolicy(ActorCriticPolicy):
             raise ValueError(f"the symmetric actor needs Gaussian actions, not {type(self.action_dist).__name__}")
         for name in ("obs_perm", "obs_sign", "action_perm", "action_sign"):  # move with the policy, not saved
             self.register_buffer(name, torch.as_tensor(getattr(self.mirror_maps, name)), persistent=False)
-        self._mirror_kwargs = mirror
 
     def _get_constructor_parameters(self) -> dict[str, Any]:
-        return {**super()._get_constructor_parameters(), "mirror": self._mirror_kwargs}
+        return {**super()._get_constructor_parameters(), "mirror": maps_as_kwargs(self.mirror_maps)}
 
     def symmetric_distribution(self, obs: torch.Tensor) -> Distribution:
         """The Gaussian of the symmetric actor for normalised observations ``obs (N, D)``."""
