@@ -60,9 +60,12 @@ class EnvSpec:
     gait: dict | None = None
     contacts: str = "vgrf"
 
-    def __post_init__(self) -> None:  # as JSON holds them (tuples as lists), so that specs compare equal
+    def __post_init__(self) -> None:
+        # As JSON holds them (tuples as lists), and a config recorded before a MimicConfig field
+        # existed with that field's default (the behaviour it was trained with), so that specs compare equal.
         for name in ("config", "gait"):
             object.__setattr__(self, name, json.loads(json.dumps(getattr(self, name))))
+        object.__setattr__(self, "config", {**json.loads(json.dumps(asdict(MimicConfig()))), **self.config})
 
     def mimic_config(self) -> MimicConfig:
         """The :class:`MimicConfig` (fields unknown to this version are dropped)."""

@@ -130,6 +130,12 @@ def build_parser(prog: str | None = None) -> CliParser:
                                      "0: ADAPT's reward)")
     g.add_argument("--still-feet-alpha", type=positive_float, default=MimicConfig.still_feet_alpha, metavar="ALPHA",
                    help="its scale, per m/s (MimicConfig.still_feet_alpha)")
+    g.add_argument("--com-velocity-weight", type=non_negative_float, default=MimicConfig.com_velocity_weight,
+                   metavar="W", help="weight of the CoM-velocity term in the reward (MimicConfig.com_velocity_weight: "
+                                     "exp(-alpha * |horizontal CoM velocity - the reference's, steered back onto it|); "
+                                     "0: ADAPT's reward)")
+    g.add_argument("--com-velocity-alpha", type=positive_float, default=MimicConfig.com_velocity_alpha,
+                   metavar="ALPHA", help="its scale, per m/s (MimicConfig.com_velocity_alpha)")
     g.add_argument("--contacts", choices=CONTACT_MODES, default="vgrf",
                    help="MimicGait-v0: contact targets from VGRFNet on the reference's joints or from the "
                         "ContactTransformer on its 2D keypoints")
@@ -363,12 +369,13 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
     ``--com-offset``, ``--velocity-feedforward``, ``--lookahead``, ``--steer-gain``,
-    ``--action-limit``, ``--physics-rate-hz`` and ``--still-feet-*``)."""
+    ``--action-limit``, ``--physics-rate-hz``, ``--still-feet-*`` and ``--com-velocity-*``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
                        com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
                        lookahead=tuple(args.lookahead), steer_gain_hz=args.steer_gain,
                        physics_rate_hz=args.physics_rate_hz, action_limit_rad=args.action_limit,
-                       still_feet_weight=args.still_feet_weight, still_feet_alpha=args.still_feet_alpha)
+                       still_feet_weight=args.still_feet_weight, still_feet_alpha=args.still_feet_alpha,
+                       com_velocity_weight=args.com_velocity_weight, com_velocity_alpha=args.com_velocity_alpha)
 
 
 def training_clips(args: argparse.Namespace) -> list[str]:

@@ -115,6 +115,16 @@ class MimicConfig:
             skate r_still is). With a weight above 0 the reward's units change (MRR, the search's
             ranking and ``clean.py``'s reward ratio divide by 3 + w_still), so those figures do not
             compare with an ADAPT-reward policy's.
+        com_velocity_weight: w_com, the weight of the CoM-velocity term r_com in the reward
+            (:func:`envs.rewards.com_velocity_reward`; the reward is then e_discount·(r_local + r_p
+            + r_v + w_still·r_still + w_com·r_com) and a step's largest reward 3 + w_still + w_com).
+            r_com asks the character's horizontal CoM velocity to match the judged reference's plus
+            the steering pull back onto its CoM position (the pull of ``steer_gain_hz`` and
+            ``steer_max_speed_mps``, none at gain 0), so a character that walks slower than the
+            take, or has drifted from it, loses reward at once. ADAPT's reward sees speed only
+            through r_v (α_v = 0.1, nearly flat) and drift only beyond 0.21 m of head distance
+            (e_discount). 0 (default): ADAPT's reward.
+        com_velocity_alpha: α of r_com, per m/s of horizontal CoM velocity error.
     """
 
     frame_rate_hz: float = 60.0
@@ -142,12 +152,18 @@ class MimicConfig:
     still_feet_weight: float = 0.0
     still_feet_alpha: float = 5.0
     still_feet_height_m: float = QualityConfig.contact_height
+    com_velocity_weight: float = 0.0
+    com_velocity_alpha: float = 2.0
 
     def __post_init__(self) -> None:
         weight, alpha, height = self.still_feet_weight, self.still_feet_alpha, self.still_feet_height_m
         if not (all(map(math.isfinite, (weight, alpha, height))) and weight >= 0 and alpha > 0 and height > 0):
             raise ValueError("still_feet_weight must be finite and >= 0, still_feet_alpha and still_feet_height_m "
                              f"finite and > 0, got {weight!r}, {alpha!r}, {height!r}")
+        if not (math.isfinite(self.com_velocity_weight) and self.com_velocity_weight >= 0
+                and math.isfinite(self.com_velocity_alpha) and self.com_velocity_alpha > 0):
+            raise ValueError("com_velocity_weight must be finite and >= 0 and com_velocity_alpha finite and > 0, got "
+                             f"{self.com_velocity_weight!r}, {self.com_velocity_alpha!r}")
         if not (math.isfinite(self.steer_gain_hz) and self.steer_gain_hz >= 0
                 and math.isfinite(self.steer_max_speed_mps) and self.steer_max_speed_mps > 0):
             raise ValueError("steer_gain_hz must be finite and >= 0 and steer_max_speed_mps finite and > 0, got "

@@ -239,9 +239,10 @@ class MimicGaitEnv(MimicEnv):
         if config is not None and config.lookahead:
             raise ValueError(f"MimicGait-v0 previews its contact and toe targets instead (GaitConfig.preview_frames); "
                              f"MimicConfig.lookahead must be empty, got {config.lookahead}")
-        if config is not None and config.still_feet_weight:
-            raise ValueError(f"MimicGait-v0 has ContactVision's own reward (GaitConfig), without the still-feet term; "
-                             f"MimicConfig.still_feet_weight must be 0, got {config.still_feet_weight}")
+        if config is not None and (config.still_feet_weight or config.com_velocity_weight):
+            raise ValueError(f"MimicGait-v0 has ContactVision's own reward (GaitConfig), without the still-feet and "
+                             f"CoM-velocity terms; MimicConfig.still_feet_weight and com_velocity_weight must be 0, got "
+                             f"{config.still_feet_weight} and {config.com_velocity_weight}")
         if foot not in ("one", "two"):
             raise ValueError(f"MimicGait-v0: foot must be 'two' (humanoid_2seg, toe hinges following the "
                              f"ToeRefEstimator) or 'one' (the one-segment-foot ablation), got {foot!r}")

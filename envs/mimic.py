@@ -25,13 +25,13 @@ from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, r
 from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
                          ArtefactMix, Dynamics, MimicConfig, Pushes)
 from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
-                               steered_velocities)
+                               steered_velocities, steering_pull)
 from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
-from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, cube_face_points, cube_face_velocities, fallen,
-                          lagging, mimic_reward, still_feet_reward, unstable)
+from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, com_velocity_reward, cube_face_points,
+                          cube_face_velocities, fallen, lagging, mimic_reward, still_feet_reward, unstable)
 from reference_motion import rotations as rot
 from reference_motion.artefacts import corrupt
 from reference_motion.humanoid.model import HumanoidModel, load_model
@@ -97,7 +97,7 @@ class MimicEnv(gym.Env):
     (:attr:`smoothed`), which the next step's smoothing continues from and the observation shows
     (default zeros, as at a reference start).
 
-    ``info``: ``r_local``, ``r_p``, ``r_v``, ``r_still``, ``e_discount``, ``total`` and ``reward``
+    ``info``: ``r_local``, ``r_p``, ``r_v``, ``r_still``, ``r_com``, ``e_discount``, ``total`` and ``reward``
     (the same value); ``contacts`` (4 bools, order LT, RT, LH, RH: a sole region touching the
     floor); ``frame`` (reference frame index)
     and ``episode_frame`` (frames since the start); ``clip``, ``corrupted``, ``artefact_seed``;
@@ -500,9 +500,9 @@ class MimicEnv(gym.Env):
 
     @property
     def max_step_reward(self) -> float:
-        """The most one step's reward can be (ADAPT: 3, plus ``config.still_feet_weight``; the MRR
-        metric divides by it)."""
-        return MAX_STEP_REWARD + self.config.still_feet_weight
+        """The most one step's reward can be (ADAPT: 3, plus ``config.still_feet_weight`` and
+        ``config.com_velocity_weight``; the MRR metric divides by it)."""
+        return MAX_STEP_REWARD + self.config.still_feet_weight + self.config.com_velocity_weight
 
     reward_info_keys: tuple[str, ...] = tuple(RewardTerms.__dataclass_fields__)
     """The ``info`` entries :meth:`_reward` fills (all 0 after an unstable step); they include
@@ -512,14 +512,15 @@ class MimicEnv(gym.Env):
         """Reward of the current frame and its terms for ``info`` (keys :attr:`reward_info_keys`),
         from the simulated body state (:class:`envs.bodies.BodyState`, current) and the running
         track: ADAPT's r = e_discount·(r_local + r_p + r_v) (adapt eq. 10), plus
-        ``config.still_feet_weight``·r_still inside the bracket."""
+        ``config.still_feet_weight``·r_still and ``config.com_velocity_weight``·r_com inside the bracket."""
         terms = self._tracking_terms(state, self._judge.frame(self._frame))
         return terms.total, terms.as_dict()
 
     def _tracking_terms(self, state, ref: ReferenceFrame) -> RewardTerms:
         """The reward terms of simulated body state(s) ``state`` against reference frame(s) ``ref``
-        (one, or a batch with a leading axis on both): ADAPT's, and r_still of the state's foot points
-        (weighted by ``config.still_feet_weight``)."""
+        (one, or a batch with a leading axis on both): ADAPT's, r_still of the state's foot points
+        (weighted by ``config.still_feet_weight``) and r_com of its CoM velocity against the
+        reference's steered one (weighted by ``config.com_velocity_weight``)."""
         cfg = self.config
         b = self._foot_point_bodies
         feet, feet_vel = body_points(state.pos[..., b, :], state.axes[..., b, :, :], state.linvel[..., b, :],
@@ -530,7 +531,10 @@ class MimicEnv(gym.Env):
             cube_face_velocities(state.linvel, state.angvel, state.axes, cfg.cube_size_m), ref.face_vel,
             state.pos[..., self.head, :], ref.pos[..., self.head, :],
             still_feet_reward(feet_vel, feet[..., 2], cfg.still_feet_height_m, cfg.still_feet_alpha),
-            cfg.alpha_local, cfg.alpha_p, cfg.alpha_v, cfg.still_feet_weight)
+            cfg.alpha_local, cfg.alpha_p, cfg.alpha_v, cfg.still_feet_weight,
+            com_velocity_reward(state.com_vel, ref.com_vel[..., :2] + steering_pull(
+                state.com, ref.com, cfg.steer_gain_hz, cfg.steer_max_speed_mps), cfg.com_velocity_alpha),
+            cfg.com_velocity_weight)
 
     @property
     def judging_track(self) -> ReferenceTrack:

@@ -138,15 +138,32 @@ def mimic_observation(pos: np.ndarray, linvel: np.ndarray, com: np.ndarray, com_
     ], axis=-1).astype(np.float32)
 
 
+def steering_pull(com: np.ndarray, ref_com: np.ndarray, gain_hz: float, max_speed_mps: float) -> np.ndarray:
+    """The horizontal pull ``(..., 2)`` (m/s) back onto the reference: ``s = gain_hz · (ref_com −
+    com)`` on the ground (x, y), capped at ``max_speed_mps`` in length; zeros at gain 0.
+
+    Args:
+        com, ref_com: ``(..., 3)`` the character's and the reference's CoM (world, m).
+        gain_hz: ``≥ 0``, 1/s.
+        max_speed_mps: ``> 0``, the cap on ``|s|`` (m/s).
+    """
+    offset = np.asarray(ref_com, dtype=float)[..., :2] - np.asarray(com, dtype=float)[..., :2]
+    if gain_hz == 0:
+        return np.zeros_like(offset)
+    steer = gain_hz * offset
+    length = np.linalg.norm(steer, axis=-1, keepdims=True)
+    return steer * np.minimum(1.0, max_speed_mps / np.maximum(length, 1e-12))
+
+
 def steered_velocities(com: np.ndarray, ref_com: np.ndarray, ref_com_vel: np.ndarray, ref_linvel: np.ndarray,
                        gain_hz: float, max_speed_mps: float) -> tuple[np.ndarray, np.ndarray]:
     """The reference velocities the observation shows when it steers the character back onto the
     reference (``MimicConfig.steer_gain_hz``): the reference's CoM velocity and every body's
-    velocity plus ``s = gain_hz · (ref_com − com)`` on the ground (x, y; z unchanged), ``s`` capped
-    at ``max_speed_mps`` in length. A policy that matches the reference's velocities then closes a
-    drift from the reference's position at ``gain_hz`` per second, like a position loop around its
-    velocity loop; the reward and terminations still judge the reference as it is. Every argument
-    may have leading batch axes (the same on all).
+    velocity plus the :func:`steering_pull` ``s`` (x, y; z unchanged). A policy that matches the
+    reference's velocities then closes a drift from the reference's position at ``gain_hz`` per
+    second, like a position loop around its velocity loop; the reward and terminations still judge
+    the reference as it is (unless ``MimicConfig.com_velocity_weight`` rewards the same target).
+    Every argument may have leading batch axes (the same on all).
 
     Args:
         com, ref_com: ``(3,)`` the character's and the reference's CoM (world, m).
@@ -160,9 +177,7 @@ def steered_velocities(com: np.ndarray, ref_com: np.ndarray, ref_com_vel: np.nda
     """
     if gain_hz == 0:
         return ref_com_vel, ref_linvel
-    steer = gain_hz * (np.asarray(ref_com, dtype=float)[..., :2] - np.asarray(com, dtype=float)[..., :2])
-    length = np.linalg.norm(steer, axis=-1, keepdims=True)
-    steer *= np.minimum(1.0, max_speed_mps / np.maximum(length, 1e-12))
+    steer = steering_pull(com, ref_com, gain_hz, max_speed_mps)
     com_vel, linvel = np.array(ref_com_vel), np.array(ref_linvel)  # copies, in the inputs' dtypes
     com_vel[..., :2] += steer
     linvel[..., :2] += steer[..., None, :]

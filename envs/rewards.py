@@ -97,16 +97,34 @@ def still_feet_reward(point_vel: np.ndarray, point_height: np.ndarray, contact_h
     return np.exp(-alpha * np.where(point_height <= contact_height, speed, 0.0).sum(axis=-1))
 
 
+def com_velocity_reward(com_vel: np.ndarray, target_vel: np.ndarray, alpha: float) -> float | np.ndarray:
+    """r_com = exp(−α · ‖v_xy − v*_xy‖): 1 when the character's horizontal CoM velocity matches the
+    target, lower the further it is (the speed error, not its square, so a steady shortfall of a
+    fifth of a walking speed still costs a visible share).
+
+    Args:
+        com_vel: ``(..., 3)`` the character's CoM velocity (world, m/s).
+        target_vel: ``(..., 2)`` or ``(..., 3)`` the target velocity (world, m/s; only x, y are read).
+        alpha: scale (1/(m/s)).
+
+    Returns:
+        One value per leading index.
+    """
+    diff = np.asarray(com_vel, dtype=float)[..., :2] - np.asarray(target_vel, dtype=float)[..., :2]
+    return np.exp(-alpha * np.sqrt(np.einsum("...k,...k->...", diff, diff)))
+
+
 @dataclass(frozen=True)
 class RewardTerms:
-    """The terms of r = e_discount · (r_local + r_p + r_v + w_still · r_still) (adapt eq. 10 with
-    ADAPT's weight w_still = 0); ``total`` is r. Each is a float, or ``(N,)`` for a batch of ``N``
-    states."""
+    """The terms of r = e_discount · (r_local + r_p + r_v + w_still · r_still + w_com · r_com) (adapt
+    eq. 10 with ADAPT's weights w_still = w_com = 0); ``total`` is r. Each is a float, or ``(N,)``
+    for a batch of ``N`` states."""
 
     r_local: float | np.ndarray
     r_p: float | np.ndarray
     r_v: float | np.ndarray
     r_still: float | np.ndarray
+    r_com: float | np.ndarray
     e_discount: float | np.ndarray
     total: float | np.ndarray
 
@@ -122,7 +140,8 @@ ratio is this per step (``MimicEnv.max_step_reward`` adds w_still)."""
 def mimic_reward(local: np.ndarray, ref_local: np.ndarray, faces: np.ndarray, ref_faces: np.ndarray,
                  face_vel: np.ndarray, ref_face_vel: np.ndarray, head: np.ndarray, ref_head: np.ndarray,
                  r_still: float | np.ndarray = 1.0, alpha_local: float = 2.5, alpha_p: float = 1.0,
-                 alpha_v: float = 0.1, still_weight: float = 0.0) -> RewardTerms:
+                 alpha_v: float = 0.1, still_weight: float = 0.0, r_com: float | np.ndarray = 1.0,
+                 com_weight: float = 0.0) -> RewardTerms:
     """All reward terms of one step, or of a batch of ``N`` steps (every array with a leading
     ``(N,)`` axis; each term then ``(N,)``).
 
@@ -134,12 +153,15 @@ def mimic_reward(local: np.ndarray, ref_local: np.ndarray, faces: np.ndarray, re
         r_still: :func:`still_feet_reward` of the state.
         alpha_local, alpha_p, alpha_v: scales of adapt Table 2.
         still_weight: w_still, the weight of ``r_still`` in the total (0: ADAPT's reward).
+        r_com: :func:`com_velocity_reward` of the state.
+        com_weight: w_com, the weight of ``r_com`` in the total (0: ADAPT's reward).
     """
     r_local = local_pose_reward(local, ref_local, alpha_local)
     r_p = point_reward(faces, ref_faces, alpha_p)
     r_v = point_reward(face_vel, ref_face_vel, alpha_v)
     e = fall_discount(head, ref_head)
-    return RewardTerms(r_local, r_p, r_v, r_still, e, e * (r_local + r_p + r_v + still_weight * r_still))
+    return RewardTerms(r_local, r_p, r_v, r_still, r_com, e,
+                       e * (r_local + r_p + r_v + still_weight * r_still + com_weight * r_com))
 
 
 def fallen(spinal_contacts: int, threshold: int = 3) -> bool:

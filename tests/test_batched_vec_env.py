@@ -44,7 +44,7 @@ def assert_same_transitions(batched, dummy, steps: int, scale: float = 0.3) -> d
             for key in ("frame", "episode_frame", "clip", "corrupted", "ended_by", "unstable", "TimeLimit.truncated"):
                 assert ib[key] == id_[key], key
             np.testing.assert_array_equal(ib["contacts"], id_["contacts"])
-            for key in ("r_local", "r_p", "r_v", "r_still", "e_discount", "reward"):
+            for key in ("r_local", "r_p", "r_v", "r_still", "r_com", "e_discount", "reward"):
                 assert ib[key] == pytest.approx(id_[key], rel=1e-9, abs=1e-12), key
             if "terminal_observation" in id_:
                 np.testing.assert_array_equal(ib["terminal_observation"], id_["terminal_observation"])
@@ -74,9 +74,10 @@ def test_corrupted_episodes_judged_against_the_clean_clip_batch_alike():
                                     MimicConfig(com_offset=True), MimicConfig(velocity_feedforward=True),
                                     MimicConfig(obs_frame="reference", lookahead=(1, 4, 10)),
                                     MimicConfig(physics_rate_hz=240.0, still_feet_weight=2.0),
-                                    MimicConfig(obs_frame="reference", steer_gain_hz=1.0)],
+                                    MimicConfig(obs_frame="reference", steer_gain_hz=1.0),
+                                    MimicConfig(obs_frame="reference", steer_gain_hz=1.0, com_velocity_weight=1.0)],
                          ids=["heading", "reference", "com_offset", "feedforward", "lookahead", "still_feet_240hz",
-                              "steering"])
+                              "steering", "com_velocity"])
 def test_every_observation_layout_the_velocity_feedforward_and_the_still_feet_term_batch_alike(config):
     assert_same_transitions(make(BatchedMimicVecEnv, config, n_threads=2), make(DummyVecEnv, config), steps=40)
 

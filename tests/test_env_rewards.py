@@ -8,8 +8,8 @@ import pytest
 from envs.config import GaitConfig
 from envs.observations import (gait_observation, gait_observation_slices, heading_rotation, lookahead_observation,
                                mimic_observation, observation_size, observation_slices)
-from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, body_points, contact_mismatches, contact_reward,
-                          cube_face_points, cube_face_velocities, end_effector_reward, fall_discount, fallen,
+from envs.rewards import (GAIT_TERMS, MAX_STEP_REWARD, body_points, com_velocity_reward, contact_mismatches,
+                          contact_reward, cube_face_points, cube_face_velocities, end_effector_reward, fall_discount, fallen,
                           gait_reward, joint_pose_reward, joint_velocity_reward, lagging, local_pose_reward,
                           mimic_reward, point_reward, root_orientation_reward, still_feet_reward, torque_reward,
                           unstable, upper_body_reward, upper_body_tilt)
@@ -329,12 +329,16 @@ def test_a_batch_of_states_gets_the_rewards_and_observations_of_each_state_alone
     head, ref_head = rng.standard_normal((3, 3)), rng.standard_normal((3, 3)) * 0.3
     feet_vel, feet_height = rng.standard_normal((3, 4, 3)) * 0.2, rng.uniform(-0.01, 0.04, (3, 4))
     still = still_feet_reward(feet_vel, feet_height, 0.02, 5.0)
-    batch = mimic_reward(quat, ref_quat, faces, ref_faces, vel, ref_vel, head, ref_head, still, still_weight=1.5)
+    com_vel, target = rng.standard_normal((3, 3)), rng.standard_normal((3, 2))
+    moving = com_velocity_reward(com_vel, target, 2.0)
+    batch = mimic_reward(quat, ref_quat, faces, ref_faces, vel, ref_vel, head, ref_head, still, still_weight=1.5,
+                         r_com=moving, com_weight=0.5)
     assert batch.total.shape == (3,)
     for i in range(3):
         assert still[i] == pytest.approx(still_feet_reward(feet_vel[i], feet_height[i], 0.02, 5.0), rel=1e-12)
+        assert moving[i] == pytest.approx(com_velocity_reward(com_vel[i], target[i], 2.0), rel=1e-12)
         alone = mimic_reward(quat[i], ref_quat[i], faces[i], ref_faces[i], vel[i], ref_vel[i], head[i], ref_head[i],
-                             still[i], still_weight=1.5)
+                             still[i], still_weight=1.5, r_com=moving[i], com_weight=0.5)
         for name, value in alone.as_dict().items():
             assert getattr(batch, name)[i] == pytest.approx(value, rel=1e-12), name
 

@@ -145,7 +145,7 @@ def test_still_feet_settings_are_checked_and_the_gait_task_refuses_the_term():
                 dict(still_feet_alpha=math.nan), dict(still_feet_height_m=0.0)):
         with pytest.raises(ValueError, match="still_feet_weight must be finite and >= 0"):
             MimicConfig(**bad)
-    with pytest.raises(ValueError, match="MimicGait-v0 has ContactVision's own reward.*still_feet_weight must be 0"):
+    with pytest.raises(ValueError, match="MimicGait-v0 has ContactVision's own reward.*still_feet_weight and com_velocity_weight must be 0"):
         gym.make("MimicGait-v0", clips=WALK, config=MimicConfig(still_feet_weight=1.0))
 
 
