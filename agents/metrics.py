@@ -1,4 +1,5 @@
-"""ADAPT's rollout metrics (adapt §3.2.6, eqs. 11–15) as pure functions of one rollout.
+"""ADAPT's rollout metrics (adapt §3.2.6, eqs. 11–15), and the progress ratio, as pure functions of
+one rollout.
 
 A rollout mimics a reference of ``reference_frames`` frames and survives ``rollout_frames`` of
 them. Lengths are in reference frames; positions in m (world).
@@ -39,3 +40,20 @@ def max_reward_ratio(rewards: np.ndarray, reference_steps: int, max_step_reward:
     if reference_steps <= 0:
         raise ValueError(f"reference_steps must be positive, got {reference_steps}")
     return float(np.sum(rewards)) / (max_step_reward * reference_steps)
+
+
+def progress_ratio(root: np.ndarray, ref_root: np.ndarray, min_distance_m: float = 0.3) -> float:
+    """How far the simulated root got along the reference root's way, as a fraction of it: the
+    horizontal displacement of ``root`` from its first to its last frame, projected on the
+    reference's over the same frames, over the length of the reference's (both ``(N, 3)``, m,
+    world). 1.0: as far as the take; 0.8: a fifth short, as a body taking shorter steps than the
+    take ends up (the lag termination's usual cause). NaN when the reference moves less than
+    ``min_distance_m`` (e.g. standing), where the ratio means nothing."""
+    root, ref_root = np.asarray(root, float), np.asarray(ref_root, float)
+    if root.shape != ref_root.shape or root.ndim != 2 or root.shape[1] != 3 or len(root) == 0:
+        raise ValueError(f"root and ref_root must both be (N, 3) with N > 0, got {root.shape} and {ref_root.shape}")
+    way = ref_root[-1, :2] - ref_root[0, :2]
+    length = float(np.linalg.norm(way))
+    if length < min_distance_m:
+        return float("nan")
+    return float((root[-1, :2] - root[0, :2]) @ way / length ** 2)

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from agents.metrics import episode_length_ratio, max_reward_ratio, root_displacement_error, survived
+from agents.metrics import episode_length_ratio, max_reward_ratio, progress_ratio, root_displacement_error, survived
 
 
 def test_rollout_metrics_on_a_hand_made_rollout():
@@ -14,11 +14,23 @@ def test_rollout_metrics_on_a_hand_made_rollout():
     assert max_reward_ratio(np.full(75, 0.5), 150, max_step_reward=1.0) == pytest.approx(0.25)  # MimicGait-v0
 
 
+def test_progress_ratio_on_hand_made_paths():
+    ref = np.array([[0.0, 0, 0.9], [1.0, 1.0, 0.9], [3.0, 4.0, 0.95]])  # 5 m along (0.6, 0.8)
+    behind = np.array([[0.1, 0, 0.9], [0.5, 0.5, 0.9], [2.5, 3.2, 0.9]])  # (2.4, 3.2): 4 m of the 5
+    assert progress_ratio(behind, ref) == pytest.approx(0.8)
+    sideways = np.array([[0.0, 0, 0.9], [0, 0, 0.9], [-4.0, 3.0, 0.9]])  # across the way: no progress
+    assert progress_ratio(sideways, ref) == pytest.approx(0.0)
+    assert progress_ratio(ref[::-1], ref) == pytest.approx(-1.0)
+    assert np.isnan(progress_ratio(ref, np.zeros((3, 3))))  # a reference standing still
+
+
 def test_rollout_metrics_reject_bad_input():
     with pytest.raises(ValueError, match="reference_frames"):
         episode_length_ratio(3, 0)
     with pytest.raises(ValueError, match=r"\(N, 3\)"):
         root_displacement_error(np.zeros((3, 3)), np.zeros((4, 3)))
+    with pytest.raises(ValueError, match=r"\(N, 3\)"):
+        progress_ratio(np.zeros((3, 2)), np.zeros((3, 2)))
 
 
 def test_per_clip_table_on_hand_made_rollouts():
