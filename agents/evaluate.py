@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from dataclasses import asdict
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repository importable
@@ -39,6 +40,7 @@ from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.rigs import MocapOptions
+from reference_motion.swing_lift import SwingLift, lift_swing
 
 def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
@@ -55,6 +57,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
                         "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
                         "the clip as given")
+    add_swing_lift_option(p)
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES,
                    help="run a world-frame policy observing in this frame (envs.observations; default: the frame its "
                         "sidecar records)")
@@ -87,13 +90,34 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     return out
 
 
-def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None) -> tuple[list[Motion], list[Motion] | None]:
+def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None,
+                       lift: SwingLift | None = None) -> tuple[list[Motion], list[Motion] | None]:
     """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
-    what it tracks: ``None``), or with ``denoiser`` the clips after it, judged against the clips as
-    given (``--denoise``)."""
-    if denoiser is None:
+    what it tracks: ``None``), or the clips after ``denoiser`` (``--denoise``) and then with their
+    backward steps' knees lifted in swing (``lift``, ``--swing-lift``), judged against the clips as
+    given."""
+    if denoiser is None and lift is None:
         return clips, None
-    return [denoise(denoiser, c) for c in clips], clips
+    tracked = [denoise(denoiser, c) for c in clips] if denoiser is not None else clips
+    return ([lift_swing(c, lift) for c in tracked] if lift is not None else tracked), clips
+
+
+def add_swing_lift_option(p: argparse.ArgumentParser) -> None:
+    """``--swing-lift [DEG]``: :func:`swing_lift_of` reads it."""
+    p.add_argument("--swing-lift", nargs="?", const=SwingLift.knee_deg, type=positive_float, metavar="DEG",
+                   help="the policy mimics each clip with the knees of its backward steps bent DEG more in swing "
+                        "(reference_motion/swing_lift.py; after --denoise) and is judged against the clip as given")
+
+
+def swing_lift_of(args: argparse.Namespace) -> SwingLift | None:
+    """The :class:`SwingLift` ``--swing-lift`` asks for, or ``None``."""
+    return SwingLift(knee_deg=args.swing_lift) if args.swing_lift else None
+
+
+def lifted_label(label: str, lift: SwingLift | None) -> str:
+    """How results name an actor that tracked swing-lifted clips (so ``bench/select_policy.py``
+    tells it from the same actor without the lift)."""
+    return f"{label} + swing lift {lift.knee_deg:g} deg" if lift is not None else label
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:
@@ -116,6 +140,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
+    lift = swing_lift_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
@@ -132,11 +157,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        tracked, judged = tracked_and_judged(clips, denoiser)
+        tracked, judged = tracked_and_judged(clips, denoiser, lift)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": actor_label(args.policy, args.mirror_average), "mirror_average": args.mirror_average,
+    result = {"policy": lifted_label(actor_label(args.policy, args.mirror_average), lift),
+              "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "clips": args.clips, "corrupt": args.corrupt,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),
@@ -145,7 +171,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
-          + (f", denoised by {args.denoise}" if args.denoise else ""))
+          + (f", denoised by {args.denoise}" if args.denoise else "")
+          + (f", backward steps' knees lifted {lift.knee_deg:g} deg in swing" if lift else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "
           f"{summary['MRR_std']:.3f}")

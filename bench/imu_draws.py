@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--json [OUT]]``
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--swing-lift [DEG]] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
@@ -24,7 +24,7 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import reference_clips, tracked_and_judged
+from agents.evaluate import add_swing_lift_option, lifted_label, reference_clips, swing_lift_of, tracked_and_judged
 from agents.evaluation import evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import load_policy
@@ -50,8 +50,10 @@ def main() -> None:
     denoising = p.add_mutually_exclusive_group()
     denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
+    add_swing_lift_option(p)
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
+    lift = swing_lift_of(args)
     n_clips = len(expand_clips(args.clips))
     stride = n_clips if args.stride is None else args.stride
     if stride < n_clips:
@@ -68,14 +70,14 @@ def main() -> None:
     net = load_network(denoiser_path, "denoiser") if denoiser_path else None
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
-    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net)
+    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net, lift)
              for seed in seeds]
     rows = []
     for path, policy in zip(args.policies, policies):
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = actor_label(path, args.mirror_average)
+        label = lifted_label(actor_label(path, args.mirror_average), lift)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
@@ -87,7 +89,7 @@ def main() -> None:
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
-               "mirror_average": args.mirror_average,
+               "mirror_average": args.mirror_average, "swing_lift": args.swing_lift,
                "rows": rows}, args.json)
 
 

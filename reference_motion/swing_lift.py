@@ -1,0 +1,104 @@
+"""Feet lifted in swing: more knee flexion while a foot is off the floor, so that a simulated foot
+tracking the take with a few degrees of error clears the floor instead of scuffing it.
+
+A take's swing foot may pass a centimetre or two above the floor. A policy tracks every hinge with
+several degrees of error (the shipped actor 7–15° RMS on the sagittal leg hinges of validation's
+walks, clean), so its swing foot touches the floor and drags: on validation's backward walk 4.9% of
+the simulated foot points are within 2 cm of the floor and moving faster than 0.3 m/s, against 0.1%
+in the take, and the body gets only 0.815 of the take's way (``bench/walking_speed.py``) until the
+lag termination ends it. The policy tracks a copy of the take whose knees bend ``knee_deg`` more at
+the height of each swing (:func:`lift_swing`), judged against the take as given
+(``evaluate.py --swing-lift``, ``bench/swing_lift.py``).
+
+Swing, per foot: the lower of its toe and heel points is more than ``clearance_m`` above that
+foot's own low (the 5th percentile of its height over the take, so a take that floats or sinks a
+little as a whole is read alike), the 0/1 indicator smoothed by a Gaussian of ``smoothing_frames``
+so the added flexion rises and falls with the swing instead of jumping.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from scipy.ndimage import gaussian_filter1d
+
+from reference_motion import rotations as rot
+from reference_motion.humanoid.model import FOOT_CHANNELS, load_model
+from reference_motion.motion import Motion
+
+KNEES = ("l_shin_y", "r_shin_y")
+"""The knee hinge of each foot of :data:`~reference_motion.humanoid.model.FOOT_CHANNELS` (left,
+right); positive is flexion on both humanoids."""
+
+
+@dataclass(frozen=True)
+class SwingLift:
+    """How far a swing foot's knee bends more.
+
+    Attributes:
+        knee_deg: added knee flexion at the height of a swing (degrees, > 0).
+        clearance_m: a foot is in swing when its lowest point is more than this above its own low (m).
+        smoothing_frames: σ of the Gaussian that smooths the swing indicator (frames, > 0).
+        backward_speed_mps: the lift is in full where the take walks backward (its root against the
+            pelvis's heading, on the ground) at this speed or faster (m/s, > 0), in proportion below
+            it, and none where it walks forward or sideways: bending a forward or side step's knee
+            more makes the body walk faster than the take (probe: validation's forward walks get
+            1.02–1.07 of the take's way at 15°, 1.07–1.42 at 25°, and lose the lag termination).
+        backward_window_s: σ of the Gaussian that averages that velocity (s).
+    """
+
+    knee_deg: float = 15.0
+    clearance_m: float = 0.01
+    smoothing_frames: float = 3.0
+    backward_speed_mps: float = 0.5
+    backward_window_s: float = 0.5
+
+    def __post_init__(self) -> None:
+        for name in ("knee_deg", "clearance_m", "smoothing_frames", "backward_speed_mps", "backward_window_s"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
+                raise ValueError(f"SwingLift.{name} must be finite and > 0, got {value!r}")
+
+
+def swing_weights(foot_height: np.ndarray, clearance_m: float, smoothing_frames: float) -> np.ndarray:
+    """How much in swing a foot is at each frame, ``(T,)`` in [0, 1], from the height ``(T,)`` (m)
+    of its lowest point: 1 well inside a swing (higher than its 5th percentile + ``clearance_m``), 0
+    well inside a stance, the step between smoothed by a Gaussian of σ ``smoothing_frames``."""
+    height = np.asarray(foot_height, dtype=float)
+    if height.ndim != 1 or len(height) == 0 or not np.all(np.isfinite(height)):
+        raise ValueError(f"foot_height must be a finite (T,) array with T > 0, got shape {height.shape}")
+    swing = (height > np.percentile(height, 5) + clearance_m).astype(float)
+    return np.clip(gaussian_filter1d(swing, smoothing_frames, mode="nearest"), 0.0, 1.0)
+
+
+def backward_weights(root_xy: np.ndarray, heading: np.ndarray, fps: float, full_speed_mps: float,
+                     window_s: float) -> np.ndarray:
+    """How much the take walks backward at each frame, ``(T,)`` in [0, 1]: the root's horizontal
+    velocity (from positions ``root_xy (T, 2)``, m, at ``fps``) against the pelvis's heading
+    ``heading (T,)`` (rad about +z), averaged by a Gaussian of σ ``window_s`` (s, a step or two),
+    over ``full_speed_mps``, clipped to [0, 1]."""
+    velocity = np.gradient(np.asarray(root_xy, dtype=float), axis=0) * fps
+    backward = -(velocity[:, 0] * np.cos(heading) + velocity[:, 1] * np.sin(heading))
+    return np.clip(gaussian_filter1d(backward, window_s * fps, mode="nearest") / full_speed_mps, 0.0, 1.0)
+
+
+def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
+    """``motion`` with each knee bent ``lift.knee_deg`` more in proportion to its foot's
+    :func:`swing_weights` times its :func:`backward_weights`, held inside the knee's range.
+    Everything else (root, other hinges, rate) is unchanged; ``source["swing_lift"]`` records the
+    settings."""
+    model = load_model(motion.model)
+    points = model.forward_kinematics(motion.qpos).foot_points  # (T, 4, 3), CONTACT_CHANNELS order
+    backward = backward_weights(motion.root_pos[:, :2], rot.yaw(motion.root_quat), motion.fps,
+                                lift.backward_speed_mps, lift.backward_window_s)
+    qpos = motion.qpos.copy()
+    limited, ranges = model.hinge_ranges
+    for knee, columns in zip(KNEES, FOOT_CHANNELS):
+        index = model.qpos_index(knee)
+        low, high = ranges[list(limited).index(index)]
+        foot = points[:, list(columns)]
+        weights = swing_weights(foot[..., 2].min(axis=1), lift.clearance_m, lift.smoothing_frames) * backward
+        qpos[:, index] = np.clip(qpos[:, index] + math.radians(lift.knee_deg) * weights, low, high)
+    return motion.with_qpos(qpos, source={**motion.source, "swing_lift": asdict(lift)})
