@@ -117,7 +117,7 @@ def swing_lift_of(args: argparse.Namespace) -> SwingLift | None:
 def lifted_label(label: str, lift: SwingLift | None) -> str:
     """How results name an actor that tracked swing-lifted clips (so ``bench/select_policy.py``
     tells it from the same actor without the lift)."""
-    return f"{label} + swing lift {lift.knee_deg:g} deg" if lift is not None else label
+    return f"{label} + swing lift {lift.knee_deg:g} deg above {100 * lift.clearance_m:g} cm" if lift is not None else label
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:

@@ -19,6 +19,7 @@ draws) and on how many draws it scores above, equal to and below it.
 from __future__ import annotations
 
 import argparse
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -89,7 +90,7 @@ def main() -> None:
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
-               "mirror_average": args.mirror_average, "swing_lift": args.swing_lift,
+               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
                "rows": rows}, args.json)
 
 
