@@ -69,6 +69,7 @@ from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
+from reference_motion.swing_lift import SwingLift, lift_swing
 from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3
@@ -444,6 +445,10 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
+        p.add_argument("--swing-lift", nargs="?", const=SwingLift.knee_deg, type=positive_float, metavar="DEG",
+                       help="bend the knees of the take's backward steps DEG more in swing before the policy is "
+                            "adapted to it and re-performs it (after --denoise; reference_motion/swing_lift.py), so the "
+                            "simulated swing foot does not drag on the floor")
         p.add_argument("--mirror-average", action="store_true",
                        help="re-perform with the policy's mirror-symmetric actor (agents/mirror.py: the mean of its "
                             "action and, mapped back, its action on the mirrored observation), after any adaptation; "
@@ -590,7 +595,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     args = parser.parse_args(argv)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        given = [flag for flag, on in (("--denoise", args.denoise), ("--mirror-average", args.mirror_average)) if on]
+        given = [flag for flag, on in (("--denoise", args.denoise), ("--swing-lift", args.swing_lift),
+                                       ("--mirror-average", args.mirror_average)) if on]
         if given:
             parser.error(f"{' and '.join(given)} go{'es' if len(given) == 1 else ''} with --method ppo")
         from agents.diffpd_clean import clean_from_args  # torch cycle only when asked for
@@ -609,6 +615,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
             height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
             print(f"denoised with {args.denoise}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
+        if args.swing_lift:
+            performed = lift_swing(performed, SwingLift(knee_deg=args.swing_lift))
         adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
         if args.mirror_average:
@@ -641,7 +649,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
-              "mirror_average": args.mirror_average, **extra}
+              "mirror_average": args.mirror_average, "swing_lift": args.swing_lift, **extra}
     if args.json:
         write_json(args.json, result)
     return result

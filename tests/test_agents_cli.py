@@ -96,6 +96,22 @@ def test_clean_can_denoise_an_imu_take_first(policy_dir, tmp_path):
         clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--denoise"])
 
 
+def test_clean_can_lift_the_backward_steps_first(policy_dir, tmp_path, walk):
+    """--swing-lift: the policy re-performs the take with its backward steps' knees lifted in swing;
+    the input metrics are the take as given; with diffpd it is refused."""
+    from reference_motion.swing_lift import SwingLift
+    from reference_motion.transforms import reversed_in_time
+    take = reversed_in_time(walk).save(tmp_path / "walked_backward.npz")
+    args = [str(take), "--policy", str(policy_dir), "--no-adapt", "--search", "off"]
+    plain = clean.main(args + ["--out", str(tmp_path / "plain.npz")])
+    lifted = clean.main(args + ["--out", str(tmp_path / "lifted.npz"), "--swing-lift"])
+    assert plain["swing_lift"] is None and lifted["swing_lift"] == SwingLift.knee_deg
+    assert lifted["input"] == plain["input"]
+    assert not np.allclose(Motion.load(tmp_path / "plain.npz").qpos, Motion.load(tmp_path / "lifted.npz").qpos)
+    with pytest.raises(SystemExit):
+        clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--swing-lift"])
+
+
 def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
     """--mirror-average: evaluate.py names the actor and scores it otherwise than the policy as it is;
     clean.py re-performs with it (a different simulation) and records it; with diffpd it is refused.

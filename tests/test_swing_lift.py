@@ -71,3 +71,4 @@ def test_evaluation_tracks_the_lifted_take_and_judges_the_take_as_given(walk):
     assert tracked_and_judged([back], None, None) == ([back], None)
     assert lifted_label("models/x (mirror-averaged)", SwingLift(knee_deg=15.0)) == \
         "models/x (mirror-averaged) + swing lift 15 deg above 3 cm"
+
