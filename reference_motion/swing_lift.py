@@ -1,5 +1,6 @@
-"""Feet lifted in swing: more knee flexion while a foot is off the floor, so that a simulated foot
-tracking the take with a few degrees of error clears the floor instead of scuffing it.
+"""Feet lifted in the swing of backward steps: more knee flexion while a foot is off the floor and
+the take walks backward, so that a simulated foot tracking the take with a few degrees of error
+clears the floor instead of scuffing it.
 
 A take's swing foot may pass a centimetre or two above the floor. A policy tracks every hinge with
 several degrees of error (the shipped actor 7–15° RMS on the sagittal leg hinges of validation's
@@ -8,12 +9,16 @@ the simulated foot points are within 2 cm of the floor and moving faster than 0.
 in the take, and the body gets only 0.815 of the take's way (``bench/walking_speed.py``) until the
 lag termination ends it. The policy tracks a copy of the take whose knees bend ``knee_deg`` more at
 the height of each swing (:func:`lift_swing`), judged against the take as given
-(``evaluate.py --swing-lift``, ``bench/swing_lift.py``).
+(``--swing-lift`` on ``evaluate.py``, ``clean.py`` and ``bench/imu_draws.py``).
 
 Swing, per foot: the lower of its toe and heel points is more than ``clearance_m`` above that
 foot's own low (the 5th percentile of its height over the take, so a take that floats or sinks a
 little as a whole is read alike), the 0/1 indicator smoothed by a Gaussian of ``smoothing_frames``
-so the added flexion rises and falls with the swing instead of jumping.
+so the added flexion rises and falls with the swing instead of jumping. Backward steps only: the
+lift is weighted by how fast the take's root walks against the pelvis's heading
+(:func:`backward_weights`), since a forward step's extra knee flexion makes the body outpace the
+take. A denoised IMU take's stance foot wanders a centimetre or two, so some of its stance reads as
+swing (README, "Walking as far as the take").
 """
 
 from __future__ import annotations
