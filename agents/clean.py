@@ -62,14 +62,14 @@ from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
 from reference_motion.bvh_export import write_bvh
-from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
-                                  non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
-                                  positive_int, require_frames)
+from reference_motion.cli import (CliParser, add_mocap_options, add_swing_lift_options, fraction, mocap_options,
+                                  non_negative_float, non_negative_int, one_line_errors, or_none, output_dir,
+                                  output_file, positive_float, positive_int, require_frames, swing_lift_of)
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
-from reference_motion.swing_lift import SwingLift, lift_swing
+from reference_motion.swing_lift import lift_swing
 from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3
@@ -445,10 +445,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
-        p.add_argument("--swing-lift", nargs="?", const=SwingLift.knee_deg, type=positive_float, metavar="DEG",
-                       help="bend the knees of the take's backward steps DEG more in swing before the policy is "
-                            "adapted to it and re-performs it (after --denoise; reference_motion/swing_lift.py), so the "
-                            "simulated swing foot does not drag on the floor")
+        add_swing_lift_options(p, "the policy is adapted to the lifted take and re-performs it, so the simulated "
+                                  "swing foot does not drag on the floor")
         p.add_argument("--mirror-average", action="store_true",
                        help="re-perform with the policy's mirror-symmetric actor (agents/mirror.py: the mean of its "
                             "action and, mapped back, its action on the mirrored observation), after any adaptation; "
@@ -593,6 +591,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
     args = parser.parse_args(argv)
+    lift = swing_lift_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
         given = [flag for flag, on in (("--denoise", args.denoise), ("--swing-lift", args.swing_lift),
@@ -615,8 +614,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
             height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
             print(f"denoised with {args.denoise}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
-        if args.swing_lift:
-            performed = lift_swing(performed, SwingLift(knee_deg=args.swing_lift))
+        if lift is not None:
+            performed = lift_swing(performed, lift)
         adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
         if args.mirror_average:
@@ -649,7 +648,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
-              "mirror_average": args.mirror_average, "swing_lift": args.swing_lift, **extra}
+              "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None, **extra}
     if args.json:
         write_json(args.json, result)
     return result

@@ -34,8 +34,9 @@ from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
-from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
-                                  one_line_errors, output_file, positive_float, positive_int, require_frames)
+from reference_motion.cli import (CliParser, add_mocap_options, add_swing_lift_options, mocap_options,
+                                  non_negative_float, non_negative_int, one_line_errors, output_file, positive_float,
+                                  positive_int, require_frames, swing_lift_of)
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
@@ -57,7 +58,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
                         "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
                         "the clip as given")
-    add_swing_lift_option(p)
+    add_swing_lift_options(p, "the policy mimics the lifted clip and is judged against the clip as given")
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES,
                    help="run a world-frame policy observing in this frame (envs.observations; default: the frame its "
                         "sidecar records)")
@@ -102,22 +103,10 @@ def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None,
     return ([lift_swing(c, lift) for c in tracked] if lift is not None else tracked), clips
 
 
-def add_swing_lift_option(p: argparse.ArgumentParser) -> None:
-    """``--swing-lift [DEG]``: :func:`swing_lift_of` reads it."""
-    p.add_argument("--swing-lift", nargs="?", const=SwingLift.knee_deg, type=positive_float, metavar="DEG",
-                   help="the policy mimics each clip with the knees of its backward steps bent DEG more in swing "
-                        "(reference_motion/swing_lift.py; after --denoise) and is judged against the clip as given")
-
-
-def swing_lift_of(args: argparse.Namespace) -> SwingLift | None:
-    """The :class:`SwingLift` ``--swing-lift`` asks for, or ``None``."""
-    return SwingLift(knee_deg=args.swing_lift) if args.swing_lift else None
-
-
 def lifted_label(label: str, lift: SwingLift | None) -> str:
     """How results name an actor that tracked swing-lifted clips (so ``bench/select_policy.py``
     tells it from the same actor without the lift)."""
-    return f"{label} + swing lift {lift.knee_deg:g} deg above {100 * lift.clearance_m:g} cm" if lift is not None else label
+    return f"{label} + {lift.label}" if lift is not None else label
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:

@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--swing-lift [DEG]] [--json [OUT]]``
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import add_swing_lift_option, lifted_label, reference_clips, swing_lift_of, tracked_and_judged
+from agents.evaluate import lifted_label, reference_clips, tracked_and_judged
 from agents.evaluation import evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import load_policy
@@ -33,6 +33,7 @@ from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from paired_draws import paired
 from perception.weights import load_network
+from reference_motion.cli import add_swing_lift_options, swing_lift_of
 from reference_motion.library import expand_clips
 
 
@@ -51,7 +52,7 @@ def main() -> None:
     denoising = p.add_mutually_exclusive_group()
     denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
-    add_swing_lift_option(p)
+    add_swing_lift_options(p, "every policy mimics the lifted takes and is judged against them as given")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
     lift = swing_lift_of(args)

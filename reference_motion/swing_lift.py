@@ -11,14 +11,15 @@ lag termination ends it. The policy tracks a copy of the take whose knees bend `
 the height of each swing (:func:`lift_swing`), judged against the take as given
 (``--swing-lift`` on ``evaluate.py``, ``clean.py`` and ``bench/imu_draws.py``).
 
-Swing, per foot: the lower of its toe and heel points is more than ``clearance_m`` above that
-foot's own low (the 5th percentile of its height over the take, so a take that floats or sinks a
-little as a whole is read alike), the 0/1 indicator smoothed by a Gaussian of ``smoothing_frames``
+Swing, per foot, read from height (the default): the lower of its toe and heel points is more than
+``clearance_m`` above that foot's own low (the 5th percentile of its height over the take, so a take
+that floats or sinks a little as a whole is read alike); or read from speed: both points move faster
+than ``swing_speed_mps`` over the floor. The 0/1 indicator is smoothed by a Gaussian of ``smoothing_frames``
 so the added flexion rises and falls with the swing instead of jumping. Backward steps only: the
 lift is weighted by how fast the take's root walks against the pelvis's heading
 (:func:`backward_weights`), since a forward step's extra knee flexion makes the body outpace the
-take. A denoised IMU take's stance foot wanders a centimetre or two, so some of its stance reads as
-swing (README, "Walking as far as the take").
+take. A denoised IMU take's stance foot wanders a centimetre or two in height, so some of its stance reads
+as swing from height; less of it from speed (README, "Walking as far as the take").
 """
 
 from __future__ import annotations
@@ -32,6 +33,9 @@ from scipy.ndimage import gaussian_filter1d
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import FOOT_CHANNELS, load_model
 from reference_motion.motion import Motion
+
+SWING_READS = ("height", "speed")
+"""What :attr:`SwingLift.swing_from` may read swing from."""
 
 KNEES = ("l_shin_y", "r_shin_y")
 """The knee hinge of each foot of :data:`~reference_motion.humanoid.model.FOOT_CHANNELS` (left,
@@ -49,6 +53,14 @@ class SwingLift:
             joint errors left in it, and a stance knee bent 15° more costs the backward walk more
             than the lift gains (validation's rule: 1 cm took its IMU draws 0.950 → 0.919).
         smoothing_frames: σ of the Gaussian that smooths the swing indicator (frames, > 0).
+        swing_from: what swing is read from: ``"height"`` (the foot's lowest point more than
+            ``clearance_m`` above its own low, :func:`swing_weights`) or ``"speed"`` (every point of
+            the foot moving faster than ``swing_speed_mps`` over the floor, :func:`speed_swing_weights`).
+            A denoised IMU take's stance foot wanders in height more than it slides (kinematic probe on
+            validation's backward walk: read from height above 3 cm its stance knees get 1.6–3.3° of
+            the lift, from speed 0.4–1.4°).
+        swing_speed_mps: the horizontal speed above which a foot is in swing when ``swing_from`` is
+            ``"speed"`` (m/s, > 0).
         backward_speed_mps: the lift is in full where the take walks backward (its root against the
             pelvis's heading, on the ground) at this speed or faster (m/s, > 0), in proportion below
             it, and none where it walks forward or sideways: bending a forward or side step's knee
@@ -60,14 +72,26 @@ class SwingLift:
     knee_deg: float = 15.0
     clearance_m: float = 0.03
     smoothing_frames: float = 3.0
+    swing_from: str = "height"
+    swing_speed_mps: float = 1.0
     backward_speed_mps: float = 0.5
     backward_window_s: float = 0.5
 
     def __post_init__(self) -> None:
-        for name in ("knee_deg", "clearance_m", "smoothing_frames", "backward_speed_mps", "backward_window_s"):
+        for name in ("knee_deg", "clearance_m", "smoothing_frames", "swing_speed_mps", "backward_speed_mps",
+                     "backward_window_s"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"SwingLift.{name} must be finite and > 0, got {value!r}")
+        if self.swing_from not in SWING_READS:
+            raise ValueError(f"SwingLift.swing_from must be one of {SWING_READS}, got {self.swing_from!r}")
+
+    @property
+    def label(self) -> str:
+        """How results name the lift, e.g. ``"swing lift 15 deg above 3 cm"``."""
+        read = (f"above {100 * self.clearance_m:g} cm" if self.swing_from == "height"
+                else f"faster than {self.swing_speed_mps:g} m/s")
+        return f"swing lift {self.knee_deg:g} deg {read}"
 
 
 def swing_weights(foot_height: np.ndarray, clearance_m: float, smoothing_frames: float) -> np.ndarray:
@@ -78,6 +102,20 @@ def swing_weights(foot_height: np.ndarray, clearance_m: float, smoothing_frames:
     if height.ndim != 1 or len(height) == 0 or not np.all(np.isfinite(height)):
         raise ValueError(f"foot_height must be a finite (T,) array with T > 0, got shape {height.shape}")
     swing = (height > np.percentile(height, 5) + clearance_m).astype(float)
+    return np.clip(gaussian_filter1d(swing, smoothing_frames, mode="nearest"), 0.0, 1.0)
+
+
+def speed_swing_weights(foot_xy: np.ndarray, fps: float, swing_speed_mps: float,
+                        smoothing_frames: float) -> np.ndarray:
+    """How much in swing a foot is at each frame, ``(T,)`` in [0, 1], from the horizontal positions
+    ``foot_xy (T, P, 2)`` (m, at ``fps``) of its ``P`` points: 1 where every point moves faster than
+    ``swing_speed_mps`` over the floor (a heel or toe still on it is stance), 0 where one is slower,
+    the step between smoothed by a Gaussian of σ ``smoothing_frames``."""
+    xy = np.asarray(foot_xy, dtype=float)
+    if xy.ndim != 3 or xy.shape[-1] != 2 or len(xy) < 2 or not np.all(np.isfinite(xy)):
+        raise ValueError(f"foot_xy must be a finite (T, P, 2) array with T > 1, got shape {xy.shape}")
+    speed = np.linalg.norm(np.gradient(xy, axis=0), axis=-1).min(axis=1) * fps
+    swing = (speed > swing_speed_mps).astype(float)
     return np.clip(gaussian_filter1d(swing, smoothing_frames, mode="nearest"), 0.0, 1.0)
 
 
@@ -93,8 +131,8 @@ def backward_weights(root_xy: np.ndarray, heading: np.ndarray, fps: float, full_
 
 
 def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
-    """``motion`` with each knee bent ``lift.knee_deg`` more in proportion to its foot's
-    :func:`swing_weights` times its :func:`backward_weights`, held inside the knee's range.
+    """``motion`` with each knee bent ``lift.knee_deg`` more in proportion to its foot's swing weights
+    (:func:`swing_weights` or :func:`speed_swing_weights`, as ``lift.swing_from`` says) times its :func:`backward_weights`, held inside the knee's range.
     Everything else (root, other hinges, rate) is unchanged; ``source["swing_lift"]`` records the
     settings."""
     model = load_model(motion.model)
@@ -107,6 +145,10 @@ def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
         index = model.qpos_index(knee)
         low, high = ranges[list(limited).index(index)]
         foot = points[:, list(columns)]
-        weights = swing_weights(foot[..., 2].min(axis=1), lift.clearance_m, lift.smoothing_frames) * backward
+        if lift.swing_from == "height":
+            swing = swing_weights(foot[..., 2].min(axis=1), lift.clearance_m, lift.smoothing_frames)
+        else:
+            swing = speed_swing_weights(foot[..., :2], motion.fps, lift.swing_speed_mps, lift.smoothing_frames)
+        weights = swing * backward
         qpos[:, index] = np.clip(qpos[:, index] + math.radians(lift.knee_deg) * weights, low, high)
     return motion.with_qpos(qpos, source={**motion.source, "swing_lift": asdict(lift)})

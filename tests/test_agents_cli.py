@@ -99,13 +99,16 @@ def test_clean_can_denoise_an_imu_take_first(policy_dir, tmp_path):
 def test_clean_can_lift_the_backward_steps_first(policy_dir, tmp_path, walk):
     """--swing-lift: the policy re-performs the take with its backward steps' knees lifted in swing;
     the input metrics are the take as given; with diffpd it is refused."""
+    from dataclasses import asdict
+
     from reference_motion.swing_lift import SwingLift
     from reference_motion.transforms import reversed_in_time
     take = reversed_in_time(walk).save(tmp_path / "walked_backward.npz")
     args = [str(take), "--policy", str(policy_dir), "--no-adapt", "--search", "off"]
     plain = clean.main(args + ["--out", str(tmp_path / "plain.npz")])
-    lifted = clean.main(args + ["--out", str(tmp_path / "lifted.npz"), "--swing-lift"])
-    assert plain["swing_lift"] is None and lifted["swing_lift"] == SwingLift.knee_deg
+    lifted = clean.main(args + ["--out", str(tmp_path / "lifted.npz"), "--swing-lift", "12", "--swing-from", "speed"])
+    assert plain["swing_lift"] is None
+    assert lifted["swing_lift"] == asdict(SwingLift(knee_deg=12.0, swing_from="speed"))
     assert lifted["input"] == plain["input"]
     assert not np.allclose(Motion.load(tmp_path / "plain.npz").qpos, Motion.load(tmp_path / "lifted.npz").qpos)
     with pytest.raises(SystemExit):

@@ -9,7 +9,8 @@ import pytest
 
 from agents.evaluate import lifted_label, tracked_and_judged
 from reference_motion.humanoid.model import load_model
-from reference_motion.swing_lift import KNEES, SwingLift, backward_weights, lift_swing, swing_weights
+from reference_motion.cli import CliParser, add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import KNEES, SwingLift, backward_weights, lift_swing, speed_swing_weights, swing_weights
 from reference_motion.transforms import reversed_in_time
 
 
@@ -23,6 +24,23 @@ def test_swing_weights_follow_the_foot_off_its_low():
     np.testing.assert_allclose(swing_weights(height + 0.03, 0.01, 3.0), w)
     with pytest.raises(ValueError, match="finite"):
         swing_weights(np.array([0.0, np.nan]), 0.01, 3.0)
+
+
+def test_speed_swing_weights_need_every_point_of_the_foot_moving():
+    fps = 60.0
+    x = np.r_[np.zeros(30), np.linspace(0.0, 0.6, 30), np.full(30, 0.6)]  # still, 1.2 m/s, still
+    heel = np.stack([x, np.zeros(90)], axis=1)
+    toe = heel + [0.15, 0.0]
+    w = speed_swing_weights(np.stack([heel, toe], axis=1), fps, swing_speed_mps=1.0, smoothing_frames=3.0)
+    assert w.shape == (90,) and w.min() >= 0 and w.max() <= 1
+    assert np.all(w[:20] < 0.01) and np.all(w[38:52] > 0.99) and np.all(w[70:] < 0.01)
+    # the heel still on the floor while the toe swings round it: stance
+    rolled = np.stack([np.zeros((90, 2)), toe], axis=1)
+    np.testing.assert_allclose(speed_swing_weights(rolled, fps, 1.0, 3.0), 0.0)
+    # a slower swing (0.6 m/s) is not read as swing at 1 m/s
+    assert speed_swing_weights(np.stack([heel, toe], axis=1) * 0.5, fps, 1.0, 3.0).max() < 0.01
+    with pytest.raises(ValueError, match=r"\(T, P, 2\)"):
+        speed_swing_weights(np.zeros((10, 2)), fps, 1.0, 3.0)
 
 
 def test_backward_weights_read_the_root_against_the_heading():
@@ -57,8 +75,21 @@ def test_a_forward_walk_is_left_alone_and_a_backward_one_lifted_in_swing(walk):
     assert lifted.source["swing_lift"]["knee_deg"] == 15.0
 
 
+def test_swing_read_from_speed_lifts_the_same_swings_and_spares_the_stance(walk):
+    model = load_model(walk.model)
+    knees = [model.qpos_index(k) for k in KNEES]
+    back = reversed_in_time(walk)
+    by_speed = np.degrees(lift_swing(back, SwingLift(swing_from="speed")).qpos[:, knees] - back.qpos[:, knees])
+    heights = model.forward_kinematics(back.qpos).foot_points[..., 2]
+    for side, columns in enumerate(((0, 2), (1, 3))):
+        low = heights[:, list(columns)].min(axis=1)
+        stance, swing = low < np.percentile(low, 5) + 0.003, low > np.percentile(low, 5) + 0.05
+        assert by_speed[swing, side].mean() > 12.0 and by_speed[stance, side].mean() < 1.0
+
+
 @pytest.mark.parametrize("bad", [dict(knee_deg=0.0), dict(clearance_m=-0.01), dict(smoothing_frames=math.nan),
-                                 dict(backward_speed_mps=math.inf), dict(backward_window_s=0.0)])
+                                 dict(backward_speed_mps=math.inf), dict(backward_window_s=0.0),
+                                 dict(swing_speed_mps=-1.0)])
 def test_bad_settings_are_refused(bad):
     with pytest.raises(ValueError, match="SwingLift.* must be finite and > 0"):
         SwingLift(**bad)
@@ -71,4 +102,18 @@ def test_evaluation_tracks_the_lifted_take_and_judges_the_take_as_given(walk):
     assert tracked_and_judged([back], None, None) == ([back], None)
     assert lifted_label("models/x (mirror-averaged)", SwingLift(knee_deg=15.0)) == \
         "models/x (mirror-averaged) + swing lift 15 deg above 3 cm"
+    assert lifted_label("models/x", SwingLift(swing_from="speed")) == "models/x + swing lift 15 deg faster than 1 m/s"
+
+
+def test_the_command_line_options_build_the_lift():
+    parser = CliParser()
+    add_swing_lift_options(parser, "for a test")
+    assert swing_lift_of(parser.parse_args([])) is None
+    assert swing_lift_of(parser.parse_args(["--swing-lift"])) == SwingLift()
+    assert swing_lift_of(parser.parse_args(["--swing-lift", "10", "--swing-from", "speed"])) == \
+        SwingLift(knee_deg=10.0, swing_from="speed")
+    with pytest.raises(ValueError, match="swing-from"):
+        parser.parse_args(["--swing-lift", "--swing-from", "toes"])
+    with pytest.raises(ValueError, match="swing_from must be one of"):
+        SwingLift(swing_from="toes")
 
