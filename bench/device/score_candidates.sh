@@ -1,10 +1,14 @@
 #!/bin/bash
 # Lent-machine run of validation's registered choice (README "Wider stances": the rule, the
 # confirmation, then the held-out sets once), every evaluation a process of its own on 16 cores.
-# usage: [FIRST=100000] [CONFIRM=110000] [DRAWS=10] bash bench/device/score_candidates.sh BASELINE CANDIDATE...
-#  1. each policy: validation clean (agents/evaluate.py, 20 rollouts per take) and DRAWS IMU draws behind
-#     models/imu_denoiser_dm (bench/imu_draws.py, one draw per process, seeds FIRST+); the rule
-#     (bench/select_policy.py) names a winner.
+# usage: [FIRST=100000] [CONFIRM=110000] [DRAWS=10] [DEN=DIR] bash bench/device/score_candidates.sh BASELINE CANDIDATE...
+#  Each of BASELINE and CANDIDATE is an actor: a policy directory or checkpoint, then any of the actor
+#  options evaluate.py and imu_draws.py share, in one quoted argument, e.g.
+#  'models/mimic_general_stance_avg --mirror-average --swing-lift --swing-from speed'.
+#  1. each actor: validation clean (agents/evaluate.py, 20 rollouts per take) and DRAWS IMU draws behind
+#     the denoiser DEN (default: validation's choice, models/imu_denoiser_soles_quint_mirror;
+#     bench/imu_draws.py, one draw per process, seeds FIRST+); the rule (bench/select_policy.py) names
+#     a winner.
 #  2. if the winner is not the baseline: both on DRAWS more draws (seeds CONFIRM+). Meanwhile the winner's
 #     held-out evaluations (test split and DeepMimic walkers; clean, IMU strength 1, IMU behind the
 #     denoiser) run, and are deleted unread unless the winner leads the confirmation too.
@@ -15,7 +19,7 @@
 # baseline, $OUT/heldout.tar.
 set -u -o pipefail
 [ $# -ge 2 ] || { echo "usage: [FIRST=S] [CONFIRM=S] [DRAWS=N] bash $0 BASELINE CANDIDATE..." >&2; exit 2; }
-BASE=$1; shift; CANDIDATES="$*"
+BASE=$1; shift; CANDIDATES=("$@")
 FIRST=${FIRST:-100000}; CONFIRM=${CONFIRM:-110000}; DRAWS=${DRAWS:-10}
 HELDOUT=${HELDOUT:-1}  # 0: stop after the confirmation, the held-out sets untouched (smoke tests)
 # rollouts (lower them only for a smoke test): per validation take, per take and draw, per test take, per walker
@@ -24,10 +28,10 @@ OUT=${OUT:-/tmp/score_candidates}; W=$(mktemp -d); mkdir -p $OUT $W/choice $W/he
 PY=${PY:-python3}; JOBS=${JOBS:-$(nproc)}
 source bench/device/setup.sh
 VAL=library:data/library/val
-DEN=models/imu_denoiser_dm
+DEN=${DEN:-models/imu_denoiser_soles_quint_mirror}
 STRIDE=$($PY -c "from reference_motion.library import expand_clips; print(len(expand_clips(['$VAL'])))") || exit 1
-name() { echo "$1" | tr '/.' '__'; }
-draw_jobs() {  # $1: first seed; the policies after it; one command per (policy, draw)
+name() { echo "$1" | tr '/. ' '___'; }
+draw_jobs() {  # $1: first seed; the actors after it; one command per (actor, draw)
   local first=$1; shift
   for P in "$@"; do for j in $(seq 0 $((DRAWS - 1))); do
     echo "$PY bench/imu_draws.py --policies $P --clips $VAL --denoise $DEN --draws 1 --episodes $DRAW_EPISODES" \
@@ -38,22 +42,31 @@ run_all() {  # $1: the log for the jobs' stderr; the commands on stdin, JOBS at 
   xargs -P $JOBS -I{} sh -c "{} > /dev/null 2>> $1" || { echo "a job failed; the end of $1:" >&2; tail -n 20 $1 >&2; exit 1; }
 }
 {
-  for P in $BASE $CANDIDATES; do
+  for P in "$BASE" "${CANDIDATES[@]}"; do
     echo "$PY agents/evaluate.py --policy $P --clips $VAL --episodes $VAL_EPISODES --per-clip --json $W/choice/clean_$(name $P).json"
   done
-  draw_jobs $FIRST $BASE $CANDIDATES
+  draw_jobs $FIRST "$BASE" "${CANDIDATES[@]}"
 } | run_all $W/choice/errors.log || exit 1
-SELECT="$PY bench/select_policy.py --baseline $BASE --draws-per-policy $DRAWS --clean $W/choice/clean_*.json --draws $W/choice/draws_${FIRST}_*.json"
-$SELECT --json $W/choice/rule.json | tee $W/choice/rule.txt || exit 1
+BASE_LABEL=$($PY -c "import json, sys; print(json.load(open(sys.argv[1]))['policy'])" $W/choice/clean_$(name "$BASE").json) || exit 1
+select_rule() {  # the rule on the first draws; more arguments (--confirm FILES) go to select_policy.py
+  $PY bench/select_policy.py --baseline "$BASE_LABEL" --draws-per-policy $DRAWS --clean $W/choice/clean_*.json \
+    --draws $W/choice/draws_${FIRST}_*.json "$@"
+}
+select_rule --json $W/choice/rule.json | tee $W/choice/rule.txt || exit 1
 tar -C $W -cf $OUT/choice.tar choice
 field() { $PY -c "import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$@"; }
-WINNER=$(field $W/choice/rule.json winner) || exit 1
+WINNER_LABEL=$(field $W/choice/rule.json winner) || exit 1
+WINNER=""
+for P in "$BASE" "${CANDIDATES[@]}"; do  # the actor whose clean evaluation carries the winner's label
+  [ "$(field $W/choice/clean_$(name "$P").json policy)" = "$WINNER_LABEL" ] && WINNER=$P
+done
+[ -n "$WINNER" ] || { echo "no actor is labelled '$WINNER_LABEL'" >&2; exit 1; }
 [ "$(field $W/choice/rule.json leads_by_rule)" = True ] || { echo "the baseline stays; nothing held out is scored"; exit 0; }
 WALKERS="deepmimic:walker/0walk_forward deepmimic:walker/turn_left1 deepmimic:walker/turn_right1"
 EVAL="$PY agents/evaluate.py --policy $WINNER --per-clip"
 IMU="--corrupt imu --strength 1 --seed 1000"
 {
-  draw_jobs $CONFIRM $BASE $WINNER
+  draw_jobs $CONFIRM "$BASE" "$WINNER"
   if [ "$HELDOUT" = 1 ]; then
     echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --json $W/heldout/test_clean.json"
     echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES $IMU --json $W/heldout/test_imu1.json"
@@ -63,7 +76,7 @@ IMU="--corrupt imu --strength 1 --seed 1000"
     echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES $IMU --denoise $DEN --json $W/heldout/walkers_imu1_dm.json"
   fi
 } | run_all $W/heldout/errors.log || { rm -rf $W/heldout; exit 1; }
-$SELECT --confirm $W/choice/draws_${CONFIRM}_*.json --json $W/choice/confirmed.json | tee $W/choice/confirmed.txt \
+select_rule --confirm $W/choice/draws_${CONFIRM}_*.json --json $W/choice/confirmed.json | tee $W/choice/confirmed.txt \
   || { rm -rf $W/heldout; exit 1; }
 tar -C $W -cf $OUT/choice.tar choice
 if [ "$HELDOUT" != 1 ]; then
