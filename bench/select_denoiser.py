@@ -23,7 +23,7 @@ import numpy as np
 
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from paired_draws import overlapping_draws, paired
-from select_policy import read_json
+from select_policy import read_draw_file
 
 
 @dataclass(frozen=True)
@@ -43,16 +43,14 @@ def read_draws(spec: str) -> DenoiserDraws:
     path, colon, policy = spec.rpartition(":")
     if not colon or not path.endswith(".json"):  # no policy named (or a colon inside the path itself)
         path, policy = spec, ""
-    data = read_json(Path(path), ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser"))
-    rows = [r for r in data["rows"] if not policy or r.get("policy") == policy]
+    data = read_draw_file(Path(path))
+    rows = [r for r in data["rows"] if not policy or r["policy"] == policy]
     if len(rows) != 1:
-        found = [r.get("policy") for r in data["rows"]]
+        found = [r["policy"] for r in data["rows"]]
         raise SystemExit(f"{path}: holds policies {found}; name exactly one of them once as {path}:POLICY"
                          + (f" ({policy!r} is there {found.count(policy)} times)" if policy else ""))
     if data["denoiser"] is None:
         raise SystemExit(f"{path}: its draws were tracked without a denoiser")
-    if len(rows[0].get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
-        raise SystemExit(f"{path}: needs one ELR_per_draw per seed in seeds_of_first_clip")
     settings = (tuple(data["seeds_of_first_clip"]), tuple(data["clips"]), data["episodes"])
     return DenoiserDraws(path, str(data["denoiser"]), settings, np.asarray(rows[0]["ELR_per_draw"], dtype=float))
 

@@ -50,6 +50,21 @@ def read_json(path: Path, fields: tuple[str, ...]) -> dict:
     return data
 
 
+DRAW_FIELDS = ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser")
+"""What an ``imu_draws.py --json`` file holds."""
+
+
+def read_draw_file(path: Path) -> dict:
+    """An ``imu_draws.py --json`` file, with a clear error if it lacks one of :data:`DRAW_FIELDS`
+    or a row lacks its ``policy`` or one ``ELR_per_draw`` per seed."""
+    data = read_json(path, DRAW_FIELDS)
+    for i, row in enumerate(data["rows"]):
+        if "policy" not in row or len(row.get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
+            raise SystemExit(f"{path}: rows[{i}] needs 'policy' and one 'ELR_per_draw' per seed in "
+                             f"'seeds_of_first_clip' ({len(data['seeds_of_first_clip'])})")
+    return data
+
+
 @dataclass(frozen=True)
 class Draws:
     """IMU draws gathered from ``imu_draws.py`` files.
@@ -71,12 +86,9 @@ def gather_draws(paths: list[Path]) -> Draws:
     by_policy: dict[str, dict[int, float]] = {}
     settings: dict[str, tuple] = {}
     for path in paths:
-        data = read_json(path, ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser"))
+        data = read_draw_file(path)
         settings[str(path)] = (tuple(data["clips"]), data["episodes"], data["denoiser"])
-        for i, row in enumerate(data["rows"]):
-            if "policy" not in row or len(row.get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
-                raise SystemExit(f"{path}: rows[{i}] needs 'policy' and one 'ELR_per_draw' per seed in "
-                                 f"'seeds_of_first_clip' ({len(data['seeds_of_first_clip'])})")
+        for row in data["rows"]:
             draws = by_policy.setdefault(row["policy"], {})
             for seed, elr in zip(data["seeds_of_first_clip"], row["ELR_per_draw"]):
                 if seed in draws:

@@ -45,6 +45,8 @@ def test_other_draws_or_the_same_denoiser_are_refused(tmp_path):
         compare(base, [read_draws(draws_file(tmp_path / "d.json", "dm", {"pi": [0.9, 0.6, 0.9]}))])
     with pytest.raises(SystemExit, match="without a denoiser"):
         read_draws(draws_file(tmp_path / "e.json", None, {"pi": [0.9, 0.6, 0.9]}))
+    with pytest.raises(SystemExit, match=r"f\.json: rows\[0\] needs 'policy' and one 'ELR_per_draw' per seed"):
+        read_draws(draws_file(tmp_path / "f.json", "dm", {"pi": [0.9, 0.6]}))
 
 
 def test_the_best_candidate_leads_and_replaces_only_if_it_leads_the_confirmation_too(tmp_path):
