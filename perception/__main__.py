@@ -112,6 +112,9 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
                    help="uniform artefact strength of a corrupted training window (DenoiserTrainConfig.strength)")
     g.add_argument("--clean-fraction", type=fraction, default=d.clean_fraction,
                    help="share of training windows left clean (DenoiserTrainConfig.clean_fraction)")
+    g.add_argument("--speeds", type=positive_float, nargs="+", default=list(d.speeds), metavar="S",
+                   help="also train on every take played at these speeds (1.0 = as recorded; "
+                        "DenoiserTrainConfig.speeds)")
     g.add_argument("--postures", type=non_negative_int, default=d.postures, metavar="N",
                    help="also train on N copies of every take carried with a random posture "
                         "(DenoiserTrainConfig.postures)")
@@ -312,7 +315,7 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
                                      dilations=tuple(args.dilations), window=args.window,
                                      sole_weight=args.sole_weight, strength=tuple(args.strength),
                                      clean_fraction=args.clean_fraction,
-                                     postures=args.postures, seed=args.seed)
+                                     speeds=tuple(args.speeds), postures=args.postures, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val root of the loss {np.sqrt(best):.4f}")
     if args.command == "ensemble-denoisers":

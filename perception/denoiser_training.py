@@ -1,7 +1,7 @@
 """Training the :class:`~perception.imu_denoiser.IMUDenoiser` on clean takes it corrupts itself.
 
-Every training batch cuts random windows out of the training takes (mirrored too, and with
-``postures`` also carried in random postures), corrupts each
+Every training batch cuts random windows out of the training takes (mirrored too, with ``speeds``
+also played faster or slower, and with ``postures`` also carried in random postures), corrupts each
 with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`) at a strength drawn from
 ``DenoiserTrainConfig.strength``, a fresh seed each time, or leaves it clean
 (``clean_fraction``), and regresses what :func:`~perception.imu_denoiser.denoise` must add back:
@@ -77,6 +77,10 @@ class DenoiserTrainConfig:
         lr_patience: see ``lr``.
         patience: stop after this many epochs without a better validation score.
         mirror: also train on every take performed by the other side of the body.
+        speeds: every training take (and its mirror image) is also played at each of these speeds
+            (:func:`reference_motion.library.augmented`, 1.0 = as recorded), so that a pace the
+            training styles lack (the unseen styles old and tired walk slower) does not read as an
+            error: gait cycles, hinge speeds and the speed-dependent IMU noise change with it.
         postures: copies of every training take (mirrored ones too) carried with a random posture
             (:func:`reference_motion.library.posture_copies`: a stoop, a crouch, a wider or
             narrower stance, a neck and elbow bend, drawn from ``seed``), so that a way of carrying
@@ -101,6 +105,7 @@ class DenoiserTrainConfig:
     lr_patience: int = 4
     patience: int = 10
     mirror: bool = True
+    speeds: tuple[float, ...] = (1.0,)
     postures: int = 0
     seed: int = 0
 
@@ -116,6 +121,8 @@ class DenoiserTrainConfig:
             raise ValueError(f"DenoiserTrainConfig.dilations must be positive integers, got {self.dilations}")
         if self.sole_weight < 0:
             raise ValueError(f"DenoiserTrainConfig.sole_weight must be >= 0, got {self.sole_weight}")
+        if not self.speeds or not all(np.isfinite(v) and v > 0 for v in self.speeds):
+            raise ValueError(f"DenoiserTrainConfig.speeds must be one or more speeds > 0, got {self.speeds}")
         if self.postures < 0:
             raise ValueError(f"DenoiserTrainConfig.postures must be >= 0, got {self.postures}")
         if not 0 <= self.clean_fraction <= 1:
@@ -175,7 +182,8 @@ class DenoiserTask:
             raise ValueError(f"clip(s) {', '.join(overlap)} are in both the training and the validation clips")
         if not self.train_sources or not self.val_sources:
             raise ValueError("the IMU denoiser needs at least one training and one validation clip")
-        takes = augmented([load_motion(s, model) for s in self.train_sources], mirrored=config.mirror)
+        takes = augmented([load_motion(s, model) for s in self.train_sources], mirrored=config.mirror,
+                          speeds=config.speeds)
         self.train = takes + posture_copies(takes, config.postures, [config.seed, POSTURE_STREAM])
         self.lengths = np.array([m.n_frames for m in self.train])
         if self.lengths.max() < config.min_window:

@@ -104,6 +104,18 @@ def test_posture_copies_join_the_training_takes_seeded():
         DenoiserTrainConfig(sole_weight=-1.0)
 
 
+def test_speeds_join_the_training_takes_played_faster_and_slower():
+    """``speeds=(1.0, 0.8)``: every take (its mirror image too) also played at 0.8 times its pace,
+    so it lasts 1/0.8 as long; a speed of 0 or none at all is refused."""
+    task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], DenoiserTrainConfig(speeds=(1.0, 0.8)))
+    assert len(task.train) == 4
+    as_recorded, slower = task.train[0], task.train[1]
+    assert slower.n_frames == pytest.approx(as_recorded.n_frames / 0.8, abs=2)
+    for bad in ((), (1.0, 0.0)):
+        with pytest.raises(ValueError, match="speeds must be one or more speeds > 0"):
+            DenoiserTrainConfig(speeds=bad)
+
+
 def test_sole_term_counts_errors_that_move_the_feet_and_only_those():
     """A hand-made case on the standing pose (every hinge at zero): the sole points hang below the
     pelvis, the left ones on the left; a 0.1 rad error on an elbow leaves the sole term at zero, the
@@ -171,14 +183,14 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
                      "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
-                     "--dilations", "1", "4", "--window", "120", "--sole-weight", "2", "--no-progress"])
+                     "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2", "--no-progress"])
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32 and tuple(net.config["dilations"]) == (1, 4)
     assert [conv.dilation[0] for conv in net.convs] == [1, 4]
     config = json.loads((out / "sidecar.json").read_text())["config"]
     given = (config["hidden"], config["strength"], config["clean_fraction"], config["postures"], config["dilations"],
-             config["window"], config["sole_weight"])
-    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0)
+             config["window"], config["sole_weight"], config["speeds"])
+    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0, [1.0, 1.2])
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):
