@@ -35,7 +35,7 @@ draw_jobs() {  # $1: first seed; the actors after it; one command per (actor, dr
   local first=$1; shift
   for P in "$@"; do for j in $(seq 0 $((DRAWS - 1))); do
     echo "$PY bench/imu_draws.py --policies $P --clips $VAL --denoise $DEN --draws 1 --episodes $DRAW_EPISODES" \
-         "--stride $STRIDE --first-seed $((first + j * STRIDE)) --json $W/choice/draws_${first}_$(name $P)_$j.json"
+         "--stride $STRIDE --first-seed $((first + j * STRIDE)) --json $W/choice/draws_${first}_$(name "$P")_$j.json"
   done; done
 }
 run_all() {  # $1: the log for the jobs' stderr; the commands on stdin, JOBS at a time; stops the script if one fails
@@ -43,7 +43,7 @@ run_all() {  # $1: the log for the jobs' stderr; the commands on stdin, JOBS at 
 }
 {
   for P in "$BASE" "${CANDIDATES[@]}"; do
-    echo "$PY agents/evaluate.py --policy $P --clips $VAL --episodes $VAL_EPISODES --per-clip --json $W/choice/clean_$(name $P).json"
+    echo "$PY agents/evaluate.py --policy $P --clips $VAL --episodes $VAL_EPISODES --per-clip --json $W/choice/clean_$(name "$P").json"
   done
   draw_jobs $FIRST "$BASE" "${CANDIDATES[@]}"
 } | run_all $W/choice/errors.log || exit 1
