@@ -62,14 +62,14 @@ from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
 from reference_motion.bvh_export import write_bvh
-from reference_motion.cli import (CliParser, add_mocap_options, add_swing_lift_options, fraction, mocap_options,
-                                  non_negative_float, non_negative_int, one_line_errors, or_none, output_dir,
-                                  output_file, positive_float, positive_int, require_frames, swing_lift_of)
+from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
+                                  non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
+                                  positive_int, require_frames)
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
-from reference_motion.swing_lift import lift_swing
+from reference_motion.swing_lift import add_swing_lift_options, lift_swing, swing_lift_of
 from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3

@@ -34,14 +34,13 @@ from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
-from reference_motion.cli import (CliParser, add_mocap_options, add_swing_lift_options, mocap_options,
-                                  non_negative_float, non_negative_int, one_line_errors, output_file, positive_float,
-                                  positive_int, require_frames, swing_lift_of)
+from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
+                                  one_line_errors, output_file, positive_float, positive_int, require_frames)
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.rigs import MocapOptions
-from reference_motion.swing_lift import SwingLift, lift_swing
+from reference_motion.swing_lift import SwingLift, add_swing_lift_options, lift_swing, swing_lift_of
 
 def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
@@ -161,7 +160,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
           + (f", denoised by {args.denoise}" if args.denoise else "")
-          + (f", backward steps' knees lifted {lift.knee_deg:g} deg in swing" if lift else ""))
+          + (f", tracking takes with a {lift.label}" if lift else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "
           f"{summary['MRR_std']:.3f}")

@@ -113,8 +113,8 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     g.add_argument("--clean-fraction", type=fraction, default=d.clean_fraction,
                    help="share of training windows left clean (DenoiserTrainConfig.clean_fraction)")
     g.add_argument("--speeds", type=positive_float, nargs="+", default=list(d.speeds), metavar="S",
-                   help="also train on every take played at these speeds (1.0 = as recorded; "
-                        "DenoiserTrainConfig.speeds)")
+                   help="train on every take played at each of these speeds (1.0 = as recorded: include it to "
+                        "keep the takes as they are; DenoiserTrainConfig.speeds)")
     g.add_argument("--postures", type=non_negative_int, default=d.postures, metavar="N",
                    help="also train on N copies of every take carried with a random posture "
                         "(DenoiserTrainConfig.postures)")

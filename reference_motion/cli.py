@@ -31,7 +31,6 @@ from typing import NoReturn, ParamSpec, TypeVar
 from reference_motion.motion import Motion, MotionError
 from reference_motion.rigs import UNITS, UP_AXES, MocapOptions, load_joint_map
 from reference_motion.source import CANONICAL_JOINTS
-from reference_motion.swing_lift import SWING_READS, SwingLift
 
 USER_ERRORS = (ValueError, KeyError, OSError, ImportError)
 """Exceptions that mean bad input, not a bug: reported in one line."""
@@ -171,23 +170,6 @@ def mocap_options(args: argparse.Namespace) -> MocapOptions:
     """The :class:`MocapOptions` given by :func:`add_mocap_options`' arguments."""
     return MocapOptions(joint_map=load_joint_map(args.joint_map) if args.joint_map else None,
                         units=args.units, up=args.up, asf=args.asf)
-
-
-def add_swing_lift_options(parser: argparse.ArgumentParser, what: str) -> None:
-    """``--swing-lift [DEG]`` and ``--swing-from {height,speed}`` (read back by
-    :func:`swing_lift_of`); ``what`` ends the help of ``--swing-lift``: what the lifted take is for."""
-    parser.add_argument("--swing-lift", nargs="?", const=SwingLift.knee_deg, type=positive_float, metavar="DEG",
-                        help="bend the knees of the take's backward steps DEG more in swing "
-                             f"(reference_motion/swing_lift.py; after --denoise): {what}")
-    parser.add_argument("--swing-from", choices=SWING_READS, default=SwingLift.swing_from,
-                        help="with --swing-lift: read swing from the foot's height above its low "
-                             f"({100 * SwingLift.clearance_m:g} cm) or its speed over the floor "
-                             f"({SwingLift.swing_speed_mps:g} m/s) (default: %(default)s)")
-
-
-def swing_lift_of(args: argparse.Namespace) -> SwingLift | None:
-    """The :class:`SwingLift` that :func:`add_swing_lift_options`' arguments ask for, or ``None``."""
-    return SwingLift(knee_deg=args.swing_lift, swing_from=args.swing_from) if args.swing_lift else None
 
 
 def or_none(parse: Callable[[str], float]) -> Callable[[str], float | None]:

@@ -24,6 +24,7 @@ as swing from height; less of it from speed (README, "Walking as far as the take
 
 from __future__ import annotations
 
+import argparse
 import math
 from dataclasses import asdict, dataclass
 
@@ -31,6 +32,7 @@ import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
 from reference_motion import rotations as rot
+from reference_motion.cli import positive_float
 from reference_motion.humanoid.model import FOOT_CHANNELS, load_model
 from reference_motion.motion import Motion
 
@@ -135,6 +137,8 @@ def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
     (:func:`swing_weights` or :func:`speed_swing_weights`, as ``lift.swing_from`` says) times its :func:`backward_weights`, held inside the knee's range.
     Everything else (root, other hinges, rate) is unchanged; ``source["swing_lift"]`` records the
     settings."""
+    if motion.n_frames < 2:
+        raise ValueError(f"{motion.name}: the swing lift needs at least 2 frames, got {motion.n_frames}")
     model = load_model(motion.model)
     points = model.forward_kinematics(motion.qpos).foot_points  # (T, 4, 3), CONTACT_CHANNELS order
     backward = backward_weights(motion.root_pos[:, :2], rot.yaw(motion.root_quat), motion.fps,
@@ -148,7 +152,30 @@ def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
         if lift.swing_from == "height":
             swing = swing_weights(foot[..., 2].min(axis=1), lift.clearance_m, lift.smoothing_frames)
         else:
-            swing = speed_swing_weights(foot[..., :2], motion.fps, lift.swing_speed_mps, lift.smoothing_frames)
+            swing = speed_swing_weights(foot[..., :2], motion.fps, lift.swing_speed_mps,
+                                        lift.smoothing_frames)
         weights = swing * backward
         qpos[:, index] = np.clip(qpos[:, index] + math.radians(lift.knee_deg) * weights, low, high)
     return motion.with_qpos(qpos, source={**motion.source, "swing_lift": asdict(lift)})
+
+
+def add_swing_lift_options(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--swing-lift [DEG]`` and ``--swing-from {height,speed}`` (read back by
+    :func:`swing_lift_of`); ``what`` ends the help of ``--swing-lift``: what the lifted takes are for."""
+    parser.add_argument("--swing-lift", nargs="?", const=SwingLift.knee_deg, type=positive_float, metavar="DEG",
+                        help="bend the knees of backward steps DEG more in swing "
+                             f"(reference_motion/swing_lift.py; after --denoise): {what}")
+    parser.add_argument("--swing-from", choices=SWING_READS, default=None,
+                        help="with --swing-lift: read swing from the foot's height above its low "
+                             f"({100 * SwingLift.clearance_m:g} cm) or its speed over the floor "
+                             f"({SwingLift.swing_speed_mps:g} m/s) (default: {SwingLift.swing_from})")
+
+
+def swing_lift_of(args: argparse.Namespace) -> SwingLift | None:
+    """The :class:`SwingLift` that :func:`add_swing_lift_options`' arguments ask for, or ``None``; a
+    ``ValueError`` for ``--swing-from`` without ``--swing-lift``."""
+    if not args.swing_lift:
+        if args.swing_from is not None:
+            raise ValueError("--swing-from goes with --swing-lift")
+        return None
+    return SwingLift(knee_deg=args.swing_lift, swing_from=args.swing_from or SwingLift.swing_from)

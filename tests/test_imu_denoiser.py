@@ -105,8 +105,8 @@ def test_posture_copies_join_the_training_takes_seeded():
 
 
 def test_speeds_join_the_training_takes_played_faster_and_slower():
-    """``speeds=(1.0, 0.8)``: every take (its mirror image too) also played at 0.8 times its pace,
-    so it lasts 1/0.8 as long; a speed of 0 or none at all is refused."""
+    """``speeds=(1.0, 0.8)``: every take (its mirror image too) as recorded and at 0.8 times its
+    pace, which lasts 1/0.8 as long; a speed of 0 or none at all is refused."""
     task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], DenoiserTrainConfig(speeds=(1.0, 0.8)))
     assert len(task.train) == 4
     as_recorded, slower = task.train[0], task.train[1]
@@ -183,7 +183,8 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
                      "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
-                     "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2", "--no-progress"])
+                     "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2",
+                     "--no-progress"])
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32 and tuple(net.config["dilations"]) == (1, 4)
     assert [conv.dilation[0] for conv in net.convs] == [1, 4]

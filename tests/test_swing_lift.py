@@ -9,8 +9,9 @@ import pytest
 
 from agents.evaluate import lifted_label, tracked_and_judged
 from reference_motion.humanoid.model import load_model
-from reference_motion.cli import CliParser, add_swing_lift_options, swing_lift_of
-from reference_motion.swing_lift import KNEES, SwingLift, backward_weights, lift_swing, speed_swing_weights, swing_weights
+from reference_motion.cli import CliParser
+from reference_motion.swing_lift import (KNEES, SwingLift, add_swing_lift_options, backward_weights, lift_swing,
+                                         speed_swing_weights, swing_lift_of, swing_weights)
 from reference_motion.transforms import reversed_in_time
 
 
@@ -84,7 +85,7 @@ def test_swing_read_from_speed_lifts_the_same_swings_and_spares_the_stance(walk)
     for side, columns in enumerate(((0, 2), (1, 3))):
         low = heights[:, list(columns)].min(axis=1)
         stance, swing = low < np.percentile(low, 5) + 0.003, low > np.percentile(low, 5) + 0.05
-        assert by_speed[swing, side].mean() > 12.0 and by_speed[stance, side].mean() < 1.0
+        assert by_speed[swing, side].mean() > 10.0 and by_speed[stance, side].mean() < 1.0
 
 
 @pytest.mark.parametrize("bad", [dict(knee_deg=0.0), dict(clearance_m=-0.01), dict(smoothing_frames=math.nan),
@@ -114,6 +115,8 @@ def test_the_command_line_options_build_the_lift():
         SwingLift(knee_deg=10.0, swing_from="speed")
     with pytest.raises(ValueError, match="swing-from"):
         parser.parse_args(["--swing-lift", "--swing-from", "toes"])
+    with pytest.raises(ValueError, match="--swing-from goes with --swing-lift"):
+        swing_lift_of(parser.parse_args(["--swing-from", "speed"]))
     with pytest.raises(ValueError, match="swing_from must be one of"):
         SwingLift(swing_from="toes")
 

@@ -18,7 +18,7 @@
 # Writes $OUT/choice.tar (the JSON and logs of steps 1 and 2) and, if the winner replaces the
 # baseline, $OUT/heldout.tar.
 set -u -o pipefail
-[ $# -ge 2 ] || { echo "usage: [FIRST=S] [CONFIRM=S] [DRAWS=N] bash $0 BASELINE CANDIDATE..." >&2; exit 2; }
+[ $# -ge 2 ] || { echo "usage: [FIRST=S] [CONFIRM=S] [DRAWS=N] [DEN=DIR] bash $0 BASELINE CANDIDATE..." >&2; exit 2; }
 BASE=$1; shift; CANDIDATES=("$@")
 FIRST=${FIRST:-100000}; CONFIRM=${CONFIRM:-110000}; DRAWS=${DRAWS:-10}
 HELDOUT=${HELDOUT:-1}  # 0: stop after the confirmation, the held-out sets untouched (smoke tests)
@@ -47,14 +47,14 @@ run_all() {  # $1: the log for the jobs' stderr; the commands on stdin, JOBS at 
   done
   draw_jobs $FIRST "$BASE" "${CANDIDATES[@]}"
 } | run_all $W/choice/errors.log || exit 1
-BASE_LABEL=$($PY -c "import json, sys; print(json.load(open(sys.argv[1]))['policy'])" $W/choice/clean_$(name "$BASE").json) || exit 1
+field() { $PY -c "import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$@"; }
+BASE_LABEL=$(field $W/choice/clean_$(name "$BASE").json policy) || exit 1
 select_rule() {  # the rule on the first draws; more arguments (--confirm FILES) go to select_policy.py
   $PY bench/select_policy.py --baseline "$BASE_LABEL" --draws-per-policy $DRAWS --clean $W/choice/clean_*.json \
     --draws $W/choice/draws_${FIRST}_*.json "$@"
 }
 select_rule --json $W/choice/rule.json | tee $W/choice/rule.txt || exit 1
 tar -C $W -cf $OUT/choice.tar choice
-field() { $PY -c "import json, sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])" "$@"; }
 WINNER_LABEL=$(field $W/choice/rule.json winner) || exit 1
 WINNER=""
 for P in "$BASE" "${CANDIDATES[@]}"; do  # the actor whose clean evaluation carries the winner's label
@@ -70,10 +70,10 @@ IMU="--corrupt imu --strength 1 --seed 1000"
   if [ "$HELDOUT" = 1 ]; then
     echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES --json $W/heldout/test_clean.json"
     echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES $IMU --json $W/heldout/test_imu1.json"
-    echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES $IMU --denoise $DEN --json $W/heldout/test_imu1_dm.json"
+    echo "$EVAL --clips library:data/library/test --episodes $TEST_EPISODES $IMU --denoise $DEN --json $W/heldout/test_imu1_den.json"
     echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES --json $W/heldout/walkers_clean.json"
     echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES $IMU --json $W/heldout/walkers_imu1.json"
-    echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES $IMU --denoise $DEN --json $W/heldout/walkers_imu1_dm.json"
+    echo "$EVAL --clips $WALKERS --episodes $WALKER_EPISODES $IMU --denoise $DEN --json $W/heldout/walkers_imu1_den.json"
   fi
 } | run_all $W/heldout/errors.log || { rm -rf $W/heldout; exit 1; }
 select_rule --confirm $W/choice/draws_${CONFIRM}_*.json --json $W/choice/confirmed.json | tee $W/choice/confirmed.txt \
