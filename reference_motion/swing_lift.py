@@ -134,9 +134,9 @@ def backward_weights(root_xy: np.ndarray, heading: np.ndarray, fps: float, full_
 
 def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
     """``motion`` with each knee bent ``lift.knee_deg`` more in proportion to its foot's swing weights
-    (:func:`swing_weights` or :func:`speed_swing_weights`, as ``lift.swing_from`` says) times its :func:`backward_weights`, held inside the knee's range.
-    Everything else (root, other hinges, rate) is unchanged; ``source["swing_lift"]`` records the
-    settings."""
+    (:func:`swing_weights` or :func:`speed_swing_weights`, as ``lift.swing_from`` says) times its
+    :func:`backward_weights`, held inside the knee's range. Everything else (root, other hinges,
+    rate) is unchanged; ``source["swing_lift"]`` records the settings."""
     if motion.n_frames < 2:
         raise ValueError(f"{motion.name}: the swing lift needs at least 2 frames, got {motion.n_frames}")
     model = load_model(motion.model)
