@@ -90,7 +90,8 @@ def kinematic_contacts(points: np.ndarray, ground: np.ndarray, contact_height: f
 
 
 def horizontal_speed(points: np.ndarray, fps: float) -> np.ndarray:
-    """Horizontal speed ``(T, P)`` (m/s) of points ``(T, P, 3)`` by central differences."""
+    """Horizontal speed ``(T, P)`` (m/s) of points ``(T, P, 3)`` (or their horizontal ``(T, P, 2)``) by
+    central differences."""
     return np.linalg.norm(np.gradient(points[..., :2], axis=0), axis=-1) * fps
 
 

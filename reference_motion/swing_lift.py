@@ -35,6 +35,7 @@ from reference_motion import rotations as rot
 from reference_motion.cli import positive_float
 from reference_motion.humanoid.model import FOOT_CHANNELS, load_model
 from reference_motion.motion import Motion
+from reference_motion.quality import horizontal_speed
 
 SWING_READS = ("height", "speed")
 """What :attr:`SwingLift.swing_from` may read swing from."""
@@ -116,8 +117,7 @@ def speed_swing_weights(foot_xy: np.ndarray, fps: float, swing_speed_mps: float,
     xy = np.asarray(foot_xy, dtype=float)
     if xy.ndim != 3 or xy.shape[-1] != 2 or len(xy) < 2 or not np.all(np.isfinite(xy)):
         raise ValueError(f"foot_xy must be a finite (T, P, 2) array with T > 1, got shape {xy.shape}")
-    speed = np.linalg.norm(np.gradient(xy, axis=0), axis=-1).min(axis=1) * fps
-    swing = (speed > swing_speed_mps).astype(float)
+    swing = (horizontal_speed(xy, fps).min(axis=1) > swing_speed_mps).astype(float)
     return np.clip(gaussian_filter1d(swing, smoothing_frames, mode="nearest"), 0.0, 1.0)
 
 
