@@ -108,6 +108,9 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     g.add_argument("--sole-weight", type=non_negative_float, default=d.sole_weight,
                    help="weight of the sole points' error relative to the pelvis in the loss "
                         "(DenoiserTrainConfig.sole_weight)")
+    g.add_argument("--height-weight", type=non_negative_float, default=d.height_weight,
+                   help="weight of the pelvis height's error (m²) in the loss, beside its share as one channel "
+                        "(DenoiserTrainConfig.height_weight)")
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=list(d.strength), metavar=("LOW", "HIGH"),
                    help="uniform artefact strength of a corrupted training window (DenoiserTrainConfig.strength)")
     g.add_argument("--clean-fraction", type=fraction, default=d.clean_fraction,
@@ -313,7 +316,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
         config = DenoiserTrainConfig(max_epochs=args.epochs, patience=args.patience,
                                      windows_per_epoch=args.windows_per_epoch, hidden=args.hidden,
                                      dilations=tuple(args.dilations), window=args.window,
-                                     sole_weight=args.sole_weight, strength=tuple(args.strength),
+                                     sole_weight=args.sole_weight, height_weight=args.height_weight,
+                                     strength=tuple(args.strength),
                                      clean_fraction=args.clean_fraction,
                                      speeds=tuple(args.speeds), postures=args.postures, seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)

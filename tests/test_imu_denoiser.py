@@ -151,6 +151,22 @@ def test_sole_term_counts_errors_that_move_the_feet_and_only_those():
                                                                                             rel=1e-5)
 
 
+def test_height_weight_adds_the_pelvis_height_error_alone():
+    """A 2 cm pelvis height error counts once among the n_hinge + 1 channels, plus ``height_weight``
+    times its square; a hinge error is untouched by the weight."""
+    kin, n = torch_kinematics("humanoid_1seg"), len(load_model("humanoid_1seg").hinge_names)
+    given, target = torch.zeros(1, 4, n), torch.zeros(1, 4, n + 1)
+    high = target.clone()
+    high[..., -1] = 0.02
+    assert float(correction_loss(high, target, given, kin, 0.0)) == pytest.approx(0.0004 / (n + 1))
+    assert float(correction_loss(high, target, given, kin, 0.0, 10.0)) == pytest.approx(0.0004 / (n + 1) + 0.004)
+    bent = target.clone()
+    bent[..., 0] = 0.1
+    assert float(correction_loss(bent, target, given, kin, 0.0, 10.0)) == pytest.approx(0.01 / (n + 1))
+    with pytest.raises(ValueError, match="height_weight must be >= 0"):
+        DenoiserTrainConfig(height_weight=-1.0)
+
+
 def test_sole_points_are_those_of_the_posed_body_seen_from_its_pelvis(walk):
     """Against the world sole points of the take's own frames: moved into the pelvis's frame, they
     are what :func:`sole_points_in_pelvis_frame` gives from the hinge angles alone."""
