@@ -40,6 +40,7 @@ from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.rigs import MocapOptions
+from reference_motion.grounding import Grounding, add_grounding_option, ground, grounding_of
 from reference_motion.swing_lift import SwingLift, add_swing_lift_options, lift_swing, swing_lift_of
 
 def build_parser(prog: str | None = None) -> CliParser:
@@ -57,6 +58,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
                         "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
                         "the clip as given")
+    add_grounding_option(p, "the policy mimics the grounded clip and is judged against the clip as given")
     add_swing_lift_options(p, "the policy mimics the lifted clip and is judged against the clip as given")
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES,
                    help="run a world-frame policy observing in this frame (envs.observations; default: the frame its "
@@ -90,22 +92,24 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     return out
 
 
-def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None,
-                       lift: SwingLift | None = None) -> tuple[list[Motion], list[Motion] | None]:
+def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, lift: SwingLift | None = None,
+                       grounding: Grounding | None = None) -> tuple[list[Motion], list[Motion] | None]:
     """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
-    what it tracks: ``None``), or the clips after ``denoiser`` (``--denoise``) and then with their
-    backward steps' knees lifted in swing (``lift``, ``--swing-lift``), judged against the clips as
-    given."""
-    if denoiser is None and lift is None:
+    what it tracks: ``None``), or the clips after ``denoiser`` (``--denoise``), then set on the
+    floor (``grounding``, ``--ground``), then with their backward steps' knees lifted in swing
+    (``lift``, ``--swing-lift``), judged against the clips as given."""
+    if denoiser is None and lift is None and grounding is None:
         return clips, None
     tracked = [denoise(denoiser, c) for c in clips] if denoiser is not None else clips
+    tracked = [ground(c, grounding) for c in tracked] if grounding is not None else tracked
     return ([lift_swing(c, lift) for c in tracked] if lift is not None else tracked), clips
 
 
-def lifted_label(label: str, lift: SwingLift | None) -> str:
-    """How results name an actor that tracked swing-lifted clips (so ``bench/select_policy.py``
-    tells it from the same actor without the lift)."""
-    return f"{label} + {lift.label}" if lift is not None else label
+def lifted_label(label: str, lift: SwingLift | None, grounding: Grounding | None = None) -> str:
+    """How results name an actor that tracked grounded or swing-lifted clips (so
+    ``bench/select_policy.py`` tells it from the same actor without them)."""
+    changes = [step.label for step in (grounding, lift) if step is not None]
+    return " + ".join([label, *changes])
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:
@@ -128,7 +132,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-    lift = swing_lift_of(args)
+    lift, grounding = swing_lift_of(args), grounding_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
@@ -145,12 +149,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        tracked, judged = tracked_and_judged(clips, denoiser, lift)
+        tracked, judged = tracked_and_judged(clips, denoiser, lift, grounding)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": lifted_label(actor_label(args.policy, args.mirror_average), lift),
+    result = {"policy": lifted_label(actor_label(args.policy, args.mirror_average), lift, grounding),
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
+              "grounding": asdict(grounding) if grounding else None,
               "clips": args.clips, "corrupt": args.corrupt,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),

@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ground] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
@@ -34,6 +34,7 @@ from json_report import emit_json  # bench/json_report.py: the scripts run from 
 from paired_draws import paired
 from perception.weights import load_network
 from reference_motion.library import expand_clips
+from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
 
@@ -52,10 +53,11 @@ def main() -> None:
     denoising = p.add_mutually_exclusive_group()
     denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
+    add_grounding_option(p, "every policy mimics the grounded takes and is judged against them as given")
     add_swing_lift_options(p, "every policy mimics the lifted takes and is judged against them as given")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
-    lift = swing_lift_of(args)
+    lift, grounding = swing_lift_of(args), grounding_of(args)
     n_clips = len(expand_clips(args.clips))
     stride = n_clips if args.stride is None else args.stride
     if stride < n_clips:
@@ -72,14 +74,15 @@ def main() -> None:
     net = load_network(denoiser_path, "denoiser") if denoiser_path else None
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
-    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net, lift)
+    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net, lift,
+                                grounding)
              for seed in seeds]
     rows = []
     for path, policy in zip(args.policies, policies):
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = lifted_label(actor_label(path, args.mirror_average), lift)
+        label = lifted_label(actor_label(path, args.mirror_average), lift, grounding)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
@@ -92,6 +95,7 @@ def main() -> None:
     emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
                "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
+               "grounding": asdict(grounding) if grounding else None,
                "rows": rows}, args.json)
 
 

@@ -1,0 +1,78 @@
+"""A take set on the floor: its pelvis moved up or down so that its apparent ground is at z = 0.
+
+An IMU suit reads the pelvis height badly (``reference_motion.artefacts``: 4 cm offsets and a 1 cm
+wobble at strength 1), and the IMU denoiser (:mod:`perception.imu_denoiser`) leaves 2.3 cm RMS of
+it on validation's takes: the height is one of its ~57 output channels and no input tells a take
+that floats from one that stands tall. Yet every take stands on the floor somewhere in each
+second, and a clean take's apparent ground (:func:`reference_motion.quality.apparent_ground`, the
+running 10th percentile of the body's lowest point over 1 s) is within 2 mm of z = 0 on
+validation's takes. :func:`ground` moves the pelvis by minus that apparent ground, smoothed by a
+Gaussian of ``smooth_s`` so the correction cannot add a bounce of its own; the hinge angles and the
+horizontal path are untouched. On validation's IMU takes after the denoiser the pelvis height's
+error against the clean take goes from 2.32 to 1.51 cm RMS (README, round 9).
+"""
+
+from __future__ import annotations
+
+import argparse
+from dataclasses import asdict, dataclass, field
+
+import numpy as np
+from scipy.ndimage import gaussian_filter1d
+
+from reference_motion.motion import Motion
+from reference_motion.quality import QualityConfig, replay_on_ground
+
+
+@dataclass(frozen=True)
+class Grounding:
+    """How :func:`ground` reads the floor.
+
+    Attributes:
+        smooth_s: std (s) of the Gaussian that smooths the apparent ground before it is taken out
+            (0.25 s: a quarter of its 1 s window).
+        quality: the apparent ground's window and percentile (``ground_window_s``,
+            ``ground_percentile``: 1 s and the 10th percentile, the artefact metrics' own).
+    """
+
+    smooth_s: float = 0.25
+    quality: QualityConfig = field(default_factory=QualityConfig)
+
+    def __post_init__(self) -> None:
+        if not np.isfinite(self.smooth_s) or self.smooth_s < 0:
+            raise ValueError(f"Grounding.smooth_s must be a finite number of seconds >= 0, got {self.smooth_s}")
+
+    @property
+    def label(self) -> str:
+        """How results name an actor that tracked grounded takes."""
+        return "grounded"
+
+
+def ground_offset(motion: Motion, grounding: Grounding = Grounding()) -> np.ndarray:
+    """The smoothed apparent ground ``(T,)`` (m, world z) of ``motion``: what :func:`ground`
+    takes off its pelvis height."""
+    _, apparent = replay_on_ground(motion, grounding.quality)
+    if grounding.smooth_s == 0:
+        return apparent
+    return gaussian_filter1d(apparent, grounding.smooth_s * motion.fps, mode="nearest")
+
+
+def ground(motion: Motion, grounding: Grounding = Grounding()) -> Motion:
+    """``motion`` with its pelvis height lowered by :func:`ground_offset` (raised where that is
+    below the floor), everything else as it is; its ``source`` records the grounding."""
+    qpos = motion.qpos.copy()
+    qpos[:, 2] -= ground_offset(motion, grounding)
+    return motion.with_qpos(qpos, source={**motion.source, "grounding": asdict(grounding)})
+
+
+def add_grounding_option(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--ground`` (read back by :func:`grounding_of`); ``what`` ends its help: what the grounded
+    takes are for."""
+    parser.add_argument("--ground", action="store_true",
+                        help="set the take on the floor: move its pelvis so its apparent ground is at z = 0 "
+                             f"(reference_motion/grounding.py; after --denoise, before --swing-lift): {what}")
+
+
+def grounding_of(args: argparse.Namespace) -> Grounding | None:
+    """The :class:`Grounding` that :func:`add_grounding_option`'s argument asks for, or ``None``."""
+    return Grounding() if args.ground else None
