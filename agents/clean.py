@@ -69,6 +69,7 @@ from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
+from reference_motion.grounding import add_grounding_option, ground, grounding_of
 from reference_motion.swing_lift import add_swing_lift_options, lift_swing, swing_lift_of
 from reference_motion.touch_up import TouchUpReport, touch_up
 
@@ -445,6 +446,7 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
+        add_grounding_option(p, "the policy is adapted to the grounded take and re-performs it")
         add_swing_lift_options(p, "the policy is adapted to the lifted take and re-performs it, so the simulated "
                                   "swing foot does not drag on the floor")
         p.add_argument("--mirror-average", action="store_true",
@@ -591,10 +593,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
     args = parser.parse_args(argv)
-    lift = swing_lift_of(args)
+    lift, grounding = swing_lift_of(args), grounding_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        given = [flag for flag, on in (("--denoise", args.denoise), ("--swing-lift", args.swing_lift),
+        given = [flag for flag, on in (("--denoise", args.denoise), ("--ground", args.ground),
+                                       ("--swing-lift", args.swing_lift),
                                        ("--mirror-average", args.mirror_average)) if on]
         if given:
             parser.error(f"{' and '.join(given)} go{'es' if len(given) == 1 else ''} with --method ppo")
@@ -614,6 +617,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
             height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
             print(f"denoised with {args.denoise}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
+        if grounding is not None:
+            performed = ground(performed, grounding)
         if lift is not None:
             performed = lift_swing(performed, lift)
         adaptation = adapt_to_clip(policy, performed, args)
@@ -648,7 +653,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
-              "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None, **extra}
+              "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
+              "grounding": asdict(grounding) if grounding else None, **extra}
     if args.json:
         write_json(args.json, result)
     return result

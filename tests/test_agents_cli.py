@@ -115,6 +115,25 @@ def test_clean_can_lift_the_backward_steps_first(policy_dir, tmp_path, walk):
         clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--swing-lift"])
 
 
+def test_clean_can_set_the_take_on_the_floor_first(policy_dir, tmp_path, walk):
+    """--ground: the policy re-performs the take set on the floor; the input metrics are the take as
+    given (floating 5 cm); the JSON records the grounding; with diffpd it is refused."""
+    from dataclasses import asdict
+
+    from reference_motion.grounding import Grounding
+    qpos = walk.qpos.copy()
+    qpos[:, 2] += 0.05
+    take = walk.with_qpos(qpos).save(tmp_path / "floating.npz")
+    args = [str(take), "--policy", str(policy_dir), "--no-adapt", "--search", "off"]
+    plain = clean.main(args + ["--out", str(tmp_path / "plain.npz")])
+    grounded = clean.main(args + ["--out", str(tmp_path / "grounded.npz"), "--ground"])
+    assert plain["grounding"] is None and grounded["grounding"] == asdict(Grounding())
+    assert grounded["input"] == plain["input"] and plain["input"]["floating_m"] > 0.04
+    assert not np.allclose(Motion.load(tmp_path / "plain.npz").qpos, Motion.load(tmp_path / "grounded.npz").qpos)
+    with pytest.raises(SystemExit):
+        clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--ground"])
+
+
 def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
     """--mirror-average: evaluate.py names the actor and scores it otherwise than the policy as it is;
     clean.py re-performs with it (a different simulation) and records it; with diffpd it is refused.
