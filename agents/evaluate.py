@@ -162,10 +162,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
+    changes = [text for text in ("set on the floor" if grounding else "", f"with a {lift.label}" if lift else "") if text]
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
           + (f", denoised by {args.denoise}" if args.denoise else "")
-          + (f", tracking takes with a {lift.label}" if lift else ""))
+          + (f", tracking takes {' and '.join(changes)}" if changes else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "
           f"{summary['MRR_std']:.3f}")
