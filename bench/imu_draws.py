@@ -33,8 +33,8 @@ from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from paired_draws import paired
 from perception.weights import load_network
-from reference_motion.library import expand_clips
 from reference_motion.grounding import add_grounding_option, grounding_of
+from reference_motion.library import expand_clips
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
 
