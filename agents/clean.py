@@ -51,13 +51,14 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
+from agents.evaluate import prepared
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy
 from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
 from envs.config import FOOT_MODELS
-from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.imu_denoiser import DEFAULT_DENOISER
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
@@ -65,12 +66,12 @@ from reference_motion.bvh_export import write_bvh
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
                                   positive_int, require_frames)
+from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
-from reference_motion.grounding import add_grounding_option, ground, grounding_of
-from reference_motion.swing_lift import add_swing_lift_options, lift_swing, swing_lift_of
+from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3
@@ -611,16 +612,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         note = policy.denoiser_note(args.denoise)
         if note:
             print(note)
-        performed = reference
-        if args.denoise:
-            performed = denoise(load_network(args.denoise, "denoiser"), reference)
+        denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
+        performed = prepared(reference, denoiser, grounding=grounding, lift=lift)
+        steps = [step for step, on in ((f"denoised with {args.denoise}", denoiser), ("set on the floor", grounding),
+                                       (lift.label if lift else "", lift)) if on]
+        if steps:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
             height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
-            print(f"denoised with {args.denoise}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
-        if grounding is not None:
-            performed = ground(performed, grounding)
-        if lift is not None:
-            performed = lift_swing(performed, lift)
+            print(f"{', '.join(steps)}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
         adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
         if args.mirror_average:

@@ -36,11 +36,11 @@ from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
                                   one_line_errors, output_file, positive_float, positive_int, require_frames)
+from reference_motion.grounding import Grounding, add_grounding_option, ground, grounding_of
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.rigs import MocapOptions
-from reference_motion.grounding import Grounding, add_grounding_option, ground, grounding_of
 from reference_motion.swing_lift import SwingLift, add_swing_lift_options, lift_swing, swing_lift_of
 
 def build_parser(prog: str | None = None) -> CliParser:
@@ -92,24 +92,32 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     return out
 
 
-def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, lift: SwingLift | None = None,
-                       grounding: Grounding | None = None) -> tuple[list[Motion], list[Motion] | None]:
+def prepared(take: Motion, denoiser: IMUDenoiser | None = None, *, grounding: Grounding | None = None,
+             lift: SwingLift | None = None) -> Motion:
+    """What a policy tracks of ``take``: the take after ``denoiser`` (``--denoise``), then set on
+    the floor (``grounding``, ``--ground``), then with its backward steps' knees lifted in swing
+    (``lift``, ``--swing-lift``); each step only when given."""
+    if denoiser is not None:
+        take = denoise(denoiser, take)
+    if grounding is not None:
+        take = ground(take, grounding)
+    return lift_swing(take, lift) if lift is not None else take
+
+
+def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, *, grounding: Grounding | None = None,
+                       lift: SwingLift | None = None) -> tuple[list[Motion], list[Motion] | None]:
     """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
-    what it tracks: ``None``), or the clips after ``denoiser`` (``--denoise``), then set on the
-    floor (``grounding``, ``--ground``), then with their backward steps' knees lifted in swing
-    (``lift``, ``--swing-lift``), judged against the clips as given."""
-    if denoiser is None and lift is None and grounding is None:
+    what it tracks: ``None``), or the clips :func:`prepared`, judged against the clips as given."""
+    if denoiser is None and grounding is None and lift is None:
         return clips, None
-    tracked = [denoise(denoiser, c) for c in clips] if denoiser is not None else clips
-    tracked = [ground(c, grounding) for c in tracked] if grounding is not None else tracked
-    return ([lift_swing(c, lift) for c in tracked] if lift is not None else tracked), clips
+    return [prepared(c, denoiser, grounding=grounding, lift=lift) for c in clips], clips
 
 
-def lifted_label(label: str, lift: SwingLift | None, grounding: Grounding | None = None) -> str:
+def tracked_label(label: str, *, grounding: Grounding | None = None, lift: SwingLift | None = None) -> str:
     """How results name an actor that tracked grounded or swing-lifted clips (so
-    ``bench/select_policy.py`` tells it from the same actor without them)."""
-    changes = [step.label for step in (grounding, lift) if step is not None]
-    return " + ".join([label, *changes])
+    ``bench/select_policy.py`` tells it from the same actor without them), in the order
+    :func:`prepared` applies them."""
+    return " + ".join([label, *(step.label for step in (grounding, lift) if step is not None)])
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:
@@ -149,11 +157,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        tracked, judged = tracked_and_judged(clips, denoiser, lift, grounding)
+        tracked, judged = tracked_and_judged(clips, denoiser, grounding=grounding, lift=lift)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": lifted_label(actor_label(args.policy, args.mirror_average), lift, grounding),
+    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), grounding=grounding, lift=lift),
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None,
               "clips": args.clips, "corrupt": args.corrupt,

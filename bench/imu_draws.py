@@ -25,7 +25,7 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import lifted_label, reference_clips, tracked_and_judged
+from agents.evaluate import reference_clips, tracked_and_judged, tracked_label
 from agents.evaluation import evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import load_policy
@@ -74,15 +74,15 @@ def main() -> None:
     net = load_network(denoiser_path, "denoiser") if denoiser_path else None
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
-    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net, lift,
-                                grounding)
+    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net,
+                                grounding=grounding, lift=lift)
              for seed in seeds]
     rows = []
     for path, policy in zip(args.policies, policies):
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = lifted_label(actor_label(path, args.mirror_average), lift, grounding)
+        label = tracked_label(actor_label(path, args.mirror_average), grounding=grounding, lift=lift)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])

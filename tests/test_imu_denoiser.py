@@ -179,18 +179,22 @@ def test_sole_points_are_those_of_the_posed_body_seen_from_its_pelvis(walk):
 
 
 def test_the_task_loss_reads_the_corrupted_take_s_hinges():
-    """``DenoiserTask``'s loss with the sole term: an untrained network (corrections zero) costs what
-    :func:`correction_loss` gives for the corrupted take's own hinge angles."""
-    task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], DenoiserTrainConfig(hidden=16, sole_weight=3.0))
+    """``DenoiserTask``'s loss with the sole and height terms: an untrained network (corrections
+    zero) costs what :func:`correction_loss` gives for the corrupted take's own hinge angles."""
+    task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"],
+                        DenoiserTrainConfig(hidden=16, sole_weight=3.0, height_weight=50.0))
     net = task.network()
     clean = task.train[0]
     given = corrupt(clean, ArtefactRecipe.imu(1.0), 3)
     features = torch.from_numpy(motion_features(given))[None]
     target = torch.from_numpy(correction_target(clean, given))[None]
     expected = correction_loss(torch.zeros_like(target), target, torch.from_numpy(given.qpos[:, 7:]).float()[None],
-                               torch_kinematics(clean.model), 3.0)
+                               torch_kinematics(clean.model), 3.0, 50.0)
     with torch.no_grad():
         assert float(task._loss(net, features, target)) == pytest.approx(float(expected), rel=1e-5)
+    without_height = correction_loss(torch.zeros_like(target), target, torch.from_numpy(given.qpos[:, 7:]).float()[None],
+                                     torch_kinematics(clean.model), 3.0)
+    assert float(expected) > float(without_height) * 1.05  # the height's term is there
     assert float(expected) > 2 * float((target ** 2).mean())  # the soles' term is there and not small
 
 
@@ -200,14 +204,14 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
                      "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
                      "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2",
-                     "--no-progress"])
+                     "--height-weight", "3", "--no-progress"])
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32 and tuple(net.config["dilations"]) == (1, 4)
     assert [conv.dilation[0] for conv in net.convs] == [1, 4]
     config = json.loads((out / "sidecar.json").read_text())["config"]
     given = (config["hidden"], config["strength"], config["clean_fraction"], config["postures"], config["dilations"],
-             config["window"], config["sole_weight"], config["speeds"])
-    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0, [1.0, 1.2])
+             config["window"], config["sole_weight"], config["speeds"], config["height_weight"])
+    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0, [1.0, 1.2], 3.0)
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):

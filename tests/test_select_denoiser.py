@@ -27,11 +27,11 @@ def select(*args: str) -> tuple[int, dict | None, str]:
 
 
 def test_paired_difference_and_named_rows(tmp_path):
-    base = draws_file(tmp_path / "b.json", "dm", {"old_name": [0.8, 0.6, 0.7], "other": [0.1, 0.1, 0.1]})
+    base = draws_file(tmp_path / "b.json", "dm", {"pi": [0.8, 0.6, 0.7], "other": [0.1, 0.1, 0.1]})
     cand = draws_file(tmp_path / "c.json", "new", {"pi": [0.9, 0.6, 0.9]})
     with pytest.raises(SystemExit, match="name exactly one"):
         read_draws(base)
-    row = compare(read_draws(base + ":old_name"), [read_draws(cand)])[0]
+    row = compare(read_draws(base + ":pi"), [read_draws(cand)])[0]
     assert row["ELR"] == pytest.approx(0.8)
     assert row["against_baseline"]["mean_difference"] == pytest.approx(0.1)
     assert (row["against_baseline"]["draws_above"], row["against_baseline"]["draws_equal"]) == (2, 1)
@@ -41,6 +41,8 @@ def test_other_draws_or_the_same_denoiser_are_refused(tmp_path):
     base = read_draws(draws_file(tmp_path / "b.json", "dm", {"pi": [0.8, 0.6, 0.7]}))
     with pytest.raises(SystemExit, match="different draws"):
         compare(base, [read_draws(draws_file(tmp_path / "c.json", "new", {"pi": [0.9, 0.6, 0.9]}, seeds=(1, 2, 3)))])
+    with pytest.raises(SystemExit, match="tracked by different actors .'pi \\+ grounded', 'pi'"):
+        compare(base, [read_draws(draws_file(tmp_path / "g.json", "new", {"pi + grounded": [0.9, 0.6, 0.9]}))])
     with pytest.raises(SystemExit, match="another denoiser"):
         compare(base, [read_draws(draws_file(tmp_path / "d.json", "dm", {"pi": [0.9, 0.6, 0.9]}))])
     with pytest.raises(SystemExit, match="without a denoiser"):

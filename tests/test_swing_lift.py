@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from agents.evaluate import lifted_label, tracked_and_judged
+from agents.evaluate import tracked_label, tracked_and_judged
 from reference_motion.humanoid.model import load_model
 from reference_motion.cli import CliParser
 from reference_motion.swing_lift import (KNEES, SwingLift, add_swing_lift_options, backward_weights, lift_swing,
@@ -98,12 +98,12 @@ def test_bad_settings_are_refused(bad):
 
 def test_evaluation_tracks_the_lifted_take_and_judges_the_take_as_given(walk):
     back = reversed_in_time(walk)
-    tracked, judged = tracked_and_judged([back], None, SwingLift())
+    tracked, judged = tracked_and_judged([back], None, lift=SwingLift())
     assert judged == [back] and tracked[0].source["swing_lift"]["knee_deg"] == SwingLift.knee_deg
-    assert tracked_and_judged([back], None, None) == ([back], None)
-    assert lifted_label("models/x (mirror-averaged)", SwingLift(knee_deg=15.0)) == \
+    assert tracked_and_judged([back], None) == ([back], None)
+    assert tracked_label("models/x (mirror-averaged)", lift=SwingLift(knee_deg=15.0)) == \
         "models/x (mirror-averaged) + swing lift 15 deg above 3 cm"
-    assert lifted_label("models/x", SwingLift(swing_from="speed")) == "models/x + swing lift 15 deg faster than 1 m/s"
+    assert tracked_label("models/x", lift=SwingLift(swing_from="speed")) == "models/x + swing lift 15 deg faster than 1 m/s"
 
 
 def test_the_command_line_options_build_the_lift():
