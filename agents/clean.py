@@ -29,8 +29,10 @@ closer to the take's path than the policy alone (``bench/retry_strategies.py``);
 retries with up to ``--retries`` stochastic rollouts of it, keeping the first that gets past. Every output frame is simulated; the re-anchors (frame, reason, retries)
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
 a red border in the video, which shows the reference (left) and the result (right).
-``--denoise`` first undoes an IMU take's joint-angle and height errors (:mod:`perception.imu_denoiser`);
-the policy is adapted to and re-performs the denoised take. ``--touch-up`` then removes what the soft contact model leaves (feet sunk into the floor, creeping
+``--denoise`` first undoes an IMU take's joint-angle and height errors (:mod:`perception.imu_denoiser`),
+``--ground`` then sets the take on the floor (:mod:`reference_motion.grounding`) and ``--swing-lift``
+bends its backward steps' knees more in swing (:mod:`reference_motion.swing_lift`); the policy is
+adapted to and re-performs the take so prepared (:func:`agents.evaluate.prepared`). ``--touch-up`` then removes what the soft contact model leaves (feet sunk into the floor, creeping
 contact points) kinematically (:mod:`reference_motion.touch_up`), reporting how far it moved the
 body and the simulation's own metrics beside the result's. Before/after artefact metrics are printed.
 """
