@@ -170,7 +170,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
-    changes = [text for text in ("set on the floor" if grounding else "", f"with a {lift.label}" if lift else "") if text]
+    changes = [text for text in ("set on the floor" if grounding else "", f"with a {lift.label}" if lift else "")
+               if text]
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
           + (f", denoised by {args.denoise}" if args.denoise else "")

@@ -72,8 +72,8 @@ class DenoiserTrainConfig:
             the feet, which the policy stands on, count more than those of an elbow. 0: the hinge
             angles and pelvis height alone, each equally. The validation score carries the same term.
         height_weight: weight of a third loss term, the mean squared error (m²) of the pelvis
-            height alone. In the first term the height is one channel among 44 (beside 43 hinges), so a
-            2.5 cm error weighs as little as a 1.4° error on one hinge, yet on validation's IMU
+            height alone. In the first term the height is one channel among 44 (beside 43
+            hinges), so a 2.5 cm error weighs as little as a 1.4° error on one hinge, yet on validation's IMU
             draws the pelvis height left by ``imu_denoiser_soles_quint_mirror`` (2.3 cm RMS) costs
             as much ELR as all hip angles' residual errors (README, round 9). 0: no third term.
             The validation score carries it too. Measured: one member at 8 leads the same seed

@@ -54,7 +54,8 @@ class Grounding:
         """How results name an actor that tracked grounded takes (with the settings where they are
         not the defaults, so two groundings are told apart)."""
         default = Grounding()
-        changed = [f"{f.name}={getattr(self, f.name)}" for f in fields(self) if getattr(self, f.name) != getattr(default, f.name)]
+        changed = [f"{f.name}={getattr(self, f.name)}" for f in fields(self)
+                   if getattr(self, f.name) != getattr(default, f.name)]
         return "grounded" + (f" ({', '.join(changed)})" if changed else "")
 
 

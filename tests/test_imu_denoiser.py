@@ -188,12 +188,11 @@ def test_the_task_loss_reads_the_corrupted_take_s_hinges():
     given = corrupt(clean, ArtefactRecipe.imu(1.0), 3)
     features = torch.from_numpy(motion_features(given))[None]
     target = torch.from_numpy(correction_target(clean, given))[None]
-    expected = correction_loss(torch.zeros_like(target), target, torch.from_numpy(given.qpos[:, 7:]).float()[None],
-                               torch_kinematics(clean.model), 3.0, 50.0)
+    given_hinges, kin = torch.from_numpy(given.qpos[:, 7:]).float()[None], torch_kinematics(clean.model)
+    expected = correction_loss(torch.zeros_like(target), target, given_hinges, kin, 3.0, 50.0)
     with torch.no_grad():
         assert float(task._loss(net, features, target)) == pytest.approx(float(expected), rel=1e-5)
-    without_height = correction_loss(torch.zeros_like(target), target, torch.from_numpy(given.qpos[:, 7:]).float()[None],
-                                     torch_kinematics(clean.model), 3.0)
+    without_height = correction_loss(torch.zeros_like(target), target, given_hinges, kin, 3.0)
     assert float(expected) > float(without_height) * 1.05  # the height's term is there
     assert float(expected) > 2 * float((target ** 2).mean())  # the soles' term is there and not small
 
