@@ -54,13 +54,13 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
-from agents.evaluate import prepared
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy
 from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
 from envs.config import FOOT_MODELS
+from envs.preparation import prepared
 from perception.imu_denoiser import DEFAULT_DENOISER
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt

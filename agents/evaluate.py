@@ -30,18 +30,19 @@ from agents.mirror import actor_label
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
-from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser, denoise
+from envs.preparation import prepared
+from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
                                   one_line_errors, output_file, positive_float, positive_int, require_frames)
-from reference_motion.grounding import Grounding, add_grounding_option, ground, grounding_of
+from reference_motion.grounding import Grounding, add_grounding_option, grounding_of
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.rigs import MocapOptions
-from reference_motion.swing_lift import SwingLift, add_swing_lift_options, lift_swing, swing_lift_of
+from reference_motion.swing_lift import SwingLift, add_swing_lift_options, swing_lift_of
 
 def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
@@ -90,18 +91,6 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
         require_frames(motion, config.min_clip_frames + 1, source, "a mimic episode")
         out.append(corrupt(motion, ArtefactRecipe.named(kind, strength), seed + i) if kind else motion)
     return out
-
-
-def prepared(take: Motion, denoiser: IMUDenoiser | None = None, *, grounding: Grounding | None = None,
-             lift: SwingLift | None = None) -> Motion:
-    """What a policy tracks of ``take``: the take after ``denoiser`` (``--denoise``), then set on
-    the floor (``grounding``, ``--ground``), then with its backward steps' knees lifted in swing
-    (``lift``, ``--swing-lift``); each step only when given."""
-    if denoiser is not None:
-        take = denoise(denoiser, take)
-    if grounding is not None:
-        take = ground(take, grounding)
-    return lift_swing(take, lift) if lift is not None else take
 
 
 def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, *, grounding: Grounding | None = None,

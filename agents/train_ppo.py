@@ -61,10 +61,12 @@ from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
+from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.library import (STANCE_EXTRA_M, augmented, expand_clips, load_motion, posture_copies,
                                       stance_copies)
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
+from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 from reference_motion.transforms import PostureRanges, reversed_in_time
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
@@ -88,8 +90,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"),
                    help="IMU artefact strength range of corrupted references")
     g.add_argument("--judge", choices=JUDGES, default=ArtefactMix().judge,
-                   help="what a corrupted episode is rewarded and terminated against: the corrupted reference "
-                        "the policy observes (ADAPT), or the clean clip it was made from (envs.ArtefactMix.judge)")
+                   help="what an episode is rewarded and terminated against: the reference the policy observes "
+                        "(ADAPT), the clean clip a corrupted one was made from, or the reference as made, before "
+                        "--denoise, --ground and --swing-lift prepared it, as evaluate.py judges a take "
+                        "(envs.ArtefactMix.judge)")
     g.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
                    help="pass every corrupted reference (training, and --eval-strength evaluation) through the IMU "
                         "denoiser in DIR (default: validation's choice, models/imu_denoiser_soles_quint_mirror) "
@@ -97,6 +101,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "--denoise does (envs.ArtefactMix.denoiser); the --eval-strength evaluation then judges a "
                         "rollout against the denoised reference it follows, evaluate.py --denoise against the take as "
                         "given")
+    add_grounding_option(g, "every training reference, clean or corrupted, is set on the floor after --denoise "
+                            "(envs.ArtefactMix.grounding)")
+    add_swing_lift_options(g, "every training reference is lifted last (envs.ArtefactMix.lift)")
     g.add_argument("--variants-per-clip", type=positive_int, default=4,
                    help="distinct corrupted references made per training clip (the same in every "
                         "process and shared by its envs: that many in all; with --vec subproc that many per env)")
@@ -250,12 +257,15 @@ def build_parser(prog: str | None = None) -> CliParser:
 
 def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> ArtefactMix | None:
     """The run's corrupted references (``--strength``, ``--variants-per-clip``, its variant seed,
-    ``--judge``, ``--denoise``) in ``corrupted_fraction`` of the episodes; ``None`` for 0."""
-    if corrupted_fraction <= 0:
+    ``--judge``, ``--denoise``) in ``corrupted_fraction`` of the episodes, and how every reference is
+    prepared before the policy tracks it (``--ground``, ``--swing-lift``); ``None`` when there is
+    neither."""
+    grounding, lift = grounding_of(args), swing_lift_of(args)
+    if corrupted_fraction <= 0 and grounding is None and lift is None:
         return None
     return ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
-                       denoiser=args.denoise)
+                       denoiser=args.denoise, grounding=grounding, lift=lift)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
@@ -623,12 +633,13 @@ class CheckpointAndEvaluate(BaseCallback):
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
         push, varied = pushes(args), dynamics(args)
+        grounding, lift = grounding_of(args), swing_lift_of(args)
         clips = training_clips(args)
         training = TrainingRecord(
             clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
-            denoiser=args.denoise,
+            denoiser=args.denoise, grounding=asdict(grounding) if grounding else None, lift=asdict(lift) if lift else None,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(clips, args.reverse),
             warps=warped_clips(clips, args.warp),
@@ -806,7 +817,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
-                                               variants_per_clip=args.eval_episodes, denoiser=args.denoise)
+                                               variants_per_clip=args.eval_episodes, denoiser=args.denoise,
+                                               grounding=grounding_of(args), lift=swing_lift_of(args),
+                                               judge="given" if args.judge == "given" else "corrupted")
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
     maps = MirrorMaps.of(eval_env) if args.symmetric else None  # refuses a layout it does not know, before the run

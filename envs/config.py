@@ -17,7 +17,9 @@ import numpy as np
 
 from envs.observations import OBS_FRAMES
 from reference_motion.artefacts import ArtefactRecipe
+from reference_motion.grounding import Grounding
 from reference_motion.quality import QualityConfig
+from reference_motion.swing_lift import SwingLift
 
 FOOT_MODELS = {"one": "humanoid_1seg", "two": "humanoid_2seg"}
 """``foot`` argument → humanoid model."""
@@ -200,8 +202,8 @@ class MimicConfig:
         return round(self.frame_rate_hz / self.control_rate_hz)
 
 
-JUDGES = ("corrupted", "clean")
-"""What a corrupted episode is rewarded and terminated against (:attr:`ArtefactMix.judge`)."""
+JUDGES = ("corrupted", "clean", "given")
+"""What an episode is rewarded and terminated against (:attr:`ArtefactMix.judge`)."""
 
 
 @dataclass(frozen=True)
@@ -224,11 +226,20 @@ class ArtefactMix:
             ``"corrupted"``, the reference the policy observes and its PD targets follow (ADAPT);
             or ``"clean"``, the clip it was corrupted from, which only training can know (the
             policy is then rewarded for performing the clean motion from the corrupted reference:
-            :mod:`agents.expert_iteration`'s ``--judge clean``).
+            :mod:`agents.expert_iteration`'s ``--judge clean``); or ``"given"``, the reference as made,
+            before ``denoiser``, ``grounding`` and ``lift`` prepared it (the corrupted variant, or in a
+            clean episode the clip), as ``evaluate.py --denoise --ground --swing-lift`` judges a take.
+            With ``"clean"`` and ``"given"`` a clean episode the mix prepares is judged against the
+            clip as given; with ``"corrupted"`` every episode against what the policy tracks.
         denoiser: directory of an IMU denoiser (:mod:`perception.imu_denoiser`) that every
             corrupted variant passes through before the policy observes it, as ``clean.py
-            --denoise`` passes a take (``"corrupted"`` then judges against the denoised variant, the
-            reference the policy follows); ``None`` (default): the corrupted reference as made.
+            --denoise`` passes a take; ``None`` (default): the corrupted reference as made.
+        grounding: every reference the policy tracks, clean or corrupted, set on the floor after
+            the denoiser (:func:`reference_motion.grounding.ground`, ``evaluate.py --ground``);
+            ``None`` (default): as made.
+        lift: every reference the policy tracks with its backward steps' knees lifted in swing, last
+            (:func:`reference_motion.swing_lift.lift_swing`, ``evaluate.py --swing-lift``); ``None``
+            (default): as made. The three steps are :func:`envs.preparation.prepared`'s.
     """
 
     recipe: ArtefactRecipe = field(default_factory=ArtefactRecipe.imu)
@@ -238,6 +249,13 @@ class ArtefactMix:
     seed: int | None = None
     judge: str = "corrupted"
     denoiser: str | None = None
+    grounding: Grounding | None = None
+    lift: SwingLift | None = None
+
+    def prepares(self, corrupted: bool) -> bool:
+        """Whether the reference of a corrupted (or clean) episode is prepared before the policy
+        tracks it (denoised, grounded or lifted), so that ``judge`` may compare with another one."""
+        return (corrupted and self.denoiser is not None) or self.grounding is not None or self.lift is not None
 
     def __post_init__(self) -> None:
         lo, hi = self.strength

@@ -27,6 +27,7 @@ from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS
 from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
                                steered_velocities, steering_pull)
 from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
+from envs.preparation import prepared
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
@@ -268,14 +269,17 @@ class MimicEnv(gym.Env):
             raise RuntimeError("call reset() first")
         return self._episode_end
 
-    def track(self, clip: int, variant: int = -1) -> ReferenceTrack:
+    def track(self, clip: int, variant: int = -1, *, as_given: bool = False) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
-        ``variant`` (passed through ``ArtefactMix.denoiser`` when set), or the motion it is judged
-        against (``variant=JUDGED``), built on first use (or taken from another environment of this process that
-        holds the same one, :data:`_SHARED_TRACKS`). A variant's artefact seed and strength depend
-        only on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant),
-        so the same seed always gives the same references whatever order episodes come in."""
-        key = (clip, variant)
+        ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use (or
+        taken from another environment of this process that holds the same one,
+        :data:`_SHARED_TRACKS`). The clip and its variants are prepared as ``ArtefactMix`` says
+        (:func:`envs.preparation.prepared`: a variant denoised, then either set on the floor and
+        swing-lifted) unless ``as_given``, which gives them as made (what ``ArtefactMix.judge ==
+        "given"`` compares with). A variant's artefact seed and strength depend only on
+        (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant), so the
+        same seed always gives the same references whatever order episodes come in."""
+        key = (clip, variant, as_given)
         if key in self._tracks:
             self._tracks.move_to_end(key)
             return self._tracks[key]
@@ -289,21 +293,22 @@ class MimicEnv(gym.Env):
             rng = np.random.default_rng([self._variant_base, clip, variant])
             seed = int(rng.integers(2**31))
             corruption = (mix.recipe.scaled(float(rng.uniform(*mix.strength))), seed)
-            self._variant_seeds[key] = seed
+            self._variant_seeds[(clip, variant)] = seed
         judged = variant == JUDGED
         if variant < JUDGED or (judged and self._judged is None):
             raise ValueError(f"track variant {variant}: expected -1 (the clip), a corrupted variant >= 0, or JUDGED "
                              f"({JUDGED}) on an env made with judged_clips")
         given = self._judged[clip] if judged else self.clips[clip]
-        denoiser = self.artefacts.denoiser if corruption is not None else None
+        mix = None if judged or as_given else self.artefacts
+        denoiser = mix.denoiser if mix is not None and corruption is not None else None
+        grounding, lift = (mix.grounding, mix.lift) if mix is not None else (None, None)
         content = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
-                   denoiser, self.config.cube_size_m)
+                   denoiser, grounding, lift, self.config.cube_size_m)
         track = _SHARED_TRACKS.get(content)
         if track is None:
             motion = given if corruption is None else corrupt(given, *corruption)
-            if denoiser is not None:  # torch only when asked for: `import envs` stays light
-                from perception.imu_denoiser import denoise
-                motion = denoise(shipped_network(denoiser, "denoiser"), motion)
+            motion = prepared(motion, None if denoiser is None else shipped_network(denoiser, "denoiser"),
+                              grounding=grounding, lift=lift)
             track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                          self.config.cube_size_m)
             for value in vars(track).values():  # shared between environments: nobody may write to it
@@ -340,10 +345,7 @@ class MimicEnv(gym.Env):
             raise ValueError(f"unknown reset option(s) {sorted(options)}; expected clip, start_frame, corrupted, state")
 
         self._track, self._clip, self._variant = track, clip, variant
-        if self._judged is not None:
-            self._judge = self.track(clip, JUDGED)
-        else:
-            self._judge = self.track(clip, -1) if variant >= 0 and self.artefacts.judge == "clean" else track
+        self._judge = self._judging_track(clip, variant, track)
         self._start = self._frame = start
         self._push_steps_left = 0  # mj_resetData below clears the push's force
         fpc = self.config.frames_per_control
@@ -371,6 +373,21 @@ class MimicEnv(gym.Env):
                 "artefact_seed": self._variant_seeds.get((clip, variant)), "contacts": self._sim_contacts.copy(),
                 "unstable": False, "ended_by": ""}
         return self._obs, info
+
+    def _judging_track(self, clip: int, variant: int, track: ReferenceTrack) -> ReferenceTrack:
+        """What an episode on ``variant`` of ``clip``, tracking ``track``, is judged against: the
+        env's ``judged_clips``, else as ``ArtefactMix.judge`` says (``"corrupted"``: ``track``
+        itself; ``"clean"``: the clip as given; ``"given"``: the variant as given, before the mix
+        prepared it), else ``track``."""
+        if self._judged is not None:
+            return self.track(clip, JUDGED)
+        mix = self.artefacts
+        if mix is None or mix.judge == "corrupted":
+            return track
+        corrupted = variant >= 0
+        if mix.judge == "clean" and corrupted:
+            return self.track(clip, -1, as_given=True)
+        return self.track(clip, variant, as_given=True) if mix.prepares(corrupted) else track
 
     @property
     def smoothed(self) -> np.ndarray:

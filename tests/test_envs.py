@@ -14,14 +14,17 @@ import envs
 from envs import ArtefactMix
 from envs.bodies import read_body_state
 from envs.config import MimicConfig, Pushes
+from envs.preparation import prepared
 from envs.reference import pd_targets
 from reference_motion import rotations as rot
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.grounding import Grounding
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
+from reference_motion.swing_lift import SwingLift
 
 WALK = ["deepmimic:walk"]
 
@@ -425,6 +428,31 @@ def test_corrupted_variants_can_pass_through_the_imu_denoiser(walk):
     np.testing.assert_allclose(denoised.current_track.motion.qpos, expected.qpos)
     assert not np.allclose(expected.qpos, corrupted.qpos)
     assert denoised.track(0, 0) is denoised.current_track  # cached, not denoised again
+
+
+def test_training_references_can_be_prepared_as_evaluation_prepares_takes(walk):
+    """ArtefactMix.grounding/lift with judge="given": every episode tracks its reference as
+    envs.preparation.prepared makes it (a corrupted variant set on the floor; a clean clip too) and is
+    judged against the reference as made, as evaluate.py --ground judges a take."""
+    grounding = Grounding()
+    mix = ArtefactMix(strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5, grounding=grounding,
+                      judge="given")
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    plain = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, grounding=None, judge="corrupted")).unwrapped
+    for corrupted in (True, False):
+        for e in (env, plain):
+            e.reset(options={"clip": 0, "start_frame": 0, "corrupted": corrupted})
+        as_made = plain.current_track.motion
+        np.testing.assert_array_equal(env.judging_track.motion.qpos, as_made.qpos)
+        np.testing.assert_allclose(env.current_track.motion.qpos, prepared(as_made, grounding=grounding).qpos)
+        lowered = as_made.qpos[:, 2] - env.current_track.motion.qpos[:, 2]
+        assert np.abs(lowered).max() > (0.01 if corrupted else 1e-4)  # the variant's height offset is taken out
+        np.testing.assert_array_equal(env.current_track.motion.qpos[:, 3:], as_made.qpos[:, 3:])
+    tracking = replace(mix, judge="corrupted")
+    same = gym.make("MimicIMU-v0", clips=[walk], artefacts=tracking).unwrapped
+    same.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    assert same.judging_track is same.current_track  # "corrupted": judged against what it tracks
+    assert ArtefactMix(lift=SwingLift()).prepares(False) and not ArtefactMix(denoiser="d").prepares(False)
 
 
 def test_a_clip_can_be_judged_against_another_motion(walk):

@@ -2,7 +2,7 @@
 
 import argparse
 import json
-from dataclasses import replace
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
@@ -17,7 +17,9 @@ from agents.train_ppo import (build_parser, changed_settings, deferred_signals, 
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
 from envs.config import MimicConfig
 from reference_motion.cli import UsageError
+from reference_motion.grounding import Grounding
 from reference_motion.humanoid.model import load_model
+from reference_motion.swing_lift import SwingLift
 from reference_motion.transforms import PostureRanges
 
 WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
@@ -230,6 +232,24 @@ def test_a_run_on_denoised_references_records_its_denoiser(tmp_path):
                                          "simulate humanoid_2seg"):
         main(["--env-id", "MimicGait-v0", "--clips", "deepmimic:walk", "--corrupted-fraction", "0.5", "--denoise",
               "--run-dir", str(tmp_path / "y")])
+
+
+def test_a_run_can_track_references_prepared_as_evaluation_prepares_takes(tmp_path):
+    """--ground --swing-lift --judge given: every training reference is set on the floor and
+    swing-lifted before the policy tracks it, and judged against the reference as made; the sidecar
+    records the preparation, so evaluation can prepare takes the same way."""
+    from agents.policy import load_policy
+    run = tmp_path / "prepared"
+    main(["--clips", "deepmimic:walk", "--ground", "--swing-lift", "--judge", "given", "--total-steps", "256",
+          "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128", "--batch-size", "64",
+          "--eval-every", "256", "--eval-episodes", "1", "--net", "16,16"])
+    training = load_policy(run / "best").record.training
+    assert training.grounding == asdict(Grounding()) and training.lift == asdict(SwingLift())
+    mix = env_kwargs(run_args(run), ["deepmimic:walk"], 0.0)["artefacts"]  # clean only, yet prepared
+    assert mix.fraction == 0.0 and mix.grounding == Grounding() and mix.lift == SwingLift() and mix.judge == "given"
+    assert mix.prepares(False) and mix.prepares(True)
+    plain = argparse.Namespace(**{**vars(run_args(run)), "ground": False, "swing_lift": None})
+    assert env_kwargs(plain, ["deepmimic:walk"], 0.0)["artefacts"] is None
 
 
 def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
