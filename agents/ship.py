@@ -5,7 +5,8 @@ Usage::
     python agents/ship.py --run-dir runs/mimic_walk --name mimic_walk --clips deepmimic:walk
     python agents/ship.py --run-dir runs/data_mix/mixed --name mimic_imu --clips HELD_OUT... --corrupt imu --seed 1000
 
-Copies ``RUN/best`` (model, observation statistics, sidecar), evaluates it with
+Copies ``RUN/best`` (model, observation statistics, sidecar; with ``--newest`` the run's newest
+checkpoint instead, for a choice registered on that one), evaluates it with
 ``agents/evaluate.py`` (the extra arguments are passed on) and records the evaluation, its command
 and the run's training steps and wall time in all (at its newest checkpoint) in
 ``models/NAME/sidecar.json``. Refuses a model over 20 MB. The policy
@@ -64,6 +65,28 @@ def _copy_resumable_run(run_dir: Path, dest: Path) -> None:
             shutil.copy2(run_dir / name, dest / name)
 
 
+def _best_files(run_dir: Path) -> dict[str, Path]:
+    """The policy files of ``run_dir``'s best checkpoint, by the name each takes in ``models/NAME``."""
+    best = run_dir / "best"
+    if not (best / MODEL_FILE).exists():
+        raise FileNotFoundError(f"{best / MODEL_FILE}: not found: the run has not been evaluated yet")
+    return {name: best / name for name in (MODEL_FILE, STATS_FILE, SIDECAR_FILE)}
+
+
+def _newest_files(run_dir: Path) -> dict[str, Path]:
+    """The policy files of ``run_dir``'s newest checkpoint (``step_N.zip``, ``step_N_vecnormalize.pkl``,
+    ``step_N_sidecar.json``), by the name each takes in ``models/NAME``."""
+    checkpoint = newest_checkpoint(run_dir)
+    if checkpoint is None:
+        raise FileNotFoundError(f"{run_dir / CHECKPOINTS_DIR}: no step_*.zip checkpoint to ship (--newest)")
+    files = {MODEL_FILE: checkpoint, STATS_FILE: checkpoint.with_name(f"{checkpoint.stem}_vecnormalize.pkl"),
+             SIDECAR_FILE: checkpoint.with_name(f"{checkpoint.stem}_{SIDECAR_FILE}")}
+    missing = [str(path) for path in files.values() if not path.exists()]
+    if missing:
+        raise FileNotFoundError(f"{checkpoint}: its {', '.join(missing)} missing; a checkpoint ships whole or not at all")
+    return files
+
+
 @one_line_errors
 def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``; options it does not know go to
@@ -75,18 +98,18 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     p.add_argument("--models", type=output_dir, default=Path("models"))
     p.add_argument("--resumable", action="store_true",
                    help="also copy the run's newest checkpoint and records to models/NAME/run/")
+    p.add_argument("--newest", action="store_true",
+                   help="ship the run's newest checkpoint instead of its best by its own evaluation")
     args, eval_args = p.parse_known_args(argv)
-    best = args.run_dir / "best"
-    if not (best / MODEL_FILE).exists():
-        raise FileNotFoundError(f"{best / MODEL_FILE}: not found: the run has not been evaluated yet")
-    size = _checked_size(best / MODEL_FILE)
+    sources = _newest_files(args.run_dir) if args.newest else _best_files(args.run_dir)
+    size = _checked_size(sources[MODEL_FILE])
     out = args.models / args.name
     staging = args.models / f".{args.name}.partial"  # becomes `out` only once evaluated: never half-shipped
     shutil.rmtree(staging, ignore_errors=True)
     staging.mkdir(parents=True)
     try:
-        for name in (MODEL_FILE, STATS_FILE, SIDECAR_FILE):
-            shutil.copy2(best / name, staging / name)
+        for name, source in sources.items():
+            shutil.copy2(source, staging / name)
         result = {**evaluate.main(["--policy", str(staging), *eval_args]), "policy": str(out)}
         write_json(staging / "evaluation.json", result)
         sidecar = json.loads((staging / SIDECAR_FILE).read_text())

@@ -6,6 +6,7 @@ which Python prints as that one line with status 1), and once through its real e
 subprocess."""
 
 import functools
+import json
 import shutil
 import subprocess
 import sys
@@ -303,3 +304,27 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
     ship.main([*common, "--resumable"])  # the run is replaced by the newer one, the other folder kept
     assert sorted(p.name for p in (run / "checkpoints").iterdir()) == ["step_30.zip", "step_30_vecnormalize.pkl"]
     assert (models / "walk" / "student" / "model.zip").read_text() == "student"
+
+
+def test_ship_newest_ships_the_newest_checkpoint_whole(tmp_path, capsys):
+    """``--newest`` ships the run's newest checkpoint (a choice registered on it), not ``best/``, and
+    refuses one whose observation statistics are missing."""
+    run = tmp_path / "run"
+    checkpoints = run / "checkpoints"
+    checkpoints.mkdir(parents=True)
+    for step in (10, 30):
+        shutil.copy2(Path(POLICY, "model.zip"), checkpoints / f"step_{step}.zip")
+        shutil.copy2(Path(POLICY, "model_vecnormalize.pkl"), checkpoints / f"step_{step}_vecnormalize.pkl")
+        sidecar = json.loads(Path(POLICY, "sidecar.json").read_text())
+        (checkpoints / f"step_{step}_sidecar.json").write_text(json.dumps({**sidecar, "steps": step}))
+    (run / "wall.json").write_text('{"steps": 30, "wall_s": 2.0}')
+    models = tmp_path / "models"
+    common = ["--run-dir", str(run), "--models", str(models), "--clips", "deepmimic:walk", "--episodes", "1"]
+    ship.main([*common, "--name", "walk", "--newest"])
+    shipped = json.loads((models / "walk" / "sidecar.json").read_text())
+    assert shipped["steps"] == 30 and shipped["training_steps_total"] == 30
+    assert (models / "walk" / "model.zip").read_bytes() == (checkpoints / "step_30.zip").read_bytes()
+    (checkpoints / "step_40.zip").write_bytes((checkpoints / "step_30.zip").read_bytes())
+    line = _error_line(ship.main, [*common, "--name", "other", "--newest"], capsys)
+    assert "step_40_vecnormalize.pkl" in line and "step_40_sidecar.json missing" in line
+    assert not (models / "other").exists()
