@@ -32,7 +32,7 @@ a red border in the video, which shows the reference (left) and the result (righ
 ``--denoise`` first undoes an IMU take's joint-angle and height errors (:mod:`perception.imu_denoiser`),
 ``--ground`` then sets the take on the floor (:mod:`reference_motion.grounding`) and ``--swing-lift``
 bends its backward steps' knees more in swing (:mod:`reference_motion.swing_lift`); the policy is
-adapted to and re-performs the take so prepared (:func:`agents.evaluate.prepared`).
+adapted to and re-performs the take so prepared (:func:`envs.preparation.prepared`).
 ``--touch-up`` then removes what the soft contact model leaves (feet sunk into the floor, creeping
 contact points) kinematically (:mod:`reference_motion.touch_up`), reporting how far it moved the
 body and the simulation's own metrics beside the result's. Before/after artefact metrics are printed.

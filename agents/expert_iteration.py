@@ -56,12 +56,17 @@ from agents.search import SearchConfig, search
 from agents.sidecar import PolicySidecar, TrainingRecord
 from agents.train_ppo import load_training_motions
 from envs import ArtefactMix
-from envs.config import FOOT_MODELS, JUDGES
+from envs.config import FOOT_MODELS
 from reference_motion.atomic import write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, one_line_errors, or_none, output_dir,
                                   positive_float, positive_int, resumable_run)
 from reference_motion.library import expand_clips
 from reference_motion.motion import Motion
+
+
+SEARCH_JUDGES = ("corrupted", "clean")
+"""What a corrupted episode's search may rank against (:attr:`envs.ArtefactMix.judge`'s first two:
+expert iteration prepares no reference, so ``"given"`` would be ``"corrupted"``)."""
 
 
 @dataclass(frozen=True)
@@ -106,8 +111,8 @@ class ExpertIterationConfig:
             raise ValueError(f"ExpertIterationConfig.drop_windows must be >= 0, got {self.drop_windows}")
         if not 0 <= self.holdout < 1:
             raise ValueError(f"ExpertIterationConfig.holdout must be in [0, 1), got {self.holdout}")
-        if self.judge not in JUDGES:
-            raise ValueError(f"ExpertIterationConfig.judge must be one of {JUDGES}, got {self.judge!r}")
+        if self.judge not in SEARCH_JUDGES:
+            raise ValueError(f"ExpertIterationConfig.judge must be one of {SEARCH_JUDGES}, got {self.judge!r}")
 
     def fit_config(self, net: str) -> DistillConfig:
         """The fit's settings as :func:`agents.distill.fit` takes them."""
@@ -258,7 +263,7 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--search-samples", type=positive_int, default=defaults.search.samples)
     p.add_argument("--search-max-drift", type=or_none(positive_float), default=defaults.search.max_drift_m,
                    help="m; a rollout whose root ends a window further from the reference's fails ('none': no limit)")
-    p.add_argument("--judge", choices=JUDGES, default=defaults.judge,
+    p.add_argument("--judge", choices=SEARCH_JUDGES, default=defaults.judge,
                    help="what a corrupted episode's search ranks rollouts against: the corrupted reference the "
                         "policy observes, or the clean take it was made from")
     p.add_argument("--epochs", type=positive_int, default=defaults.epochs)

@@ -1,4 +1,4 @@
-"""Ship a training run's best policy to ``models/NAME`` with its evaluation in the sidecar.
+"""Ship a training run's best policy (or its newest checkpoint) to ``models/NAME`` with its evaluation in the sidecar.
 
 Usage::
 
@@ -81,9 +81,10 @@ def _newest_files(run_dir: Path) -> dict[str, Path]:
         raise FileNotFoundError(f"{run_dir / CHECKPOINTS_DIR}: no step_*.zip checkpoint to ship (--newest)")
     files = {MODEL_FILE: checkpoint, STATS_FILE: checkpoint.with_name(f"{checkpoint.stem}_vecnormalize.pkl"),
              SIDECAR_FILE: checkpoint.with_name(f"{checkpoint.stem}_{SIDECAR_FILE}")}
-    missing = [str(path) for path in files.values() if not path.exists()]
+    missing = [path.name for path in files.values() if not path.exists()]
     if missing:
-        raise FileNotFoundError(f"{checkpoint}: its {', '.join(missing)} missing; a checkpoint ships whole or not at all")
+        raise FileNotFoundError(f"{checkpoint}: {', '.join(missing)} missing beside it; a checkpoint ships whole "
+                                "or not at all")
     return files
 
 

@@ -113,7 +113,7 @@ class TrainingRecord:
         clips: the training clips (SOURCE strings, clip sets expanded).
         eval_clips: the clips the checkpoint was selected on.
         corrupted_fraction, strength: the IMU-corruption mix (share of episodes, strength range).
-        judge: what the corrupted episodes were rewarded against (:attr:`envs.ArtefactMix.judge`).
+        judge: what the episodes were rewarded against (:attr:`envs.ArtefactMix.judge`).
         denoiser: the IMU denoiser the corrupted references passed through (:attr:`envs.ArtefactMix.denoiser`),
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
         grounding, lift: how every training reference was set on the floor and swing-lifted

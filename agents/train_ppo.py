@@ -99,8 +99,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "denoiser in DIR (default: validation's choice, models/imu_denoiser_soles_quint_mirror) "
                         "before the policy observes it, as clean.py "
                         "--denoise does (envs.ArtefactMix.denoiser); the --eval-strength evaluation then judges a "
-                        "rollout against the denoised reference it follows, evaluate.py --denoise against the take as "
-                        "given")
+                        "rollout against the denoised reference it follows (with --judge given against the "
+                        "reference as made, as evaluate.py --denoise judges the take as given)")
     add_grounding_option(g, "every training reference, clean or corrupted, is set on the floor after --denoise "
                             "(envs.ArtefactMix.grounding)")
     add_swing_lift_options(g, "every training reference is lifted last (envs.ArtefactMix.lift)")
@@ -722,6 +722,16 @@ def check_denoiser(args: argparse.Namespace) -> None:
                          f"simulate {model} at {fps:g} Hz")
 
 
+def check_preparation(args: argparse.Namespace) -> None:
+    """Refuse, before any work, ``--swing-from`` without ``--swing-lift`` and ``--judge given`` where
+    no reference is prepared (it would judge as ``corrupted`` does)."""
+    grounding, lift = grounding_of(args), swing_lift_of(args)
+    denoised = args.denoise is not None and args.corrupted_fraction > 0
+    if args.judge == "given" and grounding is None and lift is None and not denoised:
+        raise ValueError("--judge given judges against the reference as made, before --denoise, --ground and "
+                         "--swing-lift prepare it; this run prepares none (give one of them)")
+
+
 def check_symmetric(args: argparse.Namespace, run_dir: Path) -> None:
     """Refuse, before any work, a run whose actor would not be what ``--symmetric`` says: the
     symmetric actor without a policy to start from (its frozen statistics are the source's), a
@@ -801,6 +811,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     if args.denoise is not None:
         check_denoiser(args)
+    check_preparation(args)
     check_symmetric(args, run_dir)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args), stance_extra(args)

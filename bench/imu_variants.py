@@ -75,8 +75,8 @@ def main() -> None:
     motions = training_motions(run)
     picks = list(range(0, len(motions), args.clip_every))
     at = (args.strength, args.strength)  # the other rows differ from the trained variants only as named
-    rows = [("clean", None), ("trained variants", trained), ("fresh variants", replace(trained, seed=args.seed)),
-            ("imu", replace(trained, recipe=ArtefactRecipe.imu(), strength=at, seed=args.seed))]
+    rows = [("clean", replace(trained, fraction=0.0)), ("trained variants", trained),
+            ("fresh variants", replace(trained, seed=args.seed)), ("imu", replace(trained, recipe=ArtefactRecipe.imu(), strength=at, seed=args.seed))]
     rows += [(kind, replace(trained, recipe=ArtefactRecipe.only(kind), strength=at, seed=args.seed))
              for kind in ARTEFACT_KINDS]
     print(f"{args.policy}: {len(picks)} of its {len(motions)} training clips, {args.episodes} rollouts each; trained "
@@ -87,7 +87,7 @@ def main() -> None:
         env = policy.make_env(motions, artefacts=mix)
         env.reset(seed=args.seed)  # which variant each rollout draws; the variants themselves follow mix.seed
         runs = evaluate(env, policy, clips=picks, episodes=args.episodes, offset_step=args.offset_step,
-                        corrupted=mix is not None)[1]
+                        corrupted=name != "clean")[1]
         summary = summarize(runs)
         row = {"row": name, "rollouts": len(runs), "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
                **early_ends(runs)}

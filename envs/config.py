@@ -208,7 +208,8 @@ JUDGES = ("corrupted", "clean", "given")
 
 @dataclass(frozen=True)
 class ArtefactMix:
-    """Which episodes mimic an IMU-corrupted reference (ADAPT trains on clean + faulty takes).
+    """Which episodes mimic an IMU-corrupted reference (ADAPT trains on clean + faulty takes), and
+    how every reference is prepared before the policy tracks it.
 
     Attributes:
         recipe: relative strength of each artefact kind (see :mod:`reference_motion.artefacts`).

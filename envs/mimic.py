@@ -63,8 +63,9 @@ class MimicEnv(gym.Env):
             :class:`Motion` objects. Cyclic clips are looped to two episodes; a clip shorter than an
             episode ends its episodes (truncation) at its last frame; every clip must be longer than
             ``config.min_clip_frames``.
-        artefacts: which episodes get an IMU-corrupted reference (:class:`ArtefactMix`); ``None``
-            mimics the clips as given.
+        artefacts: which episodes get an IMU-corrupted reference, and how every reference is
+            prepared before the policy tracks it (:class:`ArtefactMix`); ``None`` mimics the clips
+            as given.
         foot: ``"one"`` (``humanoid_1seg``) or ``"two"`` (``humanoid_2seg``, toe joint open loop).
         episode_frames: longest episode in reference frames (default 300 = 5 s at 60 Hz).
         obs_mode: ``"adapt"`` (all bodies, adapt Table 1) or ``"drecon"`` (key bodies only).
@@ -197,7 +198,7 @@ class MimicEnv(gym.Env):
         self._judged_keys = [] if self._judged is None else [_content_key(c) for c in self._judged]
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
-        self._tracks: OrderedDict[tuple[int, int], ReferenceTrack] = OrderedDict()
+        self._tracks: OrderedDict[tuple[int, int, bool], ReferenceTrack] = OrderedDict()
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None if artefacts is None else artefacts.seed
         """Base seed of the corrupted variants: ``artefacts.seed`` if fixed, else the last reset seed."""
@@ -209,8 +210,8 @@ class MimicEnv(gym.Env):
         """Called after every physics substep (to average contact forces over a frame)."""
         self._track: ReferenceTrack | None = None
         self._judge: ReferenceTrack | None = None
-        """The track the reward and terminations compare with: ``_track``, or with
-        ``ArtefactMix.judge == "clean"`` in a corrupted episode the clean clip's."""
+        """The track the reward and terminations compare with: ``_track``, or another as
+        :meth:`_judging_track` says (``judged_clips``, ``ArtefactMix.judge``)."""
         self._action = np.zeros(n_act)
         self._sim_contacts = np.zeros(4, dtype=bool)
         """The simulated contacts (LT, RT, LH, RH) at the current frame."""
@@ -273,12 +274,14 @@ class MimicEnv(gym.Env):
         """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
         ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use (or
         taken from another environment of this process that holds the same one,
-        :data:`_SHARED_TRACKS`). The clip and its variants are prepared as ``ArtefactMix`` says
-        (:func:`envs.preparation.prepared`: a variant denoised, then either set on the floor and
-        swing-lifted) unless ``as_given``, which gives them as made (what ``ArtefactMix.judge ==
-        "given"`` compares with). A variant's artefact seed and strength depend only on
+        :data:`_SHARED_TRACKS`). The clip and its corrupted variants are prepared as ``ArtefactMix``
+        says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
+        variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
+        (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never prepared. A variant's artefact seed and strength depend only on
         (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant), so the
         same seed always gives the same references whatever order episodes come in."""
+        as_given = (as_given and variant != JUDGED and self.artefacts is not None
+                    and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
         key = (clip, variant, as_given)
         if key in self._tracks:
             self._tracks.move_to_end(key)
@@ -556,8 +559,8 @@ class MimicEnv(gym.Env):
     @property
     def judging_track(self) -> ReferenceTrack:
         """The track the running episode's reward and terminations compare with (after
-        :meth:`reset`): :attr:`current_track`, unless the episode is corrupted and judged against
-        the clean clip (``ArtefactMix.judge``) or the env was given ``judged_clips``."""
+        :meth:`reset`): :attr:`current_track`, unless the env was given ``judged_clips`` or
+        ``ArtefactMix.judge`` names another (:meth:`_judging_track`)."""
         if self._judge is None:
             raise RuntimeError("call reset() first")
         return self._judge
@@ -662,7 +665,7 @@ def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfi
 
 _SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 """The reference tracks alive in this process, by content (model, clip content, corruption,
-denoiser, cube size): environments of one process on the same clips with the same variant seeds (the envs of a
+denoiser, grounding, lift, cube size): environments of one process on the same clips with the same variant seeds (the envs of a
 ``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy, read
 only. A track lives while some environment's LRU cache holds it. Clip names are not part of the
 key (the environment reports its own clip's name)."""

@@ -404,6 +404,7 @@ def test_a_corrupted_episode_can_be_judged_against_the_clean_clip(walk):
     assert info_j["corrupted"] and info_a["corrupted"]
     np.testing.assert_array_equal(obs_j, obs_a)  # the same corrupted reference is observed ...
     assert judged.judging_track is judged.track(0, -1) and judged.current_track is judged.track(0, 0)
+    assert sorted(judged._tracks) == [(0, -1, False), (0, 0, False)]  # nothing prepared: one slot per track
     assert adapt.judging_track is adapt.current_track
     action = np.zeros(adapt.action_space.shape)
     for _ in range(10):
@@ -448,6 +449,9 @@ def test_training_references_can_be_prepared_as_evaluation_prepares_takes(walk):
         lowered = as_made.qpos[:, 2] - env.current_track.motion.qpos[:, 2]
         assert np.abs(lowered).max() > (0.01 if corrupted else 1e-4)  # the variant's height offset is taken out
         np.testing.assert_array_equal(env.current_track.motion.qpos[:, 3:], as_made.qpos[:, 3:])
+    clean_judge = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, judge="clean")).unwrapped
+    clean_judge.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    np.testing.assert_array_equal(clean_judge.judging_track.motion.qpos, walk.qpos[:clean_judge.judging_track.n_frames])
     tracking = replace(mix, judge="corrupted")
     same = gym.make("MimicIMU-v0", clips=[walk], artefacts=tracking).unwrapped
     same.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})

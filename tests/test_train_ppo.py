@@ -250,6 +250,11 @@ def test_a_run_can_track_references_prepared_as_evaluation_prepares_takes(tmp_pa
     assert mix.prepares(False) and mix.prepares(True)
     plain = argparse.Namespace(**{**vars(run_args(run)), "ground": False, "swing_lift": None})
     assert env_kwargs(plain, ["deepmimic:walk"], 0.0)["artefacts"] is None
+    with pytest.raises(SystemExit, match="--judge given judges against the reference as made.*prepares none"):
+        main(["--clips", "deepmimic:walk", "--judge", "given", "--run-dir", str(tmp_path / "x")])
+    with pytest.raises(SystemExit, match="--swing-from goes with --swing-lift"):
+        main(["--clips", "deepmimic:walk", "--swing-from", "speed", "--run-dir", str(tmp_path / "y")])
+    assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()
 
 
 def test_a_warm_start_takes_the_weights_but_its_own_exploration_noise(tmp_path):
