@@ -639,7 +639,8 @@ class CheckpointAndEvaluate(BaseCallback):
             clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
-            denoiser=args.denoise, grounding=asdict(grounding) if grounding else None, lift=asdict(lift) if lift else None,
+            denoiser=args.denoise, grounding=asdict(grounding) if grounding else None,
+            lift=asdict(lift) if lift else None,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(clips, args.reverse),
             warps=warped_clips(clips, args.warp),
@@ -725,9 +726,8 @@ def check_denoiser(args: argparse.Namespace) -> None:
 def check_preparation(args: argparse.Namespace) -> None:
     """Refuse, before any work, ``--swing-from`` without ``--swing-lift`` and ``--judge given`` where
     no reference is prepared (it would judge as ``corrupted`` does)."""
-    grounding, lift = grounding_of(args), swing_lift_of(args)
-    denoised = args.denoise is not None and args.corrupted_fraction > 0
-    if args.judge == "given" and grounding is None and lift is None and not denoised:
+    mix = artefact_mix(args, args.corrupted_fraction)  # grounding_of and swing_lift_of refuse bad options
+    if args.judge == "given" and (mix is None or not mix.prepares(args.corrupted_fraction > 0)):
         raise ValueError("--judge given judges against the reference as made, before --denoise, --ground and "
                          "--swing-lift prepare it; this run prepares none (give one of them)")
 

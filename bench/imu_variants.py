@@ -76,7 +76,8 @@ def main() -> None:
     picks = list(range(0, len(motions), args.clip_every))
     at = (args.strength, args.strength)  # the other rows differ from the trained variants only as named
     rows = [("clean", replace(trained, fraction=0.0)), ("trained variants", trained),
-            ("fresh variants", replace(trained, seed=args.seed)), ("imu", replace(trained, recipe=ArtefactRecipe.imu(), strength=at, seed=args.seed))]
+            ("fresh variants", replace(trained, seed=args.seed)),
+            ("imu", replace(trained, recipe=ArtefactRecipe.imu(), strength=at, seed=args.seed))]
     rows += [(kind, replace(trained, recipe=ArtefactRecipe.only(kind), strength=at, seed=args.seed))
              for kind in ARTEFACT_KINDS]
     print(f"{args.policy}: {len(picks)} of its {len(motions)} training clips, {args.episodes} rollouts each; trained "

@@ -277,9 +277,10 @@ class MimicEnv(gym.Env):
         :data:`_SHARED_TRACKS`). The clip and its corrupted variants are prepared as ``ArtefactMix``
         says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
         variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
-        (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never prepared. A variant's artefact seed and strength depend only on
-        (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant), so the
-        same seed always gives the same references whatever order episodes come in."""
+        (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
+        prepared. A variant's artefact seed and strength depend only on (``artefacts.seed``, or else
+        the last seed given to :meth:`reset`; clip; variant), so the same seed always gives the same
+        references whatever order episodes come in."""
         as_given = (as_given and variant != JUDGED and self.artefacts is not None
                     and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
         key = (clip, variant, as_given)
@@ -665,10 +666,10 @@ def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfi
 
 _SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 """The reference tracks alive in this process, by content (model, clip content, corruption,
-denoiser, grounding, lift, cube size): environments of one process on the same clips with the same variant seeds (the envs of a
-``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once and share one copy, read
-only. A track lives while some environment's LRU cache holds it. Clip names are not part of the
-key (the environment reports its own clip's name)."""
+denoiser, grounding, lift, cube size): environments of one process on the same clips with the same
+variant seeds (the envs of a ``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once
+and share one copy, read only. A track lives while some environment's LRU cache holds it. Clip
+names are not part of the key (the environment reports its own clip's name)."""
 
 
 def _state_parts(state: Sequence, nq: int, nv: int, n_act: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:
