@@ -15,9 +15,7 @@ Its sidecar is the last input's, with ``averaged_from`` naming the inputs.
 
 from __future__ import annotations
 
-import pickle
 import sys
-import tempfile
 from dataclasses import replace
 from pathlib import Path
 
@@ -29,7 +27,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 if __package__ in (None, ""):  # `python agents/average_policies.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
-from agents.policy import MimicPolicy, PolicyError, load_policy, save_policy
+from agents.policy import MimicPolicy, PolicyError, load_policy, save_loaded_policy
 from agents.sidecar import PolicySidecar
 from reference_motion.cli import CliParser, one_line_errors, output_dir
 
@@ -100,13 +98,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                       extra={**sidecar.extra, "averaged_from": list(args.policies),
                              "lineage_note": f"weights averaged over {len(args.policies)} checkpoints "
                                              f"(agents/average_policies.py); steps and wall time are the last one's"})
-    # Loaded statistics lack what VecNormalize's pickling drops (the envs, their attributes, the
-    # returns), so they are given empty ones and pickled as load_policy reads them.
-    stats.venv, stats.class_attributes, stats.returns = None, {}, None
-    with tempfile.TemporaryDirectory() as tmp:
-        stats_file = Path(tmp) / "statistics.pkl"
-        stats_file.write_bytes(pickle.dumps(stats))
-        save_policy(args.out, model, stats_file, sidecar)
+    save_loaded_policy(args.out, model, stats, sidecar)
     print(f"{args.out}: the average of {len(policies)} policies")
     return args.out
 

@@ -14,6 +14,7 @@ import math
 import os
 import pickle
 import shutil
+import tempfile
 import zipfile
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
@@ -291,6 +292,18 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     shutil.rmtree(old, ignore_errors=True)
+
+
+def save_loaded_policy(path: Path, model: PPO, statistics: VecNormalize, sidecar: PolicySidecar) -> None:
+    """:func:`save_policy` for ``statistics`` a loaded policy holds (:func:`load_policy`), whose
+    weights or statistics a tool changed: they lack what ``VecNormalize``'s pickling drops (the
+    envs, their attributes, the returns), so they are given empty ones and pickled as
+    :func:`load_policy` reads them."""
+    statistics.venv, statistics.class_attributes, statistics.returns = None, {}, None
+    with tempfile.TemporaryDirectory() as tmp:
+        stats_file = Path(tmp) / STATS_FILE
+        stats_file.write_bytes(pickle.dumps(statistics))
+        save_policy(path, model, stats_file, sidecar)
 
 
 def load_policy(path: str | Path) -> MimicPolicy:
