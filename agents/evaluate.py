@@ -133,7 +133,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
-        note = policy.denoiser_note(args.denoise)
+        note = policy.preparation_note(args.denoise, grounding, lift)
         if note:
             print(note)
         if args.obs_frame:

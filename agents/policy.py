@@ -210,15 +210,31 @@ class MimicPolicy:
         sidecar = replace(record, env=task, extra={given_as: first, **record.extra}).to_dict()
         return replace(self, sidecar=sidecar)
 
-    def denoiser_note(self, denoiser: str | Path | None) -> str | None:
-        """A warning when the policy's corrupted training references passed through an IMU denoiser
-        (``train_ppo.py --denoise``, :attr:`~agents.sidecar.TrainingRecord.denoiser`) and the takes
-        it is given now pass through another one, ``denoiser``, or none (``None``); else ``None``."""
-        trained = self.record.training.denoiser
-        if not trained or (denoiser and Path(denoiser).resolve() == Path(trained).resolve()):
-            return None
-        return (f"note: {self.path} was trained on corrupted references passed through the IMU denoiser {trained}; "
-                f"these takes are {f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
+    def preparation_note(self, denoiser: str | Path | None, grounding: Any = None, lift: Any = None) -> str | None:
+        """A warning when the policy's training references were prepared (``train_ppo.py
+        --denoise``, ``--ground``, ``--swing-lift``; :class:`~agents.sidecar.TrainingRecord`'s
+        ``denoiser``, ``grounding`` and ``lift``) and the takes it is given now are not, or
+        otherwise: through another IMU denoiser or none (``denoiser``: a path or ``None``), set on
+        the floor with other settings or not (``grounding``: a
+        :class:`~reference_motion.grounding.Grounding` or ``None``), lifted in backward swing
+        otherwise or not (``lift``: a :class:`~reference_motion.swing_lift.SwingLift` or ``None``);
+        else ``None``. Preparations the policy did not train on draw no note."""
+        trained = self.record.training
+
+        def settings(step: Any) -> dict | None:  # as the sidecar's JSON holds them
+            return None if step is None else json.loads(json.dumps(asdict(step)))
+
+        unlike = []
+        if trained.denoiser and not (denoiser and Path(denoiser).resolve() == Path(trained.denoiser).resolve()):
+            unlike.append(f"passed through the IMU denoiser {trained.denoiser}; these takes are "
+                          f"{f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
+        if trained.grounding and settings(grounding) != trained.grounding:
+            unlike.append(f"set on the floor; these takes are {'set on it otherwise' if grounding else 'not'} "
+                          f"(--ground)")
+        if trained.lift and settings(lift) != trained.lift:
+            unlike.append(f"lifted in backward swing ({trained.lift.get('knee_deg')}°); these takes are "
+                          f"{'lifted otherwise' if lift else 'not'} (--swing-lift)")
+        return f"note: {self.path} was trained on references " + "; and ".join(unlike) if unlike else None
 
     def check_env(self, env: gym.Env) -> None:
         """Raise :class:`PolicyError` unless ``env``'s spaces are the ones the policy was trained on."""

@@ -68,7 +68,7 @@ def main() -> None:
         p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
     denoiser_path = None if args.no_denoise else args.denoise
     for policy in policies:
-        note = policy.denoiser_note(denoiser_path)
+        note = policy.preparation_note(denoiser_path, grounding, lift)
         if note:
             print(note)
     net = load_network(denoiser_path, "denoiser") if denoiser_path else None

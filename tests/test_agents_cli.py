@@ -196,3 +196,24 @@ def test_shipped_walk_policy_walks(tmp_path):
                             "--offset-step", "10"])
     assert result["ELR_mean"] > 0.9 and result["SR90"] >= 2 / 3
     assert result["artefacts"]["jitter"]["output"] < result["artefacts"]["jitter"]["input"]
+
+
+def test_a_policy_trained_on_prepared_takes_notes_takes_prepared_otherwise():
+    """models/mimic_general_prepared trained on takes denoised, set on the floor and swing-lifted:
+    takes prepared the same draw no note; each preparation missing or changed is named."""
+    from reference_motion.grounding import Grounding
+    from reference_motion.swing_lift import SwingLift
+    policy = load_policy("models/mimic_general_prepared")
+    denoiser = policy.record.training.denoiser
+    assert policy.preparation_note(denoiser, Grounding(), SwingLift(knee_deg=15.0)) is None
+    note = policy.preparation_note(None)
+    assert note.startswith("note: models/mimic_general_prepared was trained on references passed through the IMU "
+                           "denoiser models/imu_denoiser_soles_quint_mirror; these takes are not denoised (--denoise)")
+    assert "set on the floor; these takes are not (--ground)" in note
+    assert "lifted in backward swing (15.0°); these takes are not (--swing-lift)" in note
+    note = policy.preparation_note(denoiser, Grounding(smooth_s=0.5), SwingLift(knee_deg=15.0))
+    assert note.endswith("trained on references set on the floor; these takes are set on it otherwise (--ground)")
+    note = policy.preparation_note(denoiser, Grounding(), SwingLift(knee_deg=25.0))
+    assert "--swing-lift" in note and "--ground" not in note and "--denoise" not in note
+    # a policy trained on takes as given draws no note for takes prepared now
+    assert load_policy("models/mimic_general_stance_avg").preparation_note(denoiser, Grounding(), None) is None

@@ -225,7 +225,7 @@ def test_a_run_on_denoised_references_records_its_denoiser(tmp_path):
     stored = argparse.Namespace(**json.loads((run / "args.json").read_text()))
     assert stored.denoise == str(DEFAULT_DENOISER)
     assert env_kwargs(stored, ["deepmimic:walk"], 1.0)["artefacts"].denoiser == str(DEFAULT_DENOISER)
-    assert policy.denoiser_note(DEFAULT_DENOISER) is None and "not denoised" in policy.denoiser_note(None)
+    assert policy.preparation_note(DEFAULT_DENOISER) is None and "not denoised" in policy.preparation_note(None)
     with pytest.raises(SystemExit, match="this run has none"):
         main(["--clips", "deepmimic:walk", "--denoise", "--run-dir", str(tmp_path / "x")])
     with pytest.raises(SystemExit, match="an IMU denoiser for humanoid_1seg at 60 Hz; this run's environments "
