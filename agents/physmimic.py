@@ -28,6 +28,8 @@ COMMANDS = {
     "train-diffpd": ("agents.train_diffpd", "train the differentiable PD cycle's networks (agents/train_diffpd.py)"),
     "distill": ("agents.distill", "distil a policy set into one network by DAgger (agents/distill.py)"),
     "ship": ("agents.ship", "ship a training run's best policy to models/ (agents/ship.py)"),
+    "mirror": ("agents.mirror_policy", "write a policy's mirror image, a teacher for a clip's other side "
+                                       "(agents/mirror_policy.py)"),
 }
 """Command → (module whose ``main(argv, prog)`` runs it, what it does)."""
 
