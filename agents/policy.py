@@ -18,7 +18,7 @@ import tempfile
 import zipfile
 from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import gymnasium as gym
 import numpy as np
@@ -32,6 +32,10 @@ from agents.sidecar import GAIT_ENV_ID, PolicySidecar
 from agents.symmetric_policy import SymmetricActorCriticPolicy
 from envs.config import GAIT_ABLATIONS
 from envs.observations import SAME_LAYOUT_FRAMES, same_layout
+
+if TYPE_CHECKING:
+    from reference_motion.grounding import Grounding
+    from reference_motion.swing_lift import SwingLift
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
 CHECKPOINTS_DIR = "checkpoints"
@@ -210,28 +214,24 @@ class MimicPolicy:
         sidecar = replace(record, env=task, extra={given_as: first, **record.extra}).to_dict()
         return replace(self, sidecar=sidecar)
 
-    def preparation_note(self, denoiser: str | Path | None, grounding: Any = None, lift: Any = None) -> str | None:
+    def preparation_note(self, denoiser: str | Path | None, grounding: Grounding | None = None,
+                         lift: SwingLift | None = None) -> str | None:
         """A warning when the policy's training references were prepared (``train_ppo.py
         --denoise``, ``--ground``, ``--swing-lift``; :class:`~agents.sidecar.TrainingRecord`'s
         ``denoiser``, ``grounding`` and ``lift``) and the takes it is given now are not, or
         otherwise: through another IMU denoiser or none (``denoiser``: a path or ``None``), set on
-        the floor with other settings or not (``grounding``: a
-        :class:`~reference_motion.grounding.Grounding` or ``None``), lifted in backward swing
-        otherwise or not (``lift``: a :class:`~reference_motion.swing_lift.SwingLift` or ``None``);
-        else ``None``. Preparations the policy did not train on draw no note."""
+        the floor with other settings or not, lifted in backward swing otherwise or not; else
+        ``None``. Settings are compared where the sidecar records them (a field added since keeps
+        its default's silence). Preparations the policy did not train on draw no note."""
         trained = self.record.training
-
-        def settings(step: Any) -> dict | None:  # as the sidecar's JSON holds them
-            return None if step is None else json.loads(json.dumps(asdict(step)))
-
         unlike = []
         if trained.denoiser and not (denoiser and Path(denoiser).resolve() == Path(trained.denoiser).resolve()):
             unlike.append(f"passed through the IMU denoiser {trained.denoiser}; these takes are "
                           f"{f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
-        if trained.grounding and settings(grounding) != trained.grounding:
+        if trained.grounding and not recorded_as(trained.grounding, grounding):
             unlike.append(f"set on the floor; these takes are {'set on it otherwise' if grounding else 'not'} "
                           f"(--ground)")
-        if trained.lift and settings(lift) != trained.lift:
+        if trained.lift and not recorded_as(trained.lift, lift):
             unlike.append(f"lifted in backward swing ({trained.lift.get('knee_deg')}°); these takes are "
                           f"{'lifted otherwise' if lift else 'not'} (--swing-lift)")
         return f"note: {self.path} was trained on references " + "; and ".join(unlike) if unlike else None
@@ -246,6 +246,19 @@ class MimicPolicy:
 
 
 _NUMPY_ACTIVATIONS = {torch.nn.Tanh: np.tanh, torch.nn.ReLU: lambda h: np.maximum(h, 0.0)}
+
+
+def recorded_as(recorded: dict, settings: Any) -> bool:
+    """Whether the dataclass ``settings`` (or ``None``) has every value a sidecar ``recorded`` for it
+    (nested dataclasses as nested dicts; compared as JSON holds them, so tuples match lists)."""
+    if settings is None:
+        return False
+    given = json.loads(json.dumps(asdict(settings)))
+
+    def within(stored: dict, now: dict) -> bool:
+        return all(within(v, now.get(k)) if isinstance(v, dict) and isinstance(now.get(k), dict)
+                   else now.get(k, object()) == v for k, v in stored.items())
+    return within(recorded, given)
 
 
 def mlp_mean_action(policy: torch.nn.Module, x: np.ndarray) -> np.ndarray | None:

@@ -217,3 +217,14 @@ def test_a_policy_trained_on_prepared_takes_notes_takes_prepared_otherwise():
     assert "--swing-lift" in note and "--ground" not in note and "--denoise" not in note
     # a policy trained on takes as given draws no note for takes prepared now
     assert load_policy("models/mimic_general_stance_avg").preparation_note(denoiser, Grounding(), None) is None
+
+
+def test_recorded_settings_are_compared_where_the_sidecar_has_them():
+    from dataclasses import asdict
+    from agents.policy import recorded_as
+    from reference_motion.grounding import Grounding
+    recorded = json.loads(json.dumps(asdict(Grounding())))
+    del recorded["smooth_s"]  # a sidecar written before the field existed
+    assert recorded_as(recorded, Grounding()) and recorded_as(recorded, Grounding(smooth_s=9.0))
+    recorded["quality"]["contact_height"] = 0.05  # nested settings count
+    assert not recorded_as(recorded, Grounding()) and not recorded_as(recorded, None)
