@@ -45,6 +45,21 @@ class MirrorMaps:
     action_perm: np.ndarray
     action_sign: np.ndarray
 
+    def __post_init__(self) -> None:
+        """A clear ``ValueError`` unless each map is a signed permutation that undoes itself
+        (``perm[perm]`` the identity, ``sign[perm] == sign``), as a left/right mirror does: the
+        symmetric actor and a policy's mirror image rely on it."""
+        for what, perm, sign in (("observation", self.obs_perm, self.obs_sign),
+                                 ("action", self.action_perm, self.action_sign)):
+            if perm.ndim != 1 or perm.shape != sign.shape:
+                raise ValueError(f"the {what} map's perm {perm.shape} and sign {sign.shape} must be one "
+                                 f"vector each, of the same length")
+            if sorted(perm.tolist()) != list(range(len(perm))):
+                raise ValueError(f"the {what} map's perm is not a permutation of 0..{len(perm) - 1}")
+            if not (np.array_equal(perm[perm], np.arange(len(perm))) and np.array_equal(sign[perm], sign)):
+                raise ValueError(f"the {what} map is not its own inverse (perm[perm] must be the identity "
+                                 f"and sign[perm] equal sign); a left/right mirror is")
+
     @classmethod
     def of(cls, env: gym.Env) -> MirrorMaps:
         """The maps of a mimic environment's observation and action (``MimicIMU-v0`` and its

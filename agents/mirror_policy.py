@@ -50,21 +50,11 @@ ACTION_ROWS = ("action_net.weight", "action_net.bias", "log_std")
 """The parameters with one row per action component."""
 
 
-def check_involution(perm: np.ndarray, sign: np.ndarray, what: str) -> None:
-    """Raise :class:`PolicyError` unless the signed permutation ``x[perm] * sign`` undoes itself, as
-    a left/right mirror does (the weight moves below rely on it)."""
-    if not (np.array_equal(perm[perm], np.arange(len(perm))) and np.array_equal(sign[perm], sign)):
-        raise PolicyError(f"the {what} map is not its own inverse (perm[perm] must be the identity and "
-                          f"sign[perm] equal sign); a left/right mirror is")
-
-
 def mirrored_weights(state: dict[str, torch.Tensor], maps: MirrorMaps) -> dict[str, torch.Tensor]:
     """The state dict of the mirrored network (the module's equation) from ``state``, an SB3
     ``MlpPolicy``'s with separate actor and critic (first layers :data:`~agents.warm_start.FIRST_LAYERS`
     ``(H, D)``, ``action_net`` ``(A, H)`` and ``(A,)``, ``log_std`` ``(A,)``), reading normalised
-    observations mirrored as ``maps`` says (each map its own inverse)."""
-    check_involution(maps.obs_perm, maps.obs_sign, "observation")
-    check_involution(maps.action_perm, maps.action_sign, "action")
+    observations mirrored as ``maps`` says (each map its own inverse, which :class:`MirrorMaps` checks)."""
     missing = [k for k in (*FIRST_LAYERS, *ACTION_ROWS) if k not in state]
     if missing:
         raise PolicyError(f"not an MLP actor-critic with separate actor and critic: no {', '.join(missing)}")
