@@ -1,8 +1,8 @@
 """Where a policy's loss on IMU takes sits: joint angles, root placement, or the judge.
 
 Usage: ``python bench/imu_ceiling.py [--policy models/mimic_general_steered] [--clips library:data/library/val]
-[--episodes 20] [--kind imu] [--strength 1] [--seed 9100] [--denoise DIR ...] [--rows ROW ...]
-[--json [OUT]]``
+[--episodes 20] [--kind imu] [--strength 1] [--seed 9100] [--draws 1] [--denoise DIR ...] [--rows ROW ...]
+[--mirror-average] [--ground] [--swing-lift [DEG]] [--json [OUT]]``
 
 Every clip is corrupted with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`,
 ADAPT's protocol at ``--strength``; ``--kind`` for one kind alone), and the policy tracks, row by row, a different version of
@@ -17,11 +17,21 @@ it, always judged (rewarded and terminated) against the take as given, as ``eval
   over the ground (horizontal position and orientation): what a denoiser that undid every error
   it corrects (hinge angles and pelvis height, :func:`perception.imu_denoiser.denoise`) would reach
   (a reference point, not a bound: a denoised take is another draw of the same errors);
+- ``imu_path``: the clean take on the take's horizontal pelvis path (drift and stance skate): what
+  the path's errors alone cost;
+- ``imu_rotation``: the clean take with the take's pelvis orientation (heading drift, and the
+  pelvis' share of the joint-angle errors): what they alone cost;
 - ``clean``: the clean take (a perfect cleaner): what is left is the policy's own loss on the
   clips plus what the judge (the take as given, drifted and skating) costs it.
 
 The rows run on the same clips, artefact seeds and start frames, side by side in one run;
-``--rows`` picks some of them (``given``, ``denoised``, ``clean_root``, ``clean_joints``, ``clean``).
+``--rows`` picks some of them (``given``, ``denoised``, ``clean_root``, ``clean_joints``, ``imu_path``,
+``imu_rotation``, ``clean``).
+``--draws N`` repeats every row on N artefact draws (draw k: seed ``--seed + k * len(clips)``, so
+the clips' seeds never overlap), each row's ELR then the mean over every rollout and its paired
+difference from the first row per draw is reported (mean ± standard error over draws). As
+``evaluate.py`` does, ``--ground`` and ``--swing-lift`` prepare every row's tracked take after the
+denoiser (:func:`envs.preparation.prepared`), and ``--mirror-average`` makes the actor symmetric.
 """
 
 from __future__ import annotations
@@ -30,23 +40,32 @@ import argparse
 from collections import Counter
 from pathlib import Path
 
+import numpy as np
+
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import reference_clips
-from agents.evaluation import evaluate_tracking, per_clip
+from agents.evaluate import reference_clips, tracked_label
+from agents.evaluation import evaluate_tracking, per_clip, summarize
+from agents.mirror import actor_label
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
+from envs.preparation import prepared
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.imu_denoiser import denoise
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS
+from reference_motion.cli import positive_int
+from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.motion import Motion
+from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
-ROWS = ("given", "denoised", "clean_root", "clean_joints", "clean")
+ROWS = ("given", "denoised", "clean_root", "clean_joints", "imu_path", "imu_rotation", "clean")
 """The rows, in the order they run."""
 PELVIS = [0, 1, 2, 3, 4, 5, 6]
 """qpos columns of the pelvis: position (m) and orientation (quaternion w, x, y, z)."""
 PLACEMENT = [0, 1, 3, 4, 5, 6]
 """The pelvis without its height: horizontal position (m) and orientation."""
+PATH, ROTATION = [0, 1], [3, 4, 5, 6]
+"""The pelvis' horizontal position (m), and its orientation."""
 
 
 def with_columns_of(motion: Motion, other: Motion, columns: list[int]) -> Motion:
@@ -67,36 +86,64 @@ def main() -> None:
     p.add_argument("--denoise", nargs="*", type=Path, default=[Path("models/imu_denoiser_dm")], metavar="DIR",
                    help="IMU denoisers, a row each")
     p.add_argument("--rows", nargs="+", choices=ROWS, default=list(ROWS), help="which rows to run")
+    p.add_argument("--draws", type=positive_int, default=1, help="artefact draws (each row on each)")
+    p.add_argument("--mirror-average", action="store_true", help="the symmetric actor (agents/mirror.py)")
+    add_grounding_option(p, "every row's tracked take")
+    add_swing_lift_options(p, "every row's tracked take")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
     policy = load_policy(args.policy)
     model, config = FOOT_MODELS[policy.foot], MimicConfig()
+    grounding, lift = grounding_of(args), swing_lift_of(args)
+    nets = {path: load_network(path, "denoiser") for path in dict.fromkeys(args.denoise)}  # each once
+    runs_of: dict[str, list] = {}
+    elr_of_draw: dict[str, list[float]] = {}
     clean = reference_clips(args.clips, model, config, None, args.strength, args.seed)
-    given = reference_clips(args.clips, model, config, args.kind, args.strength, args.seed)
-    rows = {}
-    if "given" in args.rows:
-        rows["given"] = given
-    if "denoised" in args.rows:
-        for path in dict.fromkeys(args.denoise):  # each once
-            net = load_network(path, "denoiser")
-            rows[f"denoised {path}"] = [denoise(net, c) for c in given]
-    if "clean_root" in args.rows:
-        rows["clean root"] = [with_columns_of(g, c, PELVIS) for g, c in zip(given, clean)]
-    if "clean_joints" in args.rows:
-        rows["clean joints and height"] = [with_columns_of(c, g, PLACEMENT) for g, c in zip(given, clean)]
-    if "clean" in args.rows:
-        rows["clean"] = clean
+    for draw in range(args.draws):
+        seed = args.seed + draw * len(clean)
+        given = reference_clips(args.clips, model, config, args.kind, args.strength, seed)
+        rows = {}
+        if "given" in args.rows:
+            rows["given"] = given
+        if "denoised" in args.rows:
+            for path, net in nets.items():
+                rows[f"denoised {path}"] = [denoise(net, c) for c in given]
+        if "clean_root" in args.rows:
+            rows["clean root"] = [with_columns_of(g, c, PELVIS) for g, c in zip(given, clean)]
+        if "clean_joints" in args.rows:
+            rows["clean joints and height"] = [with_columns_of(c, g, PLACEMENT) for g, c in zip(given, clean)]
+        if "imu_path" in args.rows:
+            rows["clean on the take's path"] = [with_columns_of(c, g, PATH) for g, c in zip(given, clean)]
+        if "imu_rotation" in args.rows:
+            rows["clean with the take's pelvis rotation"] = [with_columns_of(c, g, ROTATION) for g, c in zip(given, clean)]
+        if "clean" in args.rows:
+            rows["clean"] = clean
+        for name, tracked in rows.items():
+            if grounding is not None or lift is not None:
+                tracked = [prepared(c, None, grounding=grounding, lift=lift) for c in tracked]
+            summary, runs = evaluate_tracking(policy, tracked, given, episodes=args.episodes,
+                                              mirror_average=args.mirror_average)
+            runs_of.setdefault(name, []).extend(runs)
+            elr_of_draw.setdefault(name, []).append(summary["ELR_mean"])
+            print(f"draw {draw} (seed {seed}) {name:<44} ELR {summary['ELR_mean']:.3f}", flush=True)
     table = []
-    for name, tracked in rows.items():
-        summary, runs = evaluate_tracking(policy, tracked, given, episodes=args.episodes)
+    first = next(iter(elr_of_draw.values()), None)
+    for name, runs in runs_of.items():
+        summary = summarize(runs)
+        gap = np.asarray(elr_of_draw[name]) - np.asarray(first)
         row = {"tracked": name, "rollouts": len(runs), "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
-               "RDE": summary["RDE_mean"], "ended_by": dict(Counter(r.ended_by for r in runs)),
-               "per_clip": per_clip(runs)}
+               "RDE": summary["RDE_mean"], "ELR_per_draw": elr_of_draw[name],
+               "vs_first_row": {"mean": float(gap.mean()),
+                                "stderr": float(gap.std(ddof=1) / np.sqrt(len(gap))) if len(gap) > 1 else None},
+               "ended_by": dict(Counter(r.ended_by for r in runs)), "per_clip": per_clip(runs)}
         table.append(row)
-        print(f"{name:<44} ELR {row['ELR']:.3f}  SR90 {row['SR90']:.2f}  RDE {row['RDE']:.4f} m²", flush=True)
-    emit_json({"policy": args.policy, "clips": args.clips, "episodes": args.episodes, "kind": args.kind,
-               "strength": args.strength,
-               "seed": args.seed, "judged_against": "the IMU take as given", "rows": table}, args.json)
+        spread = row["vs_first_row"]["stderr"]
+        print(f"{name:<44} ELR {row['ELR']:.3f}  SR90 {row['SR90']:.2f}  RDE {row['RDE']:.4f} m²  vs first row "
+              f"{gap.mean():+.3f}" + (f" ± {spread:.3f}" if spread is not None else ""), flush=True)
+    actor = tracked_label(actor_label(args.policy, args.mirror_average), grounding=grounding, lift=lift)
+    emit_json({"policy": args.policy, "actor": actor, "clips": args.clips, "episodes": args.episodes,
+               "kind": args.kind, "strength": args.strength, "seed": args.seed, "draws": args.draws,
+               "judged_against": "the IMU take as given", "rows": table}, args.json)
 
 
 if __name__ == "__main__":
