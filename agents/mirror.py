@@ -46,19 +46,25 @@ class MirrorMaps:
     action_sign: np.ndarray
 
     def __post_init__(self) -> None:
-        """A clear ``ValueError`` unless each map is a signed permutation that undoes itself
+        """Take the fields as arrays (integer permutations, float32 signs) and raise a clear
+        ``ValueError`` unless each map is a signed permutation (signs ±1) that undoes itself
         (``perm[perm]`` the identity, ``sign[perm] == sign``), as a left/right mirror does: the
         symmetric actor and a policy's mirror image rely on it."""
-        for what, perm, sign in (("observation", self.obs_perm, self.obs_sign),
-                                 ("action", self.action_perm, self.action_sign)):
+        for what, perm_field, sign_field in (("observation", "obs_perm", "obs_sign"),
+                                             ("action", "action_perm", "action_sign")):
+            perm, sign = np.asarray(getattr(self, perm_field)), np.asarray(getattr(self, sign_field), dtype=np.float32)
             if perm.ndim != 1 or perm.shape != sign.shape:
                 raise ValueError(f"the {what} map's perm {perm.shape} and sign {sign.shape} must be one "
                                  f"vector each, of the same length")
-            if sorted(perm.tolist()) != list(range(len(perm))):
-                raise ValueError(f"the {what} map's perm is not a permutation of 0..{len(perm) - 1}")
+            if not np.issubdtype(perm.dtype, np.integer) or sorted(perm.tolist()) != list(range(len(perm))):
+                raise ValueError(f"the {what} map's perm is not a permutation of the integers 0..{len(perm) - 1}")
+            if not np.all(np.abs(sign) == 1.0):
+                raise ValueError(f"the {what} map's signs must be +1 or -1")
             if not (np.array_equal(perm[perm], np.arange(len(perm))) and np.array_equal(sign[perm], sign)):
                 raise ValueError(f"the {what} map is not its own inverse (perm[perm] must be the identity "
                                  f"and sign[perm] equal sign); a left/right mirror is")
+            object.__setattr__(self, perm_field, perm)  # frozen: set once, here
+            object.__setattr__(self, sign_field, sign)
 
     @classmethod
     def of(cls, env: gym.Env) -> MirrorMaps:

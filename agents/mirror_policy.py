@@ -95,7 +95,7 @@ def mirror_policy(policy: MimicPolicy, source: str) -> MimicPolicy:
     try:
         maps = policy.mirror_averaged_on(LAYOUT_CLIP[0]).mirror  # the maps depend on the task, not the clip
         state = mirrored_weights(policy.model.policy.state_dict(), maps)
-    except ValueError as err:  # PolicyError, or MirrorMaps.of refusing an observation layout
+    except ValueError as err:  # PolicyError, or MirrorMaps refusing an observation layout or a map
         raise PolicyError(f"{source}: cannot be mirrored: {err}") from err
     net = policy.model.policy
     net.load_state_dict(state)

@@ -17,10 +17,10 @@ it, always judged (rewarded and terminated) against the take as given, as ``eval
   over the ground (horizontal position and orientation): what a denoiser that undid every error
   it corrects (hinge angles and pelvis height, :func:`perception.imu_denoiser.denoise`) would reach
   (a reference point, not a bound: a denoised take is another draw of the same errors);
-- ``imu_path``: the clean take on the take's horizontal pelvis path (drift and stance skate): what
-  the path's errors alone cost;
-- ``imu_rotation``: the clean take with the take's pelvis orientation (heading drift, and the
-  pelvis' share of the joint-angle errors): what they alone cost;
+- ``imu_path``: the clean take on the take's horizontal pelvis path (root drift, stance skate, and
+  the path bent by the heading drift): what the path's errors alone cost;
+- ``imu_rotation``: the clean take with the take's pelvis orientation: what the heading drift
+  costs (the only artefact that turns the pelvis; at 2°/min a fraction of a degree per take);
 - ``clean``: the clean take (a perfect cleaner): what is left is the policy's own loss on the
   clips plus what the judge (the take as given, drifted and skating) costs it.
 
@@ -82,7 +82,7 @@ def main() -> None:
     p.add_argument("--episodes", type=int, default=20, help="rollouts per clip and row")
     p.add_argument("--kind", choices=("imu",) + ARTEFACT_KINDS, default="imu", help="artefact kinds: all, or one")
     p.add_argument("--strength", type=float, default=1.0)
-    p.add_argument("--seed", type=int, default=9100, help="artefact seed of the first clip (clip i gets seed + i)")
+    p.add_argument("--seed", type=int, default=9100, help="artefact seed of the first clip (clip i of draw k gets seed + k * clips + i)")
     p.add_argument("--denoise", nargs="*", type=Path, default=[Path("models/imu_denoiser_dm")], metavar="DIR",
                    help="IMU denoisers, a row each")
     p.add_argument("--rows", nargs="+", choices=ROWS, default=list(ROWS), help="which rows to run")
@@ -95,7 +95,8 @@ def main() -> None:
     policy = load_policy(args.policy)
     model, config = FOOT_MODELS[policy.foot], MimicConfig()
     grounding, lift = grounding_of(args), swing_lift_of(args)
-    nets = {path: load_network(path, "denoiser") for path in dict.fromkeys(args.denoise)}  # each once
+    nets = ({path: load_network(path, "denoiser") for path in dict.fromkeys(args.denoise)}  # each once
+            if "denoised" in args.rows else {})
     runs_of: dict[str, list] = {}
     elr_of_draw: dict[str, list[float]] = {}
     clean = reference_clips(args.clips, model, config, None, args.strength, args.seed)
@@ -143,6 +144,8 @@ def main() -> None:
     actor = tracked_label(actor_label(args.policy, args.mirror_average), grounding=grounding, lift=lift)
     emit_json({"policy": args.policy, "actor": actor, "clips": args.clips, "episodes": args.episodes,
                "kind": args.kind, "strength": args.strength, "seed": args.seed, "draws": args.draws,
+               "seeds_of_first_clip": [args.seed + k * len(clean) for k in range(args.draws)],
+               "first_row": next(iter(runs_of), None),
                "judged_against": "the IMU take as given", "rows": table}, args.json)
 
 

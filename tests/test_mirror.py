@@ -67,3 +67,21 @@ def test_mirror_twins_of_bodies_hinges_and_contact_channels():
     assert [mirror_twin(n) for n in ("l_knee", "r_ankle_x", "left_toe", "right_heel", "pelvis", "lower_back")] == \
         ["r_knee", "l_ankle_x", "right_toe", "left_heel", "pelvis", "lower_back"]
     assert sorted(mirror_twin(c) for c in CONTACT_CHANNELS) == sorted(CONTACT_CHANNELS)
+
+
+def test_maps_that_are_not_a_mirror_are_refused():
+    """Each map must be a signed permutation that undoes itself; lists are taken as arrays."""
+    good = dict(obs_perm=[1, 0, 2], obs_sign=[1.0, 1.0, -1.0], action_perm=[1, 0], action_sign=[1.0, 1.0])
+    maps = MirrorMaps(**good)
+    assert maps.obs_perm.dtype.kind == "i" and maps.obs_sign.dtype == np.float32
+    np.testing.assert_array_equal(maps.observation(np.array([1.0, 2.0, 3.0])), [2.0, 1.0, -3.0])
+    with pytest.raises(ValueError, match="the action map is not its own inverse"):
+        MirrorMaps(**{**good, "action_sign": [1.0, -1.0]})  # applied twice: minus the identity
+    with pytest.raises(ValueError, match="the observation map's perm is not a permutation of the integers 0..2"):
+        MirrorMaps(**{**good, "obs_perm": [1, 1, 2]})
+    with pytest.raises(ValueError, match="not a permutation of the integers"):
+        MirrorMaps(**{**good, "action_perm": [1.0, 0.0]})
+    with pytest.raises(ValueError, match=r"signs must be \+1 or -1"):
+        MirrorMaps(**{**good, "obs_sign": [2.0, 2.0, 1.0]})
+    with pytest.raises(ValueError, match=r"perm \(2,\) and sign \(3,\)"):
+        MirrorMaps(**{**good, "action_sign": [1.0, 1.0, 1.0]})
