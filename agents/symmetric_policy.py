@@ -25,7 +25,6 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 import torch
 from stable_baselines3.common.distributions import DiagGaussianDistribution, Distribution
 from stable_baselines3.common.policies import ActorCriticPolicy
@@ -53,9 +52,7 @@ class SymmetricActorCriticPolicy(ActorCriticPolicy):
 
     def __init__(self, *args: Any, mirror: dict[str, list], **kwargs: Any):
         super().__init__(*args, **kwargs)
-        self.mirror_maps = MirrorMaps(np.asarray(mirror["obs_perm"]), np.asarray(mirror["obs_sign"], dtype=np.float32),
-                                      np.asarray(mirror["action_perm"]),
-                                      np.asarray(mirror["action_sign"], dtype=np.float32))
+        self.mirror_maps = MirrorMaps(**mirror)  # it takes the lists as arrays
         sizes = (len(self.mirror_maps.obs_perm), len(self.mirror_maps.action_perm))
         if sizes != (self.observation_space.shape[0], self.action_space.shape[0]):
             raise ValueError(f"mirror maps for observations ({sizes[0]},) and actions ({sizes[1]},); the policy "

@@ -60,19 +60,21 @@ from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
 ROWS = ("given", "denoised", "clean_root", "clean_joints", "imu_path", "imu_rotation", "clean")
 """The rows, in the order they run."""
-PELVIS = [0, 1, 2, 3, 4, 5, 6]
-"""qpos columns of the pelvis: position (m) and orientation (quaternion w, x, y, z)."""
-PLACEMENT = [0, 1, 3, 4, 5, 6]
-"""The pelvis without its height: horizontal position (m) and orientation."""
-PATH, ROTATION = [0, 1], [3, 4, 5, 6]
-"""The pelvis' horizontal position (m), and its orientation."""
+SPLICED_ROWS = {"clean_root": ("clean root", slice(7, None)),
+                "clean_joints": ("clean joints and height", [0, 1, 3, 4, 5, 6]),
+                "imu_path": ("clean on the take's path", [0, 1]),
+                "imu_rotation": ("clean with the take's pelvis rotation", [3, 4, 5, 6])}
+"""The rows that track the clean take with some qpos columns of the IMU take: (name, columns):
+its hinge angles; its pelvis placement without the height (horizontal position, m, and
+orientation); its horizontal pelvis position; its pelvis orientation (quaternion w, x, y, z)."""
 
 
-def with_columns_of(motion: Motion, other: Motion, columns: list[int]) -> Motion:
+def with_columns_of(motion: Motion, other: Motion, columns: list[int] | slice) -> Motion:
     """``motion`` with qpos ``columns`` taken from ``other``, frame by frame (same length and rate)."""
     qpos = motion.qpos.copy()
     qpos[:, columns] = other.qpos[:, columns]
-    return motion.with_qpos(qpos, source={**motion.source, "qpos_columns_from": [columns, other.source]})
+    taken = np.arange(qpos.shape[1])[columns].tolist()
+    return motion.with_qpos(qpos, source={**motion.source, "qpos_columns_from": [taken, other.source]})
 
 
 def main() -> None:
@@ -109,19 +111,13 @@ def main() -> None:
         if "denoised" in args.rows:
             for path, net in nets.items():
                 rows[f"denoised {path}"] = [denoise(net, c) for c in given]
-        if "clean_root" in args.rows:
-            rows["clean root"] = [with_columns_of(g, c, PELVIS) for g, c in zip(given, clean)]
-        if "clean_joints" in args.rows:
-            rows["clean joints and height"] = [with_columns_of(c, g, PLACEMENT) for g, c in zip(given, clean)]
-        if "imu_path" in args.rows:
-            rows["clean on the take's path"] = [with_columns_of(c, g, PATH) for g, c in zip(given, clean)]
-        if "imu_rotation" in args.rows:
-            rows["clean with the take's pelvis rotation"] = [with_columns_of(c, g, ROTATION) for g, c in zip(given, clean)]
+        for row, (name, columns) in SPLICED_ROWS.items():
+            if row in args.rows:
+                rows[name] = [with_columns_of(c, g, columns) for g, c in zip(given, clean)]
         if "clean" in args.rows:
             rows["clean"] = clean
         for name, tracked in rows.items():
-            if grounding is not None or lift is not None:
-                tracked = [prepared(c, None, grounding=grounding, lift=lift) for c in tracked]
+            tracked = [prepared(c, None, grounding=grounding, lift=lift) for c in tracked]
             summary, runs = evaluate_tracking(policy, tracked, given, episodes=args.episodes,
                                               mirror_average=args.mirror_average)
             runs_of.setdefault(name, []).extend(runs)
