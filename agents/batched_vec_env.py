@@ -180,7 +180,7 @@ class BatchedMimicVecEnv(VecEnv):
         judged = (refs if all(env._judge is env._track for env in self.envs)
                   else ReferenceFrame.gather([env._judge for env in self.envs], frames))
         terms = first._tracking_terms(state, judged)
-        ahead = [env._ahead() for env in self.envs]
+        ahead = [env._ahead(env.current_track) for env in self.envs]
         ahead = None if ahead[0] is None else tuple(np.stack(parts) for parts in zip(*ahead))
         observations = first._tracking_observation(state, refs, self._smoothed, ahead)
         names = first.reward_info_keys

@@ -49,7 +49,7 @@ import shlex
 import sys
 import time
 from collections.abc import Callable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, replace
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/distill.py`: make the repository importable
@@ -63,6 +63,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
+from agents.mirror import MirrorMaps
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
@@ -71,12 +72,19 @@ from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs,
 from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
+from perception.imu_denoiser import DEFAULT_DENOISER
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
                                   positive_float, positive_int, resumable_run)
+from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.library import STANCE_EXTRA_M, expand_clips
 from reference_motion.motion import Motion
+from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
+
+
+TEACHER_READS = ("track", "clean")
+"""What a corrupted episode's teacher observes (``--teacher-reads``, :func:`teacher_observation`)."""
 
 
 @dataclass(frozen=True)
@@ -231,40 +239,69 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
 
 def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(N, A)`` mean actions (rad offsets) and ``(N,)`` values of ``policy`` for raw observations
-    ``obs (N, D)`` (normalised by the policy's own statistics)."""
-    x = torch.as_tensor(policy.normalizer.normalize_obs(obs), dtype=torch.float32)
-    with torch.no_grad():
-        mean = policy.model.policy.get_distribution(x).distribution.mean
-        value = policy.model.policy.predict_values(x)[:, 0]
-    return mean.numpy(), value.numpy()
+    ``obs (N, D)`` (normalised by the policy's own statistics). A policy acting as its symmetric actor
+    (:attr:`MimicPolicy.mirror`) answers with that actor's action (:mod:`agents.mirror`) and the mean
+    of its values on the observation and its mirror image."""
+    def network(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        x = torch.as_tensor(policy.normalizer.normalize_obs(raw), dtype=torch.float32)
+        with torch.no_grad():
+            return (policy.model.policy.get_distribution(x).distribution.mean.numpy(),
+                    policy.model.policy.predict_values(x)[:, 0].numpy())
+
+    mean, value = network(obs)
+    if policy.mirror is None:
+        return mean, value
+    mean_mirrored, value_mirrored = network(policy.mirror.observation(obs))
+    return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
+
+
+def teacher_observation(env: gym.Env, obs: np.ndarray, info: dict, reads: str) -> np.ndarray:
+    """What an episode's teacher observes ``(D,)`` where the student observes ``obs``: the same
+    (``reads="track"``), or in a corrupted episode the clean take at the same state and frame
+    (``reads="clean"``: the privileged teacher, :meth:`envs.mimic.MimicEnv.observation_against` the
+    clip's track as a clean episode tracks it)."""
+    if reads == "track" or not info["corrupted"]:
+        return obs
+    base = env.unwrapped
+    return base.observation_against(base.track(base.clip_index, -1)).astype(obs.dtype)
 
 
 def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: int, sigma: float,
-            rng: np.random.Generator, first_episode: int, progress: bool = True) -> Labels:
-    """``steps`` control steps on ``env``, acted by ``actor`` (``None``: each episode's teacher),
-    mean action plus Gaussian noise of std ``sigma`` (rad), labelled by each episode's teacher."""
-    obs_rows, who, episode_of = [], [], []
+            rng: np.random.Generator, first_episode: int, progress: bool = True, teacher_reads: str = "track",
+            maps: MirrorMaps | None = None) -> Labels:
+    """``steps`` control steps on ``env``, acted by ``actor`` (``None``: each episode's teacher, on
+    what it observes), mean action plus Gaussian noise of std ``sigma`` (rad), labelled by each
+    episode's teacher from what it observes (:func:`teacher_observation` with ``teacher_reads``).
+    With ``maps`` (:class:`agents.mirror.MirrorMaps` of ``env``) every state is also labelled
+    mirrored: its mirror image, with the mirrored label (the teachers then act as their symmetric
+    actors, whose labels mirror exactly), in the same episode."""
+    obs_rows, teacher_rows, who, episode_of = [], [], [], []
     episode = first_episode
     obs, info = env.reset(seed=int(rng.integers(2**31)))
     for _ in tqdm(range(steps), desc="collecting", unit="step", disable=not progress, leave=False):
         teacher = teachers.of_clip[info["clip"]]
-        policy = actor if actor is not None else teachers.policies[teacher]
-        mean, _ = mean_actions_and_values(policy, obs[None])
+        seen = teacher_observation(env, obs, info, teacher_reads)
+        mean, _ = (mean_actions_and_values(actor, obs[None]) if actor is not None
+                   else mean_actions_and_values(teachers.policies[teacher], seen[None]))
         obs_rows.append(obs)
+        teacher_rows.append(seen)
         who.append(teacher)
         episode_of.append(episode)
         obs, _, terminated, truncated, info = env.step(mean[0] + sigma * rng.standard_normal(mean.shape[1]))
         if terminated or truncated:
             episode += 1
             obs, info = env.reset()
-    obs_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(who)
+    obs_all, seen_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(teacher_rows, np.float32), np.asarray(who)
     actions = np.zeros((len(obs_all), env.action_space.shape[0]), np.float32)
     values = np.zeros(len(obs_all), np.float32)
     for i, teacher in enumerate(teachers.policies):
         rows = who_all == i
         if rows.any():
-            actions[rows], values[rows] = mean_actions_and_values(teacher, obs_all[rows])
-    return Labels(obs_all, actions, values, who_all, np.asarray(episode_of))
+            actions[rows], values[rows] = mean_actions_and_values(teacher, seen_all[rows])
+    labels = Labels(obs_all, actions, values, who_all, np.asarray(episode_of))
+    if maps is None:
+        return labels
+    return labels + Labels(maps.observation(obs_all), maps.action(actions), values, who_all, labels.episode)
 
 
 def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: float, rng: np.random.Generator,
@@ -385,6 +422,24 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
     return out / "student"
 
 
+def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
+    """The IMU-corruption mix of the distillation's episodes and how every reference the student
+    tracks is prepared (``--denoise``, ``--ground``, ``--swing-lift``); a prepared take's episode is
+    judged against the take as given, as ``evaluate.py`` judges it. ``None`` without corruption or
+    preparation; a clear ``ValueError`` for options that cannot act."""
+    grounding, lift = grounding_of(args), swing_lift_of(args)
+    if args.corrupted_fraction <= 0:
+        if args.teacher_reads == "clean" or args.denoise:
+            raise ValueError("--teacher-reads clean and --denoise act on corrupted episodes; "
+                             "give --corrupted-fraction > 0")
+        if grounding is None and lift is None:
+            return None
+    mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
+                      variants_per_clip=args.variants_per_clip, seed=seed, denoiser=args.denoise,
+                      grounding=grounding, lift=lift)
+    return replace(mix, judge="given") if mix.prepares(args.corrupted_fraction > 0) else mix
+
+
 def teacher_weight(text: str) -> tuple[str, float]:
     """argparse type of ``--teacher-weight``: ``"mimic_walk_back=4"`` → ``("mimic_walk_back", 4.0)``;
     raises ``argparse.ArgumentTypeError`` unless it is NAME=W with W a finite number > 0."""
@@ -419,6 +474,19 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="share of episodes with an IMU-corrupted reference (as the teachers trained)")
     p.add_argument("--strength", type=non_negative_float, nargs=2, default=(0.5, 1.0), metavar=("LOW", "HIGH"))
     p.add_argument("--variants-per-clip", type=positive_int, default=2, help="corrupted references per clip")
+    p.add_argument("--teacher-reads", choices=TEACHER_READS, default="track",
+                   help="what a corrupted episode's teacher observes: the reference the student tracks ('track'), "
+                        "or the clean take it was corrupted from, at the same state ('clean': a privileged "
+                        "teacher, so the student learns to act on the corrupted take as the teacher does on "
+                        "the clean one)")
+    p.add_argument("--mirror-average", action="store_true",
+                   help="the teachers and the acting student are their symmetric actors (agents/mirror.py), and "
+                        "every state is also fitted mirrored, as evaluate.py --mirror-average acts")
+    p.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
+                   help="corrupted references pass through the IMU denoiser in DIR (default: "
+                        f"{DEFAULT_DENOISER}) before the student observes them, as evaluate.py --denoise does")
+    add_grounding_option(p, "every reference the student tracks is set on the floor after --denoise")
+    add_swing_lift_options(p, "every reference the student tracks is lifted last")
     defaults = DistillConfig()
     p.add_argument("--net", default=defaults.net, help="the student's hidden layer sizes")
     p.add_argument("--rounds", type=positive_int, default=defaults.rounds)
@@ -463,9 +531,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     teachers = load_teachers(args.teacher, motions)
     names, default = teachers.names, teachers.policies[teachers.default]
     config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0
-    mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
-                      variants_per_clip=args.variants_per_clip, seed=config.seed) if args.corrupted_fraction > 0 else None
+    mix = artefact_mix(args, config.seed)
     env = default.make_env(teachers.motions, artefacts=mix)
+    maps = MirrorMaps.of(env) if args.mirror_average else None
+    if maps is not None:
+        teachers = replace(teachers, policies=[t.mirror_averaged(env) for t in teachers.policies])
     student = new_student(env, default, config)
     sigma = float(default.model.policy.log_std.detach().exp().mean())
     log_file, data_file = out / "log.jsonl", out / "data.npz"
@@ -474,26 +544,31 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         student = MimicPolicy(default.path, PPO.load(out / "student" / MODEL_FILE, env=DummyVecEnv([lambda: env]),
                                                      device="cpu"), default.normalizer, {})
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
+    acting = student if maps is None else replace(student, mirror=maps)  # shares the weights the fit moves
     out.mkdir(parents=True, exist_ok=True)
     args.commands = history + [shlex.join(["python", "agents/distill.py", *argv])]  # every command of the run, in order
     write_json(settings, {**vars(args), "out": str(out)})
     rng = np.random.default_rng([config.seed, len(done)])
     started = time.monotonic() - (done[-1]["wall_s"] if done else 0.0)
     for round_ in range(len(done), config.rounds):
-        actor = None if round_ == 0 else student
+        actor = None if round_ == 0 else acting
         first_episode = int(labels.episode.max()) + 1 if labels is not None else 0
-        new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress)
+        new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress,
+                      args.teacher_reads, maps)
         labels = new if labels is None else labels + new
         train, held = split_holdout(labels, config.holdout, config.seed)
         if round_ == 0 and not config.from_default:
             center_values(student, train)
         loss = fit(student, train, config, sigma, rng, not args.no_progress, names)
         record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),
-                  "loss": loss, "wall_s": time.monotonic() - started, "held_out": fit_report(student, held, names),
+                  "loss": loss, "wall_s": time.monotonic() - started, "held_out": fit_report(acting, held, names),
                   "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
-                                  strength=tuple(args.strength), mirror=args.mirror, warps=warps,
+                                  strength=tuple(args.strength), judge=mix.judge if mix else ArtefactMix().judge,
+                                  denoiser=args.denoise,
+                                  grounding=asdict(mix.grounding) if mix and mix.grounding else None,
+                                  lift=asdict(mix.lift) if mix and mix.lift else None, mirror=args.mirror, warps=warps,
                                   postures=args.postures, posture_seed=config.seed,
                                   posture_ranges=asdict(ranges) if args.postures else None,
                                   stances=args.stances,

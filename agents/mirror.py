@@ -108,16 +108,16 @@ class MirrorMaps:
         return cls(obs_perm, obs_sign, action_perm, action_sign)
 
     def observation(self, obs: np.ndarray) -> np.ndarray:
-        """The mirrored observation ``(D,)``."""
-        return obs[self.obs_perm] * self.obs_sign
+        """The mirrored observation ``(..., D)`` of ``obs (..., D)`` (one, or a batch)."""
+        return obs[..., self.obs_perm] * self.obs_sign
 
     def action(self, action: np.ndarray) -> np.ndarray:
-        """The mirrored action ``(A,)``."""
-        return action[self.action_perm] * self.action_sign
+        """The mirrored action ``(..., A)`` of ``action (..., A)`` (one, or a batch)."""
+        return action[..., self.action_perm] * self.action_sign
 
     def averaged(self, action: np.ndarray, action_on_mirrored: np.ndarray) -> np.ndarray:
-        """The symmetric actor's action ``(A,)``: the mean of a policy's ``action`` on an observation
-        and, mapped back, its ``action_on_mirrored`` on that observation's mirror image."""
+        """The symmetric actor's action ``(..., A)``: the mean of a policy's ``action`` on an
+        observation and, mapped back, its ``action_on_mirrored`` on that observation's mirror image."""
         return 0.5 * (np.asarray(action) + self.action(np.asarray(action_on_mirrored)))
 
 

@@ -581,16 +581,37 @@ class MimicEnv(gym.Env):
                                   lookahead_steps=len(self.config.lookahead))
 
     def _observe(self, state) -> np.ndarray:
-        return self._tracking_observation(state, self._track.frame(self._frame), self._action, self._ahead())
+        return self._tracking_observation(state, self._track.frame(self._frame), self._action, self._ahead(self._track))
 
-    def _ahead(self) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-        """What the observation's ``lookahead`` reads of the running track (``config.lookahead``
-        steps past the current frame, clamped to its last): the reference CoM ``(K, 3)``, its
-        velocity ``(K, 3)`` and the observed body origins relative to it ``(K, B, 3)`` (world);
-        ``None`` without lookahead."""
+    def observation_against(self, track: ReferenceTrack) -> np.ndarray:
+        """The observation ``(D,)`` of the current simulated state against ``track`` at the running
+        reference frame, with the running smoothed action: what a policy tracking ``track`` instead
+        of :attr:`current_track` would observe now. A privileged teacher reads the clean take so
+        while the policy in charge tracks its corrupted variant (``agents/distill.py
+        --teacher-reads clean``, with ``track(clip, -1)``). ``track`` must be as long as the running
+        track (a clip and its variants are, frame by frame)."""
+        if self._track is None:
+            raise RuntimeError("call reset() first")
+        if track.n_frames != self._track.n_frames:
+            raise ValueError(f"observation_against: the track has {track.n_frames} frames, the running track "
+                             f"{self._track.n_frames}; it must be the running clip or one of its variants")
+        state = read_body_state(self.model, self.data)
+        return self._tracking_observation(state, track.frame(self._frame), self._action, self._ahead(track))
+
+    @property
+    def clip_index(self) -> int:
+        """Index in :attr:`clips` of the running episode's clip (after :meth:`reset`)."""
+        if self._track is None:
+            raise RuntimeError("call reset() first")
+        return self._clip
+
+    def _ahead(self, track: ReferenceTrack) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """What the observation's ``lookahead`` reads of ``track`` (``config.lookahead`` steps past
+        the current frame, clamped to its last): the reference CoM ``(K, 3)``, its velocity
+        ``(K, 3)`` and the observed body origins relative to it ``(K, B, 3)`` (world); ``None``
+        without lookahead."""
         if not self.config.lookahead:
             return None
-        track = self._track
         frames = np.minimum(self._frame + self.config.frames_per_control * np.asarray(self.config.lookahead),
                             track.n_frames - 1)
         return track.com[frames], track.com_vel[frames], track.pos_rel_com[frames][:, self.observed]

@@ -167,3 +167,61 @@ def test_posture_and_stance_copies_join_the_distillation_and_reach_the_teacher_t
     record = load_policy(out / "student").record.training
     assert record.postures == 1 and record.posture_ranges["stance_width_deg"] == [8.0, 8.0]
     assert record.stances == 1 and tuple(record.stance_extra_m) == (0.1, 0.2)
+
+
+def test_a_privileged_teacher_reads_the_clean_take_and_the_symmetric_labels_come_mirrored_too():
+    """``--teacher-reads clean --mirror-average``: in a corrupted episode the teacher's label is its
+    symmetric actor's action on the clean take at the simulated state, in a clean one on what the
+    student sees; every state comes twice, the second its mirror image with the mirrored label."""
+    from agents.distill import Teachers, teacher_observation
+    from agents.mirror import MirrorMaps
+    from envs import ArtefactMix
+
+    walk = load_motion("deepmimic:walk", "humanoid_1seg", min_frames=700)
+    policy = load_policy(MODELS / "mimic_walk")
+    env = policy.make_env([walk], artefacts=ArtefactMix(fraction=1.0, variants_per_clip=1, seed=3))
+    maps = MirrorMaps.of(env)
+    teacher = policy.mirror_averaged(env)
+    teachers = Teachers([teacher], {walk.name: 0}, 0, [walk])
+    base = env.unwrapped
+
+    obs, info = env.reset(seed=0, options={"corrupted": True})
+    for _ in range(5):
+        obs, *_, info = env.step(np.zeros(env.action_space.shape))
+    seen = teacher_observation(env, obs, info, "clean")
+    assert info["corrupted"] and seen.shape == obs.shape and np.abs(seen - obs).max() > 0.01
+    assert np.array_equal(teacher_observation(env, obs, info, "track"), obs)
+    assert np.allclose(base.observation_against(base.current_track), obs, atol=1e-6)  # its own track: its own view
+    env.reset(seed=0, options={"corrupted": False})
+    obs, *_, info = env.step(np.zeros(env.action_space.shape))
+    assert np.array_equal(teacher_observation(env, obs, info, "clean"), obs)  # a clean episode: nothing hidden
+    with pytest.raises(ValueError, match="frames"):
+        base.observation_against(base.track(0, -1).__class__.build(
+            walk.with_qpos(walk.qpos[:100].copy(), loop=False), base.humanoid, base.actuator_qpos, base.jointed,
+            base.parent, base.config.cube_size_m))
+
+    # the batched symmetric label is the symmetric actor's action, and exactly mirror symmetric
+    batch = np.stack([obs, seen])
+    mean, _ = mean_actions_and_values(teacher, batch)
+    plain, _ = mean_actions_and_values(policy, batch)
+    assert np.abs(mean - plain).max() > 1e-3
+    mirrored, _ = mean_actions_and_values(teacher, maps.observation(batch))
+    assert np.allclose(maps.action(mirrored), mean, atol=1e-5)
+
+    rng = np.random.default_rng(0)
+    labels = collect(env, None, teachers, 200, 0.17, rng, first_episode=0, progress=False,
+                     teacher_reads="clean", maps=maps)
+    assert len(labels) == 400
+    first, second = labels.take(slice(0, 200)), labels.take(slice(200, 400))
+    assert np.allclose(second.obs, maps.observation(first.obs)) and np.allclose(second.actions,
+                                                                                 maps.action(first.actions))
+    assert np.array_equal(second.episode, first.episode)
+    # every episode is corrupted (fraction 1): no label is the teacher's action on what the student saw
+    own, _ = mean_actions_and_values(teacher, first.obs)
+    assert np.abs(own - first.actions).max(axis=1).min() > 1e-3
+
+
+def test_distill_refuses_a_privileged_teacher_without_corrupted_episodes(tmp_path):
+    with pytest.raises(SystemExit, match="corrupted-fraction"):
+        main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0",
+              "--teacher-reads", "clean", "--out", str(tmp_path / "d"), "--no-progress"])
