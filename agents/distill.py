@@ -33,6 +33,14 @@ weights). The student keeps the set's default policy's observation
 statistics, frozen; each teacher reads its own. A tenth of the states (whole episodes) is held
 out; its action RMSE per motion class (the clip's teacher) is what the log reports.
 
+A privileged teacher (``--teacher-reads clean``): in a corrupted episode the teacher reads the clean
+take the corruption was made from, at the state the episode is in, while the student reads the
+corrupted take as evaluation prepares it (``--denoise --ground --swing-lift``). The student learns
+to act on a corrupted take as its teacher acts on the clean one; where the take cannot show an
+artefact (the stance skate, README "Round 14"), the least-squares fit is the teacher's mean over
+what it could hide. With ``--mirror-average`` the labels are the teachers' symmetric actors' and
+every state is also fitted mirrored, for a student evaluated as its own symmetric actor.
+
 ``OUT`` holds ``student/`` (a policy directory: ``model.zip``, ``model_vecnormalize.pkl``,
 ``sidecar.json`` with the distillation's record), ``data.npz`` (the labelled states) and
 ``log.jsonl`` (one line per round), each written whole after every round: ``--resume`` continues
