@@ -4,7 +4,8 @@
 # usage: [FIRST=100000] [CONFIRM=110000] [DRAWS=10] [DEN=DIR] bash bench/device/score_candidates.sh BASELINE CANDIDATE...
 #  Each of BASELINE and CANDIDATE is an actor: a policy directory or checkpoint, then any of the actor
 #  options evaluate.py and imu_draws.py share, in one quoted argument, e.g.
-#  'models/mimic_general_stance_avg --mirror-average --ground --swing-lift' (validation's choice since stop 56).
+#  'models/mimic_general_privileged --mirror-average --ground --swing-lift' (validation's choice for IMU takes since
+#  stop 60; 'models/mimic_general_stance_avg ...' alike before it).
 #  1. each actor: validation clean (agents/evaluate.py, 20 rollouts per take) and DRAWS IMU draws behind
 #     the denoiser DEN (default: validation's choice, models/imu_denoiser_soles_quint_mirror;
 #     bench/imu_draws.py, one draw per process, seeds FIRST+); the rule (bench/select_policy.py) names
