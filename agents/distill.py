@@ -80,7 +80,7 @@ from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs,
 from agents.warm_start import widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
-from perception.imu_denoiser import DEFAULT_DENOISER
+from perception.imu_denoiser import add_denoise_option
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
@@ -490,9 +490,7 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--mirror-average", action="store_true",
                    help="the teachers and the acting student are their symmetric actors (agents/mirror.py), and "
                         "every state is also fitted mirrored, as evaluate.py --mirror-average acts")
-    p.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
-                   help="corrupted references pass through the IMU denoiser in DIR (default: "
-                        f"{DEFAULT_DENOISER}) before the student observes them, as evaluate.py --denoise does")
+    add_denoise_option(p, "every corrupted reference, before the student observes it, as evaluate.py --denoise does")
     add_grounding_option(p, "every reference the student tracks is set on the floor after --denoise")
     add_swing_lift_options(p, "every reference the student tracks is lifted last")
     defaults = DistillConfig()

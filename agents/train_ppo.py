@@ -55,7 +55,7 @@ from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
                          Pushes)
 from envs.observations import OBS_FRAMES
-from perception.imu_denoiser import DEFAULT_DENOISER
+from perception.imu_denoiser import add_denoise_option
 from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
@@ -94,13 +94,11 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "(ADAPT), the clean clip a corrupted one was made from, or the reference as made, before "
                         "--denoise, --ground and --swing-lift prepared it, as evaluate.py judges a take "
                         "(envs.ArtefactMix.judge)")
-    g.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
-                   help="pass every corrupted reference (training, and --eval-strength evaluation) through the IMU "
-                        "denoiser in DIR (default: validation's choice, models/imu_denoiser_soles_quint_mirror) "
-                        "before the policy observes it, as clean.py "
-                        "--denoise does (envs.ArtefactMix.denoiser); the --eval-strength evaluation then judges a "
-                        "rollout against the denoised reference it follows (with --judge given against the "
-                        "reference as made, as evaluate.py --denoise judges the take as given)")
+    add_denoise_option(g, "every corrupted reference (training, and --eval-strength evaluation), before the "
+                          "policy observes it, as clean.py --denoise does (envs.ArtefactMix.denoiser); the "
+                          "--eval-strength evaluation then judges a rollout against the denoised reference it follows "
+                          "(with --judge given against the reference as made, as evaluate.py --denoise judges the "
+                          "take as given)")
     add_grounding_option(g, "every training reference, clean or corrupted, is set on the floor after --denoise "
                             "(envs.ArtefactMix.grounding)")
     add_swing_lift_options(g, "every training reference is lifted last (envs.ArtefactMix.lift)")

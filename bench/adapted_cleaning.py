@@ -43,7 +43,7 @@ from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS
 from envs.observations import SAME_LAYOUT_FRAMES
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
-from perception.imu_denoiser import DEFAULT_DENOISER, denoise
+from perception.imu_denoiser import add_denoise_option, denoise
 from perception.weights import load_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.library import expand_clips, load_motion
@@ -140,10 +140,9 @@ def main() -> None:
                         "protocol runs two of these processes at once, one per core)")
     p.add_argument("--settings", nargs="+", type=setting, default=[setting(s) for s in ("0.5x4", "1:searchall:16x64")],
                    help="how each adapted take is cleaned (bench/clean_settings.py), side by side")
-    p.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
-                   help="adapt to and clean each corrupted take after the IMU denoiser in DIR (default: "
-                        "validation's choice, models/imu_denoiser_soles_quint_mirror), as clean.py --denoise does; the artefacts are compared with the take as "
-                        "given, the ELR is the adapted policy's on the take it performs (the denoised one)")
+    add_denoise_option(p, "each corrupted take is adapted to and cleaned after it, as clean.py --denoise does; the "
+                          "artefacts are compared with the take as given, the ELR is the adapted policy's on the take "
+                          "it performs (the denoised one)")
     p.add_argument("--out-dir", type=Path, default=None,
                    help="also write each take's input and, per setting K, its simulated and touched-up clips here (.npz)")
     p.add_argument("--obs-frame", choices=SAME_LAYOUT_FRAMES, default=None,

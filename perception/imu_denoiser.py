@@ -22,6 +22,7 @@ take (a calibration offset) to every frame.
 
 from __future__ import annotations
 
+import argparse
 from pathlib import Path
 
 import numpy as np
@@ -43,6 +44,14 @@ BODY_FEATURES = (("root_z", "up_x", "up_y", "up_z", "vel_forward", "vel_left")
 """Per-frame inputs after the hinge angles (:func:`motion_features`)."""
 MIN_STD = 0.05
 """Floor of the input standardisation's std (rad, m, m/s: a few degrees, centimetres)."""
+
+
+def add_denoise_option(parser: argparse.ArgumentParser, what: str) -> None:
+    """``--denoise [DIR]`` (a path string, ``None`` when absent; the bare flag gives
+    :data:`DEFAULT_DENOISER`); ``what`` ends its help: what passes through the denoiser, and how."""
+    parser.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
+                        help="pass corrupted takes through the IMU denoiser in DIR (default: validation's choice, "
+                             f"models/{DEFAULT_DENOISER.name}): {what}")
 
 
 def motion_features(motion: Motion) -> np.ndarray:
