@@ -9,10 +9,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.distill import (DistillConfig, Labels, center_values, collect, fit, fit_report, load_teachers, main,
-                            mean_actions_and_values, new_student, rmse_text, teacher_weight)
+from agents.distill import (DistillConfig, Labels, Teachers, center_values, collect, fit, fit_report, load_teachers,
+                            main, mean_actions_and_values, new_student, rmse_text, teacher_observation, teacher_weight)
+from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
+from envs import ArtefactMix
+from envs.reference import ReferenceTrack
 from reference_motion.library import load_motion
 
 MODELS = Path(__file__).parents[1] / "models"
@@ -173,10 +176,6 @@ def test_a_privileged_teacher_reads_the_clean_take_and_the_symmetric_labels_come
     """``--teacher-reads clean --mirror-average``: in a corrupted episode the teacher's label is its
     symmetric actor's action on the clean take at the simulated state, in a clean one on what the
     student sees; every state comes twice, the second its mirror image with the mirrored label."""
-    from agents.distill import Teachers, teacher_observation
-    from agents.mirror import MirrorMaps
-    from envs import ArtefactMix
-
     walk = load_motion("deepmimic:walk", "humanoid_1seg", min_frames=700)
     policy = load_policy(MODELS / "mimic_walk")
     env = policy.make_env([walk], artefacts=ArtefactMix(fraction=1.0, variants_per_clip=1, seed=3))
@@ -196,9 +195,9 @@ def test_a_privileged_teacher_reads_the_clean_take_and_the_symmetric_labels_come
     obs, *_, info = env.step(np.zeros(env.action_space.shape))
     assert np.array_equal(teacher_observation(env, obs, info, "clean"), obs)  # a clean episode: nothing hidden
     with pytest.raises(ValueError, match="frames"):
-        base.observation_against(base.track(0, -1).__class__.build(
-            walk.with_qpos(walk.qpos[:100].copy(), loop=False), base.humanoid, base.actuator_qpos, base.jointed,
-            base.parent, base.config.cube_size_m))
+        base.observation_against(ReferenceTrack.build(walk.with_qpos(walk.qpos[:100].copy(), loop=False),
+                                                      base.humanoid, base.actuator_qpos, base.jointed, base.parent,
+                                                      base.config.cube_size_m))
 
     # the batched symmetric label is the symmetric actor's action, and exactly mirror symmetric
     batch = np.stack([obs, seen])
