@@ -74,7 +74,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.mirror import MirrorMaps
 from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
-from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord
+from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord, repository_relative
 from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
                               reposed_copies, stance_extra, warped_clips)
 from agents.warm_start import widen_hidden
@@ -572,7 +572,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
                                   strength=tuple(args.strength), judge=mix.judge if mix else ArtefactMix().judge,
-                                  denoiser=args.denoise,
+                                  denoiser=repository_relative(args.denoise),
                                   grounding=asdict(mix.grounding) if mix and mix.grounding else None,
                                   lift=asdict(mix.lift) if mix and mix.lift else None, mirror=args.mirror, warps=warps,
                                   postures=args.postures, posture_seed=config.seed,

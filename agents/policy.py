@@ -28,7 +28,7 @@ from stable_baselines3.common.torch_layers import FlattenExtractor
 from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.mirror import MirrorAveraged, MirrorMaps
-from agents.sidecar import GAIT_ENV_ID, PolicySidecar
+from agents.sidecar import GAIT_ENV_ID, PolicySidecar, recorded_path
 from agents.symmetric_policy import SymmetricActorCriticPolicy
 from envs.config import GAIT_ABLATIONS
 from envs.observations import SAME_LAYOUT_FRAMES, same_layout
@@ -225,7 +225,7 @@ class MimicPolicy:
         its default's silence). Preparations the policy did not train on draw no note."""
         trained = self.record.training
         unlike = []
-        if trained.denoiser and not (denoiser and Path(denoiser).resolve() == Path(trained.denoiser).resolve()):
+        if trained.denoiser and not (denoiser and Path(denoiser).resolve() == recorded_path(trained.denoiser)):
             unlike.append(f"passed through the IMU denoiser {trained.denoiser}; these takes are "
                           f"{f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
         if trained.grounding and not recorded_as(trained.grounding, grounding):

@@ -29,8 +29,27 @@ from reference_motion.atomic import atomic_write
 
 SIDECAR_FORMAT = "physmimic.policy/2"
 
+REPOSITORY = Path(__file__).resolve().parents[1]
+"""The repository root: a path a sidecar records relative to it names a file from there."""
+
 GAIT_ENV_ID = "MimicGait-v0"
 """The environment whose constructor also takes ``gait`` and ``contacts``."""
+
+
+def repository_relative(path: str | Path | None) -> str | None:
+    """``path`` as a sidecar records it: relative to :data:`REPOSITORY` where it lies inside the
+    repository (the bare ``--denoise`` flag gives an absolute path; the README's commands name
+    ``models/...`` from the root), otherwise as given; ``None`` stays ``None``."""
+    if path is None:
+        return None
+    resolved = Path(path).resolve()
+    return str(resolved.relative_to(REPOSITORY)) if resolved.is_relative_to(REPOSITORY) else str(path)
+
+
+def recorded_path(path: str) -> Path:
+    """The file a sidecar's recorded ``path`` names: a relative one from :data:`REPOSITORY`
+    (:func:`repository_relative`), resolved."""
+    return (REPOSITORY / path).resolve()
 
 
 def _known(cls: type, values: dict) -> dict:

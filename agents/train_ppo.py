@@ -45,7 +45,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
 from agents.policy import CHECKPOINTS_DIR, SIDECAR_FILE, MimicPolicy, load_policy, set_action_variance
-from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord
+from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
 from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.mirror import MirrorMaps
@@ -637,7 +637,7 @@ class CheckpointAndEvaluate(BaseCallback):
             clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
-            denoiser=args.denoise, grounding=asdict(grounding) if grounding else None,
+            denoiser=repository_relative(args.denoise), grounding=asdict(grounding) if grounding else None,
             lift=asdict(lift) if lift else None,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(clips, args.reverse),

@@ -219,6 +219,22 @@ def test_a_policy_trained_on_prepared_takes_notes_takes_prepared_otherwise():
     assert load_policy("models/mimic_general_stance_avg").preparation_note(denoiser, Grounding(), None) is None
 
 
+def test_sidecars_record_the_default_denoiser_from_the_repository_and_compare_it_from_anywhere(tmp_path, monkeypatch):
+    """The bare --denoise flag gives an absolute path; a sidecar records it from the repository root,
+    and a policy trained behind it draws no note for the same denoiser named from another directory."""
+    from agents.sidecar import REPOSITORY, repository_relative
+    from reference_motion.grounding import Grounding
+    from reference_motion.swing_lift import SwingLift
+    assert repository_relative(DEFAULT_DENOISER) == "models/imu_denoiser_soles_quint_mirror"
+    assert repository_relative(tmp_path / "denoiser") == str(tmp_path / "denoiser")
+    assert repository_relative(None) is None
+    policy = load_policy(REPOSITORY / "models" / "mimic_general_prepared")
+    assert policy.record.training.denoiser == "models/imu_denoiser_soles_quint_mirror"
+    monkeypatch.chdir(tmp_path)
+    assert policy.preparation_note(DEFAULT_DENOISER, Grounding(), SwingLift(knee_deg=15.0)) is None
+    assert "--denoise" in policy.preparation_note(tmp_path / "denoiser", Grounding(), SwingLift(knee_deg=15.0))
+
+
 def test_recorded_settings_are_compared_where_the_sidecar_has_them():
     from dataclasses import asdict
     from agents.policy import recorded_as
