@@ -221,7 +221,7 @@ def test_a_run_on_denoised_references_records_its_denoiser(tmp_path):
           "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128",
           "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1", "--net", "16,16"])
     policy = load_policy(run / "best")
-    assert policy.record.training.denoiser == str(DEFAULT_DENOISER)
+    assert policy.record.training.denoiser == "models/imu_denoiser_soles_quint_mirror"  # from the repository root
     stored = argparse.Namespace(**json.loads((run / "args.json").read_text()))
     assert stored.denoise == str(DEFAULT_DENOISER)
     assert env_kwargs(stored, ["deepmimic:walk"], 1.0)["artefacts"].denoiser == str(DEFAULT_DENOISER)
