@@ -39,11 +39,12 @@ GAIT_ENV_ID = "MimicGait-v0"
 def repository_relative(path: str | Path | None) -> str | None:
     """``path`` as a sidecar records it: relative to :data:`REPOSITORY` where it lies inside the
     repository (the bare ``--denoise`` flag gives an absolute path; the README's commands name
-    ``models/...`` from the root), otherwise as given; ``None`` stays ``None``."""
+    ``models/...`` from the root), otherwise absolute (a path relative to where the command ran
+    would name another file from the root); ``None`` stays ``None``."""
     if path is None:
         return None
     resolved = Path(path).resolve()
-    return str(resolved.relative_to(REPOSITORY)) if resolved.is_relative_to(REPOSITORY) else str(path)
+    return str(resolved.relative_to(REPOSITORY)) if resolved.is_relative_to(REPOSITORY) else str(resolved)
 
 
 def recorded_path(path: str) -> Path:

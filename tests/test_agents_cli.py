@@ -226,11 +226,11 @@ def test_sidecars_record_the_default_denoiser_from_the_repository_and_compare_it
     from reference_motion.grounding import Grounding
     from reference_motion.swing_lift import SwingLift
     assert repository_relative(DEFAULT_DENOISER) == "models/imu_denoiser_soles_quint_mirror"
-    assert repository_relative(tmp_path / "denoiser") == str(tmp_path / "denoiser")
+    monkeypatch.chdir(tmp_path)
+    assert repository_relative("denoiser") == str((tmp_path / "denoiser").resolve())
     assert repository_relative(None) is None
     policy = load_policy(REPOSITORY / "models" / "mimic_general_prepared")
     assert policy.record.training.denoiser == "models/imu_denoiser_soles_quint_mirror"
-    monkeypatch.chdir(tmp_path)
     assert policy.preparation_note(DEFAULT_DENOISER, Grounding(), SwingLift(knee_deg=15.0)) is None
     assert "--denoise" in policy.preparation_note(tmp_path / "denoiser", Grounding(), SwingLift(knee_deg=15.0))
 
