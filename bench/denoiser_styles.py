@@ -49,7 +49,7 @@ def style_clips(library: str, style: str) -> list[str]:
     return clips
 
 
-def main() -> None:
+def main(argv: list[str] | None = None) -> dict:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--denoisers", type=labelled, nargs="+", required=True, metavar="LABEL=DIR")
     p.add_argument("--styles", nargs="+", required=True)
@@ -58,7 +58,7 @@ def main() -> None:
     p.add_argument("--draws", type=int, default=10, help="artefact seeds per take")
     p.add_argument("--seed", type=int, default=680_000, help="artefact seed of draw 0 of take 0")
     p.add_argument("--json", nargs="?", const="-", default=None)
-    args = p.parse_args()
+    args = p.parse_args(argv)
     nets = {label: load_network(path, "denoiser") for label, path in args.denoisers}
     model = next(iter(nets.values())).model
     hm = load_model(model)
@@ -78,8 +78,10 @@ def main() -> None:
                 table[f"{style}/{kind}/{label}"] = {"takes": len(takes), "draws": draws,
                                                     **{m: pooled(r, m) for m in METRICS}}
                 print(f"{style:<15}{kind:<7}{label:<14}" + "".join(f"{pooled(r, m):>16.3f}" for m in METRICS))
-    emit_json({"denoisers": {label: str(path) for label, path in args.denoisers}, "styles": args.styles,
-               "strength": args.strength, "draws": args.draws, "seed": args.seed, "table": table}, args.json)
+    result = {"denoisers": {label: str(path) for label, path in args.denoisers}, "styles": args.styles,
+              "strength": args.strength, "draws": args.draws, "seed": args.seed, "table": table}
+    emit_json(result, args.json)
+    return result
 
 
 if __name__ == "__main__":
