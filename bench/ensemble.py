@@ -2,7 +2,8 @@
 
 Usage: ``python bench/ensemble.py [--policies models/mimic_general_dashes models/mimic_dash_set/general
 models/mimic_general_steered] [--clips library:data/library/val] [--episodes 20] [--seeds 9100 9200]
-[--denoise models/imu_denoiser_dm] [--json [OUT]]``
+[--denoise models/imu_denoiser_dm] [--mirror-average] [--ground] [--swing-lift [DEG]] [--clean-json OUT]
+[--json [OUT]]``
 
 An ensemble of policies acts with the mean of its members' deterministic actions, each member
 normalising the observation with its own statistics. The members must have been trained in the
@@ -11,25 +12,34 @@ ensemble runs in the task of the member with the widest one, so each member's ac
 its own limit (its ``__call__`` clips it). Rows: each member alone, then the ensemble, on the clean
 takes and on the IMU takes of each seed (tracked after ``--denoise``, judged against the take as
 given, as ``evaluate.py --denoise``); every row has the same clips, artefact seeds and start frames.
-Not adopted: see the README ("The training takes the generalist loses"), where the measured rows are.
+With ``--mirror-average`` every actor, the ensemble too, acts as its symmetric actor (the ensemble's
+is the mean of its members' symmetric actors); with ``--ground`` and ``--swing-lift`` every take is
+tracked as evaluation prepares it and judged against it as given. ``--clean-json`` writes the
+ensemble's clean row as ``evaluate.py --per-clip --json`` writes one policy's, for
+``bench/select_policy.py --clean``; ``bench/imu_draws.py --ensemble`` scores its IMU draws.
+First measured without the symmetric actor: see the README ("The training takes the generalist
+loses"); the mean of D's and G's symmetric actors: "Round 19".
 """
 
 from __future__ import annotations
 
 import argparse
-from dataclasses import replace
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import reference_clips, tracked_and_judged
-from agents.evaluation import Policy, evaluate_tracking
+from agents.evaluate import reference_clips, tracked_and_judged, tracked_label
+from agents.evaluation import Policy, evaluate_tracking, per_clip, summarize
+from agents.mirror import actor_label
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.weights import load_network
+from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.motion import Motion
+from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
 
 class MeanAction:
@@ -49,11 +59,18 @@ class MeanAction:
         return np.mean([member(obs) for member in self.members], axis=0)
 
 
+def ensemble_label(paths: list[str]) -> str:
+    """How results name the mean action of the policies at ``paths``."""
+    return "mean action of " + " and ".join(map(str, paths))
+
+
 def score(builder: MimicPolicy, actor: Policy, tracked: list[Motion], judged: list[Motion] | None,
-          episodes: int) -> dict:
-    """ELR and SR90 of ``actor`` in ``builder``'s task, tracking ``tracked`` judged against ``judged``."""
-    summary = evaluate_tracking(builder, tracked, judged, episodes=episodes, actor=actor)[0]
-    return {"ELR": summary["ELR_mean"], "SR90": summary["SR90"], "rollouts": summary["rollouts"]}
+          episodes: int, mirror_average: bool = False) -> tuple[dict, list]:
+    """ELR and SR90 of ``actor`` (its symmetric actor with ``mirror_average``) in ``builder``'s
+    task, tracking ``tracked`` judged against ``judged``, and the rollouts."""
+    summary, runs = evaluate_tracking(builder, tracked, judged, episodes=episodes, actor=actor,
+                                      mirror_average=mirror_average)
+    return {"ELR": summary["ELR_mean"], "SR90": summary["SR90"], "rollouts": summary["rollouts"]}, runs
 
 
 def main() -> None:
@@ -64,25 +81,43 @@ def main() -> None:
     p.add_argument("--episodes", type=int, default=20, help="rollouts per clip and row")
     p.add_argument("--seeds", type=int, nargs="*", default=[9100, 9200], help="IMU artefact seeds of the first clip")
     p.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
+    p.add_argument("--mirror-average", action="store_true", help="every actor acts as its symmetric actor")
+    add_grounding_option(p, "every take is tracked set on the floor and judged against it as given")
+    add_swing_lift_options(p, "every take is tracked lifted and judged against it as given")
+    p.add_argument("--clean-json", type=Path, help="write the ensemble's clean row as evaluate.py --json writes one")
+    p.add_argument("--members-too", action=argparse.BooleanOptionalAction, default=True,
+                   help="also score each member alone (the default)")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
+    lift, grounding = swing_lift_of(args), grounding_of(args)
     members = [load_policy(path) for path in args.policies]
     ensemble = MeanAction(members)
     net = load_network(args.denoise, "denoiser")
     model = FOOT_MODELS[members[0].foot]
-    inputs = {"clean": (reference_clips(args.clips, model, MimicConfig(), None, 1.0, 0), None)}
+    clean = reference_clips(args.clips, model, MimicConfig(), None, 1.0, 0)
+    inputs = {"clean": tracked_and_judged(clean, None, grounding=grounding, lift=lift)}
     for seed in args.seeds:
         given = reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed)
-        inputs[f"IMU seed {seed}, denoised"] = tracked_and_judged(given, net)
+        inputs[f"IMU seed {seed}, denoised"] = tracked_and_judged(given, net, grounding=grounding, lift=lift)
     rows = []
-    actors = [(str(m.path), m, m) for m in members] + [("ensemble (mean action)", ensemble.widest, ensemble)]
+    ensemble_name = tracked_label(actor_label(ensemble_label(args.policies), args.mirror_average),
+                                  grounding=grounding, lift=lift)
+    actors = [(str(m.path), m, m) for m in members] if args.members_too else []
+    actors += [(ensemble_name, ensemble.widest, ensemble)]
     for name, builder, actor in actors:
         for input_name, (tracked, judged) in inputs.items():
-            row = {"policy": name, "input": input_name, **score(builder, actor, tracked, judged, args.episodes)}
-            rows.append(row)
-            print(f"{name:<36} {input_name:<26} ELR {row['ELR']:.3f}  SR90 {row['SR90']:.3f}", flush=True)
+            result, runs = score(builder, actor, tracked, judged, args.episodes, args.mirror_average)
+            rows.append({"policy": name, "input": input_name, **result})
+            print(f"{name:<36} {input_name:<26} ELR {result['ELR']:.3f}  SR90 {result['SR90']:.3f}", flush=True)
+            if args.clean_json and actor is ensemble and input_name == "clean":
+                summary = summarize(runs)
+                emit_json({"policy": ensemble_name, "mirror_average": args.mirror_average, "clips": args.clips,
+                           "corrupt": None, "episodes": args.episodes, **summary, "per_clip": per_clip(runs)},
+                          str(args.clean_json))
     emit_json({"policies": args.policies, "clips": args.clips, "episodes": args.episodes, "seeds": args.seeds,
-               "denoiser": str(args.denoise), "rows": rows}, args.json)
+               "denoiser": str(args.denoise), "mirror_average": args.mirror_average,
+               "grounding": asdict(grounding) if grounding else None, "swing_lift": asdict(lift) if lift else None,
+               "rows": rows}, args.json)
 
 
 if __name__ == "__main__":

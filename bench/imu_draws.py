@@ -2,7 +2,8 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ground] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ensemble] [--ground] [--swing-lift [DEG] [--swing-from speed]]
+[--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
@@ -30,7 +31,8 @@ from agents.evaluation import evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
-from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
+from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
+from json_report import emit_json
 from paired_draws import paired
 from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option, grounding_of
@@ -50,6 +52,8 @@ def main() -> None:
     p.add_argument("--episodes", type=int, default=2, help="rollouts per clip and draw")
     p.add_argument("--mirror-average", action="store_true",
                    help="every policy acts mirror-symmetrically (agents/mirror.py); rows name it 'PATH (mirror-averaged)'")
+    p.add_argument("--ensemble", action="store_true",
+                   help="the policies act as one actor, the mean of their actions (one row)")
     denoising = p.add_mutually_exclusive_group()
     denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
@@ -77,9 +81,14 @@ def main() -> None:
     draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net,
                                 grounding=grounding, lift=lift)
              for seed in seeds]
+    if args.ensemble:
+        mean = MeanAction(policies)
+        actors = [(ensemble_label(args.policies), mean.widest, mean)]
+    else:
+        actors = [(path, policy, policy) for path, policy in zip(args.policies, policies)]
     rows = []
-    for path, policy in zip(args.policies, policies):
-        elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes,
+    for path, policy, actor in actors:
+        elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
         label = tracked_label(actor_label(path, args.mirror_average), grounding=grounding, lift=lift)
@@ -92,7 +101,7 @@ def main() -> None:
         print(f"{row['policy']:<48} {c['mean_difference']:+.3f} ± {c['standard_error']:.3f} against "
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
-    emit_json({"policies": args.policies, "clips": args.clips, "seeds_of_first_clip": seeds,
+    emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
                "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
                "grounding": asdict(grounding) if grounding else None,
