@@ -2,8 +2,8 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ensemble] [--ground] [--swing-lift [DEG] [--swing-from speed]]
-[--json [OUT]]``
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ensemble] [--ground]
+[--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in
