@@ -39,7 +39,9 @@ corrupted take as evaluation prepares it (``--denoise --ground --swing-lift``). 
 to act on a corrupted take as its teacher acts on the clean one; where the take cannot show an
 artefact (the stance skate, README "Round 14"), the least-squares fit is the teacher's mean over
 what it could hide. With ``--mirror-average`` the labels are the teachers' symmetric actors' and
-every state is also fitted mirrored, for a student evaluated as its own symmetric actor.
+every state is also fitted mirrored, for a student evaluated as its own symmetric actor; a teacher
+named in ``--plain-teachers`` labels as its plain actor (a policy set that routes one side of a take
+to a policy that performs it and the other side to that policy's mirror image, README "Round 19").
 
 ``OUT`` holds ``student/`` (a policy directory: ``model.zip``, ``model_vecnormalize.pkl``,
 ``sidecar.json`` with the distillation's record), ``data.npz`` (the labelled states) and
@@ -490,6 +492,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--mirror-average", action="store_true",
                    help="the teachers and the acting student are their symmetric actors (agents/mirror.py), and "
                         "every state is also fitted mirrored, as evaluate.py --mirror-average acts")
+    p.add_argument("--plain-teachers", nargs="+", default=[], metavar="NAME",
+                   help="with --mirror-average, these teachers (a policy set's directories' names) label as their "
+                        "plain actor, not their symmetric one: a teacher of the side of a take a policy performs "
+                        "(its mirror image teaching the other side) would otherwise average the failing side back in")
     add_denoise_option(p, "every corrupted reference, before the student observes it, as evaluate.py --denoise does")
     add_grounding_option(p, "every reference the student tracks is set on the floor after --denoise")
     add_swing_lift_options(p, "every reference the student tracks is lifted last")
@@ -540,8 +546,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     mix = artefact_mix(args, config.seed)
     env = default.make_env(teachers.motions, artefacts=mix)
     maps = MirrorMaps.of(env) if args.mirror_average else None
+    unknown = sorted(set(args.plain_teachers) - set(names))
+    if unknown or (args.plain_teachers and maps is None):
+        raise ValueError(f"--plain-teachers {' '.join(args.plain_teachers)}: "
+                         + (f"{', '.join(unknown)} name no teacher (teachers: {', '.join(names)})" if unknown
+                            else "it exempts teachers from --mirror-average, which is not given"))
     if maps is not None:
-        teachers = replace(teachers, policies=[t.mirror_averaged(env) for t in teachers.policies])
+        teachers = replace(teachers, policies=[t if name in args.plain_teachers else t.mirror_averaged(env)
+                                               for t, name in zip(teachers.policies, names)])
     student = new_student(env, default, config)
     sigma = float(default.model.policy.log_std.detach().exp().mean())
     log_file, data_file = out / "log.jsonl", out / "data.npz"
