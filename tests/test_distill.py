@@ -224,3 +224,34 @@ def test_distill_refuses_a_privileged_teacher_without_corrupted_episodes(tmp_pat
     with pytest.raises(SystemExit, match="corrupted-fraction"):
         main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0",
               "--teacher-reads", "clean", "--out", str(tmp_path / "d"), "--no-progress"])
+
+
+def test_plain_teachers_label_as_their_plain_actor_under_mirror_average(tmp_path):
+    """``--plain-teachers``: with ``--mirror-average`` the named teacher's states carry its plain
+    action, the others' their symmetric actor's; a name that is no teacher, or the option without
+    ``--mirror-average``, is refused before any work."""
+    import shutil
+    plain = tmp_path / "walk_plain"
+    plain.mkdir()
+    for name in ("model.zip", "model_vecnormalize.pkl", "sidecar.json"):
+        shutil.copy(MODELS / "mimic_walk" / name, plain / name)
+    PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_walk", clips=(("deepmimic:walk", plain),)).save()
+    common = ["--teacher", str(tmp_path / "set"), "--clips", "deepmimic:walk", "deepmimic:walker/0walk_forward",
+              "--corrupted-fraction", "0", "--net", "32,32", "--steps-per-round", "1500", "--epochs", "1",
+              "--batch-size", "64", "--rounds", "1", "--no-progress"]
+    with pytest.raises(SystemExit, match="nobody name no teacher"):
+        main([*common, "--mirror-average", "--plain-teachers", "nobody", "--out", str(tmp_path / "a")])
+    with pytest.raises(SystemExit, match="which is not given"):
+        main([*common, "--plain-teachers", "walk_plain", "--out", str(tmp_path / "b")])
+    main([*common, "--mirror-average", "--plain-teachers", "walk_plain", "--out", str(tmp_path / "c")])
+    labels = Labels.load(tmp_path / "c" / "data.npz")
+    first = np.arange(len(labels)) < len(labels) // 2  # the states as met; the second half is their mirror image
+    teacher = load_policy(plain)
+    env = teacher.make_env(["deepmimic:walk"], artefacts=None)
+    symmetric = load_policy(MODELS / "mimic_walk").mirror_averaged(env)
+    env.close()
+    names = load_policy(tmp_path / "c" / "student").record.extra["distillation"]["teachers"]
+    for index, actor in ((names.index("walk_plain"), teacher), (names.index("mimic_walk"), symmetric)):
+        rows = first & (labels.teacher == index)
+        assert rows.sum() > 20
+        np.testing.assert_allclose(labels.actions[rows], mean_actions_and_values(actor, labels.obs[rows])[0], atol=1e-5)
