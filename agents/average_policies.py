@@ -4,7 +4,8 @@ the actions of policies of one task.
 Usage::
 
     python agents/average_policies.py runs/stance_ppo/checkpoints/step_{4000000,4500000,5000000}.zip --out DIR
-    python agents/average_policies.py models/mimic_general_stance_avg models/mimic_general_privileged --actions --out DIR
+    python agents/average_policies.py models/mimic_general_stance_avg models/mimic_general_privileged \
+        --actions --out DIR
 
 **Weights** (stochastic weight averaging, Izmailov et al. 2018: an average of late iterates lies in
 a flatter region of the loss than any one of them).
@@ -184,14 +185,16 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         sidecar = replace(sidecar, ppo=replace(sidecar.ppo, net=net), metrics={}, score=None,
                           extra={**sidecar.extra, "merged_from": list(args.policies),
                                  "lineage_note": f"the mean action of {len(policies)} policies as one network "
-                                                 "(agents/average_policies.py --actions); training record: the last one's"})
+                                                 "(agents/average_policies.py --actions); training record: the "
+                                                 "last one's"})
         done = f"the mean action of {len(policies)} policies, hidden layers {net}"
     else:
         model, stats = average_policies(policies)
         sidecar = replace(sidecar, metrics={}, score=None,
                           extra={**sidecar.extra, "averaged_from": list(args.policies),
                                  "lineage_note": f"weights averaged over {len(args.policies)} checkpoints "
-                                                 f"(agents/average_policies.py); steps and wall time are the last one's"})
+                                                 "(agents/average_policies.py); steps and wall time are the "
+                                                 "last one's"})
         done = f"the average of {len(policies)} policies"
     save_loaded_policy(args.out, model, stats, sidecar)
     print(f"{args.out}: {done}")
