@@ -63,6 +63,17 @@ def averaged_weights(states: list[dict[str, torch.Tensor]], names: list[str]) ->
     return {k: torch.stack([s[k].float() for s in states]).mean(0).to(first[k].dtype) for k in first}
 
 
+def check_one_environment(policies: list[MimicPolicy], advice: str) -> None:
+    """Raise :class:`PolicyError` naming the first of ``policies`` trained in another environment
+    (the sidecar's env spec) than the first, ending with ``advice``."""
+    names = [str(p.path) for p in policies]
+    envs = [PolicySidecar.from_dict(p.sidecar).env for p in policies]
+    for env, name in zip(envs[1:], names[1:]):
+        if env != envs[0]:
+            raise PolicyError(f"{name}: trained in another environment than {names[0]} ({env} against {envs[0]}); "
+                              f"{advice}")
+
+
 def pooled_statistics(means: np.ndarray, variances: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """The mean ``(D,)`` and variance ``(D,)`` of an equal mixture of distributions with the
     given ``means`` and ``variances`` ``(K, D)``: E[x] and E[x²] − E[x]²."""
@@ -78,11 +89,7 @@ def average_policies(policies: list[MimicPolicy]) -> tuple[PPO, VecNormalize]:
     names = [str(p.path) for p in policies]
     if len({p.model.observation_space.shape for p in policies}) > 1:
         raise PolicyError(f"the policies observe different spaces: {[p.model.observation_space.shape for p in policies]}")
-    envs = [PolicySidecar.from_dict(p.sidecar).env for p in policies]
-    for env, name in zip(envs[1:], names[1:]):
-        if env != envs[0]:
-            raise PolicyError(f"{name}: trained in another environment than {names[0]} ({env} against {envs[0]}); "
-                              f"average checkpoints of one run")
+    check_one_environment(policies, "average checkpoints of one run")
     symmetric = [name for p, name in zip(policies, names) if p.symmetric_network]
     if 0 < len(symmetric) < len(policies):
         raise PolicyError(f"{', '.join(symmetric)}: trained as the symmetric actor (train_ppo.py --symmetric), the "
@@ -101,11 +108,17 @@ PROBE_CLIP = "deepmimic:walk"
 """A clip the merged model's environment is built on (any clip of the task: the weights do not depend on it)."""
 
 
+def linear_layers(state: dict[str, torch.Tensor], branch: str) -> list[str]:
+    """Parameter name prefixes (``mlp_extractor.policy_net.0``, …) of the linear layers of an SB3
+    ``MlpExtractor`` branch (``policy_net`` or ``value_net``) in ``state``, input first."""
+    prefix = f"mlp_extractor.{branch}."
+    indices = sorted({int(k[len(prefix):].split(".")[0]) for k in state if k.startswith(prefix)})
+    return [f"{prefix}{i}" for i in indices]
+
+
 def hidden_sizes(state: dict[str, torch.Tensor], branch: str) -> list[int]:
     """Hidden layer widths of an SB3 ``MlpExtractor`` branch (``policy_net`` or ``value_net``)."""
-    prefix = f"mlp_extractor.{branch}."
-    layers = sorted(int(k[len(prefix):].split(".")[0]) for k in state if k.startswith(prefix) and k.endswith(".weight"))
-    return [state[f"{prefix}{i}.weight"].shape[0] for i in layers]
+    return [state[f"{layer}.weight"].shape[0] for layer in linear_layers(state, branch)]
 
 
 def merged_weights(states: list[dict[str, torch.Tensor]]) -> dict[str, torch.Tensor]:
@@ -114,12 +127,10 @@ def merged_weights(states: list[dict[str, torch.Tensor]]) -> dict[str, torch.Ten
     k = len(states)
     merged: dict[str, torch.Tensor] = {}
     for branch, head in (("policy_net", "action_net"), ("value_net", "value_net")):
-        prefix = f"mlp_extractor.{branch}."
-        layers = sorted({int(name[len(prefix):].split(".")[0]) for name in states[0] if name.startswith(prefix)})
-        for depth, layer in enumerate(layers):
-            weights = [s[f"{prefix}{layer}.weight"] for s in states]
-            merged[f"{prefix}{layer}.weight"] = torch.cat(weights) if depth == 0 else torch.block_diag(*weights)
-            merged[f"{prefix}{layer}.bias"] = torch.cat([s[f"{prefix}{layer}.bias"] for s in states])
+        for depth, layer in enumerate(linear_layers(states[0], branch)):
+            weights = [s[f"{layer}.weight"] for s in states]
+            merged[f"{layer}.weight"] = torch.cat(weights) if depth == 0 else torch.block_diag(*weights)
+            merged[f"{layer}.bias"] = torch.cat([s[f"{layer}.bias"] for s in states])
         merged[f"{head}.weight"] = torch.cat([s[f"{head}.weight"] for s in states], dim=1) / k
         merged[f"{head}.bias"] = torch.stack([s[f"{head}.bias"] for s in states]).mean(0)
     merged["log_std"] = torch.stack([s["log_std"] for s in states]).mean(0)
@@ -132,16 +143,14 @@ def merge_policies(policies: list[MimicPolicy]) -> PPO:
     statistics, another architecture."""
     if len(policies) < 2:
         raise PolicyError(f"merging needs at least two policies, got {len(policies)}")
+    check_one_environment(policies, "merge policies of one task")
     names = [str(p.path) for p in policies]
     first = policies[0]
-    env_of = PolicySidecar.from_dict(first.sidecar).env
     states = [p.model.policy.state_dict() for p in policies]
     for policy, name, state in zip(policies, names, states):
         if policy.symmetric_network:
             raise PolicyError(f"{name}: trained as the symmetric actor (train_ppo.py --symmetric); merge plain "
                               "networks and ask for their symmetric actor with --mirror-average")
-        if PolicySidecar.from_dict(policy.sidecar).env != env_of:
-            raise PolicyError(f"{name}: trained in another environment than {names[0]}; merge policies of one task")
         stats, ref = policy.normalizer.obs_rms, first.normalizer.obs_rms
         if not (np.allclose(stats.mean, ref.mean) and np.allclose(stats.var, ref.var)):
             raise PolicyError(f"{name}: normalises observations with other statistics than {names[0]}; the merged "

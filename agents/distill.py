@@ -543,14 +543,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     teachers = load_teachers(args.teacher, motions)
     names, default = teachers.names, teachers.policies[teachers.default]
     config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0
-    mix = artefact_mix(args, config.seed)
-    env = default.make_env(teachers.motions, artefacts=mix)
-    maps = MirrorMaps.of(env) if args.mirror_average else None
     unknown = sorted(set(args.plain_teachers) - set(names))
-    if unknown or (args.plain_teachers and maps is None):
+    if unknown or (args.plain_teachers and not args.mirror_average):
         raise ValueError(f"--plain-teachers {' '.join(args.plain_teachers)}: "
                          + (f"{', '.join(unknown)} name no teacher (teachers: {', '.join(names)})" if unknown
                             else "it exempts teachers from --mirror-average, which is not given"))
+    mix = artefact_mix(args, config.seed)
+    env = default.make_env(teachers.motions, artefacts=mix)
+    maps = MirrorMaps.of(env) if args.mirror_average else None
     if maps is not None:
         teachers = replace(teachers, policies=[t if name in args.plain_teachers else t.mirror_averaged(env)
                                                for t, name in zip(teachers.policies, names)])

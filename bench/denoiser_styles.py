@@ -67,10 +67,11 @@ def main(argv: list[str] | None = None) -> dict:
     print(f"{'style':<15}{'kind':<7}{'denoiser':<14}" + "".join(f"{m:>16}" for m in METRICS))
     for style in args.styles:
         takes = [load_motion(s, model) for s in style_clips(args.library, style)]
+        take_soles = [soles(clean) for clean in takes]
         for kind, draws in (("clean", 1), ("imu", args.draws)):
-            given = [(clean, soles(clean), clean if kind == "clean" else
+            given = [(clean, clean_soles, clean if kind == "clean" else
                       corrupt(clean, ArtefactRecipe.imu(args.strength), args.seed + 100 * i + d))
-                     for i, clean in enumerate(takes) for d in range(draws)]
+                     for i, (clean, clean_soles) in enumerate(zip(takes, take_soles)) for d in range(draws)]
             rows = {"input": [errors(clean, s, g, hips) for clean, s, g in given]}
             rows |= {label: [errors(clean, s, denoise(net, g), hips) for clean, s, g in given]
                      for label, net in nets.items()}

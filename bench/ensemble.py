@@ -31,7 +31,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips, tracked_and_judged, tracked_label
-from agents.evaluation import Policy, evaluate_tracking, per_clip, summarize
+from agents.evaluation import Policy, evaluate_tracking, per_clip
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from envs.config import FOOT_MODELS, MimicConfig
@@ -66,11 +66,9 @@ def ensemble_label(paths: list[str]) -> str:
 
 def score(builder: MimicPolicy, actor: Policy, tracked: list[Motion], judged: list[Motion] | None,
           episodes: int, mirror_average: bool = False) -> tuple[dict, list]:
-    """ELR and SR90 of ``actor`` (its symmetric actor with ``mirror_average``) in ``builder``'s
-    task, tracking ``tracked`` judged against ``judged``, and the rollouts."""
-    summary, runs = evaluate_tracking(builder, tracked, judged, episodes=episodes, actor=actor,
-                                      mirror_average=mirror_average)
-    return {"ELR": summary["ELR_mean"], "SR90": summary["SR90"], "rollouts": summary["rollouts"]}, runs
+    """The summary (:func:`agents.evaluation.summarize`) and rollouts of ``actor`` (its symmetric
+    actor with ``mirror_average``) in ``builder``'s task, tracking ``tracked`` judged against ``judged``."""
+    return evaluate_tracking(builder, tracked, judged, episodes=episodes, actor=actor, mirror_average=mirror_average)
 
 
 def main() -> None:
@@ -106,11 +104,11 @@ def main() -> None:
     actors += [(ensemble_name, ensemble.widest, ensemble)]
     for name, builder, actor in actors:
         for input_name, (tracked, judged) in inputs.items():
-            result, runs = score(builder, actor, tracked, judged, args.episodes, args.mirror_average)
-            rows.append({"policy": name, "input": input_name, **result})
-            print(f"{name:<36} {input_name:<26} ELR {result['ELR']:.3f}  SR90 {result['SR90']:.3f}", flush=True)
+            summary, runs = score(builder, actor, tracked, judged, args.episodes, args.mirror_average)
+            rows.append({"policy": name, "input": input_name, "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
+                         "rollouts": summary["rollouts"]})
+            print(f"{name:<36} {input_name:<26} ELR {summary['ELR_mean']:.3f}  SR90 {summary['SR90']:.3f}", flush=True)
             if args.clean_json and actor is ensemble and input_name == "clean":
-                summary = summarize(runs)
                 emit_json({"policy": ensemble_name, "mirror_average": args.mirror_average, "clips": args.clips,
                            "corrupt": None, "episodes": args.episodes, **summary, "per_clip": per_clip(runs)},
                           str(args.clean_json))
