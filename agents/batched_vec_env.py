@@ -180,9 +180,9 @@ class BatchedMimicVecEnv(VecEnv):
         judged = (refs if all(env._judge is env._track for env in self.envs)
                   else ReferenceFrame.gather([env._judge for env in self.envs], frames))
         terms = first._tracking_terms(state, judged)
-        ahead = [env._ahead(env.current_track) for env in self.envs]
-        ahead = None if ahead[0] is None else tuple(np.stack(parts) for parts in zip(*ahead))
-        observations = first._tracking_observation(state, refs, self._smoothed, ahead)
+        window = [env._window(env.current_track) for env in self.envs]
+        window = None if window[0] is None else tuple(np.stack(parts) for parts in zip(*window))
+        observations = first._tracking_observation(state, refs, self._smoothed, window)
         names = first.reward_info_keys
         term_values = np.stack([getattr(terms, k) for k in names], axis=1).tolist()
         # MimicEnv._touch for every environment at once: their floor contacts and spinal bodies down

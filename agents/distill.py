@@ -69,17 +69,18 @@ import gymnasium as gym
 import numpy as np
 import torch
 from stable_baselines3 import PPO
-from stable_baselines3.common.vec_env import DummyVecEnv
+from stable_baselines3.common.running_mean_std import RunningMeanStd
+from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.mirror import MirrorMaps
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, PolicyError, save_policy
+from agents.policy import MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
-from agents.sidecar import PolicySidecar, PPOSettings, TrainingRecord, repository_relative
+from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
 from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
                               reposed_copies, stance_extra, warped_clips)
-from agents.warm_start import widen_hidden
+from agents.warm_start import widen_by_window, widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
 from perception.imu_denoiser import add_denoise_option
@@ -117,6 +118,10 @@ class DistillConfig:
         from_default: the student starts as the set's default policy (its weights; ``net`` must be
             the default's hidden layers or wider ones) instead of a fresh initialisation, so that specialists' takes can be
             distilled into a policy that already performs the rest (False).
+        lookahead, lookbehind: control steps ahead and back whose reference the student also
+            observes (:attr:`envs.config.MimicConfig.lookahead`, ``lookbehind``: a window of the
+            take, after the default teacher's observation, which the teachers read without it);
+            empty (default): the student observes what the default teacher does.
     """
 
     net: str = "256,256"
@@ -129,6 +134,8 @@ class DistillConfig:
     seed: int = 0
     teacher_weights: tuple[tuple[str, float], ...] = ()
     from_default: bool = False
+    lookahead: tuple[int, ...] = ()
+    lookbehind: tuple[int, ...] = ()
 
     def __post_init__(self) -> None:
         if not all(n.strip().isdigit() and int(n) > 0 for n in self.net.split(",")):
@@ -247,6 +254,16 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     return Teachers(policies, of_clip, default, [m for _, clips in groups for m in clips])
 
 
+def symmetric_teacher(teacher: MimicPolicy, env: gym.Env, maps: MirrorMaps) -> MimicPolicy:
+    """``teacher`` acting as its symmetric actor in ``env`` (whose mirror maps are ``maps``), where
+    it reads the first values of ``env``'s observation (:func:`teacher_observation`): the maps of
+    those (:meth:`agents.mirror.MirrorMaps.leading`)."""
+    inputs = teacher.model.observation_space.shape[0]
+    if inputs == env.observation_space.shape[0]:
+        return teacher.mirror_averaged(env)
+    return teacher if teacher.symmetric_network else replace(teacher, mirror=maps.leading(inputs))
+
+
 def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """``(N, A)`` mean actions (rad offsets) and ``(N,)`` values of ``policy`` for raw observations
     ``obs (N, D)`` (normalised by the policy's own statistics). A policy acting as its symmetric actor
@@ -265,15 +282,17 @@ def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.nd
     return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
 
 
-def teacher_observation(env: gym.Env, obs: np.ndarray, info: dict, reads: str) -> np.ndarray:
-    """What an episode's teacher observes ``(D,)`` where the student observes ``obs``: the same
-    (``reads="track"``), or in a corrupted episode the clean take at the same state and frame
+def teacher_observation(env: gym.Env, obs: np.ndarray, info: dict, reads: str,
+                        inputs: int | None = None) -> np.ndarray:
+    """What an episode's teacher observes ``(inputs,)`` where the student observes ``obs (D,)``: the
+    same (``reads="track"``), or in a corrupted episode the clean take at the same state and frame
     (``reads="clean"``: the privileged teacher, :meth:`envs.mimic.MimicEnv.observation_against` the
-    clip's track as a clean episode tracks it)."""
+    clip's track as a clean episode tracks it); its first ``inputs`` values (a student that also
+    observes a reference window has ``D > inputs``; ``None``: all of them)."""
     if reads == "track" or not info["corrupted"]:
-        return obs
+        return obs[:inputs]
     base = env.unwrapped
-    return base.observation_against(base.track(base.clip_index, -1)).astype(obs.dtype)
+    return base.observation_against(base.track(base.clip_index, -1)).astype(obs.dtype)[:inputs]
 
 
 def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: int, sigma: float,
@@ -290,7 +309,8 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
     obs, info = env.reset(seed=int(rng.integers(2**31)))
     for _ in tqdm(range(steps), desc="collecting", unit="step", disable=not progress, leave=False):
         teacher = teachers.of_clip[info["clip"]]
-        seen = teacher_observation(env, obs, info, teacher_reads)
+        seen = teacher_observation(env, obs, info, teacher_reads,
+                                   teachers.policies[teacher].model.observation_space.shape[0])
         mean, _ = (mean_actions_and_values(actor, obs[None]) if actor is not None
                    else mean_actions_and_values(teachers.policies[teacher], seen[None]))
         obs_rows.append(obs)
@@ -301,13 +321,14 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
         if terminated or truncated:
             episode += 1
             obs, info = env.reset()
-    obs_all, seen_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(teacher_rows, np.float32), np.asarray(who)
+    obs_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(who)
     actions = np.zeros((len(obs_all), env.action_space.shape[0]), np.float32)
     values = np.zeros(len(obs_all), np.float32)
     for i, teacher in enumerate(teachers.policies):
         rows = who_all == i
         if rows.any():
-            actions[rows], values[rows] = mean_actions_and_values(teacher, seen_all[rows])
+            seen = np.asarray([teacher_rows[k] for k in np.flatnonzero(rows)], np.float32)
+            actions[rows], values[rows] = mean_actions_and_values(teacher, seen)
     labels = Labels(obs_all, actions, values, who_all, np.asarray(episode_of))
     if maps is None:
         return labels
@@ -382,25 +403,57 @@ def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labe
     return labels.take(~held), labels.take(held)
 
 
+def student_task(default: MimicPolicy, config: DistillConfig) -> EnvSpec:
+    """The student's task: the default teacher's, with ``config``'s reference window added to its
+    observation. :class:`PolicyError` for a default teacher that observes a window already."""
+    task = default.record.env
+    if not (config.lookahead or config.lookbehind):
+        return task
+    if task.mimic_config().window_steps:
+        raise PolicyError(f"{default.path}: observes a reference window already; a student's window (--lookahead, "
+                          f"--lookbehind) is added to a teacher's observation without one")
+    widened = replace(task, config={**task.config, "lookahead": list(config.lookahead),
+                                    "lookbehind": list(config.lookbehind)})
+    widened.mimic_config()  # raises for steps the config refuses
+    return widened
+
+
+def with_statistics(normalizer: VecNormalize, mean: np.ndarray, var: np.ndarray) -> VecNormalize:
+    """A copy of a loaded policy's observation ``normalizer`` (the same settings; the original is
+    untouched) normalising by ``mean`` and ``var`` ``(D,)``, with the original's count of samples."""
+    widened = VecNormalize.__new__(VecNormalize)  # a loaded one wraps no envs, which copy.copy would look up
+    widened.__dict__.update(normalizer.__dict__)
+    widened.obs_rms = RunningMeanStd(shape=mean.shape)
+    widened.obs_rms.mean, widened.obs_rms.var, widened.obs_rms.count = mean, var, normalizer.obs_rms.count
+    return widened
+
+
 def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> MimicPolicy:
     """A student on ``env`` with the default teacher's observation statistics and exploration noise:
     freshly initialised, or with the default teacher's weights (``config.from_default``), embedded
     in wider hidden layers where ``config.net`` is wider (:func:`agents.warm_start.widen_hidden`: it
-    acts as the default from the start; raises :class:`PolicyError` for a narrower or deeper ``net``)."""
+    acts as the default from the start; raises :class:`PolicyError` for a narrower or deeper ``net``).
+    Where ``env`` also shows a reference window (:func:`student_task`), its inputs get zero weights
+    and statistics sampled from ``env`` (:func:`agents.warm_start.widen_by_window`)."""
     if config.from_default and default.symmetric_network:
         raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
                           "so it cannot start from this default teacher's weights")
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
                 policy_kwargs=policy_kwargs(config.net, variance))
+    weights, normalizer = default.model.policy.state_dict(), default.normalizer
+    if env.observation_space.shape != default.model.observation_space.shape:
+        stats = normalizer.obs_rms
+        weights, mean, var = widen_by_window(weights, stats.mean, stats.var, model.get_env())
+        normalizer = with_statistics(normalizer, mean, var)
     if config.from_default:
         try:
-            weights = widen_hidden(default.model.policy.state_dict(), model.policy.state_dict())
+            weights = widen_hidden(weights, model.policy.state_dict())
         except PolicyError as err:
             raise PolicyError(f"--from-default: the default policy {default.path} does not fit a --net {config.net} "
                               f"student: {err}") from err
         model.policy.load_state_dict(weights)
-    return MimicPolicy(default.path, model, default.normalizer, {})
+    return MimicPolicy(default.path, model, normalizer, {})
 
 
 def finished_rounds(out: Path, key: str, resume: bool) -> tuple[list[dict], Labels | None]:
@@ -420,15 +473,16 @@ def finished_rounds(out: Path, key: str, resume: bool) -> tuple[list[dict], Labe
 
 def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: dict, training: TrainingRecord,
                  config: DistillConfig) -> Path:
-    """Write ``out/student`` whole (:func:`agents.policy.save_policy`): the model, the default
-    teacher's statistics, and a sidecar naming the default teacher's task and this distillation."""
+    """Write ``out/student`` whole (:func:`agents.policy.save_loaded_policy`): the model, its
+    observation statistics (the default teacher's, widened by a reference window), and a sidecar
+    naming its task (:func:`student_task`) and this distillation."""
     if config.from_default and default.symmetric_network:
         raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
                           "so it cannot start from this default teacher's weights")
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
-    sidecar = PolicySidecar(env=default.record.env, ppo=PPOSettings(net=config.net, action_variance=variance),
+    sidecar = PolicySidecar(env=student_task(default, config), ppo=PPOSettings(net=config.net, action_variance=variance),
                             training=training, metrics={}, extra={"distillation": record})
-    save_policy(out / "student", student.model, Path(default.path) / STATS_FILE, sidecar)
+    save_loaded_policy(out / "student", student.model, student.normalizer, sidecar)
     return out / "student"
 
 
@@ -513,6 +567,12 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--from-default", action="store_true",
                    help="the student starts as the set's default policy (in wider hidden layers if --net is wider), "
                         "not from a fresh initialisation")
+    p.add_argument("--lookahead", type=positive_int, nargs="+", default=[], metavar="STEPS",
+                   help="the student also observes the reference this many control steps ahead, each "
+                        "(MimicConfig.lookahead); the teachers read the observation without it")
+    p.add_argument("--lookbehind", type=positive_int, nargs="+", default=[], metavar="STEPS",
+                   help="and this many control steps back, each (MimicConfig.lookbehind): with --lookahead a "
+                        "window of the take around now")
     p.add_argument("--out", type=output_dir, required=True)
     p.add_argument("--resume", action="store_true", help="continue the distillation in --out")
     p.add_argument("--no-progress", action="store_true")
@@ -531,7 +591,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     config = DistillConfig(net=args.net, rounds=args.rounds, steps_per_round=args.steps_per_round, epochs=args.epochs,
                            batch_size=args.batch_size, lr=args.lr, seed=args.seed,
                            teacher_weights=tuple((name, float(w)) for name, w in args.teacher_weight),
-                           from_default=args.from_default)
+                           from_default=args.from_default, lookahead=tuple(args.lookahead),
+                           lookbehind=tuple(args.lookbehind))
     torch.manual_seed(config.seed)
     clips = [c for c in expand_clips(args.clips) if c not in set(args.exclude)]
     warps, ranges, extra = warped_clips(clips, args.warp), posture_ranges(args), stance_extra(args)
@@ -549,10 +610,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                          + (f"{', '.join(unknown)} name no teacher (teachers: {', '.join(names)})" if unknown
                             else "it exempts teachers from --mirror-average, which is not given"))
     mix = artefact_mix(args, config.seed)
-    env = default.make_env(teachers.motions, artefacts=mix)
+    env = student_task(default, config).make(teachers.motions, artefacts=mix)
     maps = MirrorMaps.of(env) if args.mirror_average else None
     if maps is not None:
-        teachers = replace(teachers, policies=[t if name in args.plain_teachers else t.mirror_averaged(env)
+        teachers = replace(teachers, policies=[t if name in args.plain_teachers else symmetric_teacher(t, env, maps)
                                                for t, name in zip(teachers.policies, names)])
     student = new_student(env, default, config)
     sigma = float(default.model.policy.log_std.detach().exp().mean())
@@ -560,7 +621,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     done, labels = finished_rounds(out, "distillation", args.resume)
     if done:
         student = MimicPolicy(default.path, PPO.load(out / "student" / MODEL_FILE, env=DummyVecEnv([lambda: env]),
-                                                     device="cpu"), default.normalizer, {})
+                                                     device="cpu"), load_policy(out / "student").normalizer, {})
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
     acting = student if maps is None else replace(student, mirror=maps)  # shares the weights the fit moves
     out.mkdir(parents=True, exist_ok=True)

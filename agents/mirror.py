@@ -33,6 +33,9 @@ LATERAL_VECTORS = ("v_com", "ref_v_com", "dv_com", "ref_v_hor", "dv_hor", "dp_co
 """Observation slices that are one vector (x, y[, z]) each: under the mirror only y changes sign."""
 BODY_VECTORS = ("p", "v", "dp", "dv")
 """Observation slices holding one 3-vector per observed body."""
+WINDOW_PARTS = ("lookahead", "lookbehind")
+"""Observation slices holding other reference frames, each step two vectors (the CoM's shift and
+velocity) and one 3-vector per observed body (:func:`envs.observations.lookahead_observation`)."""
 
 
 @dataclass(frozen=True)
@@ -70,11 +73,11 @@ class MirrorMaps:
     def of(cls, env: gym.Env) -> MirrorMaps:
         """The maps of a mimic environment's observation and action (``MimicIMU-v0`` and its
         ablations: the 8 key joints or every hinge, ADAPT's or DReCon's bodies, any observation
-        frame). A clear ``ValueError`` for a layout it does not know (``MimicGait-v0``'s contact
-        and toe inputs, the reference ahead)."""
+        frame, with or without the reference around now). A clear ``ValueError`` for a layout it
+        does not know (``MimicGait-v0``'s contact and toe inputs)."""
         base = env.unwrapped
         slices = getattr(base, "obs_slices", None)
-        known = set(LATERAL_VECTORS) | set(BODY_VECTORS) | {"prev_action"}
+        known = set(LATERAL_VECTORS) | set(BODY_VECTORS) | set(WINDOW_PARTS) | {"prev_action"}
         if slices is None or not set(slices) <= known:
             extra = sorted(set(slices or {}) - known) or ["no obs_slices"]
             raise ValueError(f"{base.spec.id if base.spec else type(base).__name__}: the mirror-symmetric actor "
@@ -88,12 +91,21 @@ class MirrorMaps:
         for name in LATERAL_VECTORS:
             if name in slices:
                 obs_sign[slices[name].start + 1] = -1.0
-        for name in BODY_VECTORS:
-            start = slices[name].start
-            for b, body in enumerate(observed):
-                twin = observed.index(mirror_twin(body))
+        twins = [observed.index(mirror_twin(body)) for body in observed]
+
+        def mirror_bodies(start: int) -> None:  # one 3-vector per observed body from ``start``
+            for b, twin in enumerate(twins):
                 obs_perm[start + 3 * b:start + 3 * b + 3] = np.arange(start + 3 * twin, start + 3 * twin + 3)
                 obs_sign[start + 3 * b + 1] = -1.0
+
+        for name in BODY_VECTORS:
+            mirror_bodies(slices[name].start)
+        per_step = 6 + 3 * len(observed)
+        for name in WINDOW_PARTS:
+            if name in slices:
+                for start in range(slices[name].start, slices[name].stop, per_step):
+                    obs_sign[[start + 1, start + 4]] = -1.0  # the CoM's shift and velocity
+                    mirror_bodies(start + 6)
         hinge_qpos = actuator_qpos(base.humanoid.model)[base.driven]
         qpos_perm, qpos_sign = mirror_map(base.humanoid.name)
         component = {int(q): k for k, q in enumerate(hinge_qpos)}
@@ -106,6 +118,17 @@ class MirrorMaps:
         obs_perm[start:start + len(action_perm)] = start + action_perm
         obs_sign[start:start + len(action_perm)] = action_sign
         return cls(obs_perm, obs_sign, action_perm, action_sign)
+
+    def leading(self, size: int) -> MirrorMaps:
+        """The maps of the observation's first ``size`` values (the same action map): those of a
+        policy observing the layout without what follows, as a teacher reads a student's
+        observation without its reference window (``agents/distill.py --lookahead``). A clear
+        ``ValueError`` where the mirror moves a value across ``size``."""
+        perm = self.obs_perm[:size]
+        if len(perm) != size or (size and perm.max() >= size):
+            raise ValueError(f"the observation's first {size} values are not closed under the mirror "
+                             f"(it has {len(self.obs_perm)})")
+        return MirrorMaps(perm, self.obs_sign[:size], self.action_perm, self.action_sign)
 
     def observation(self, obs: np.ndarray) -> np.ndarray:
         """The mirrored observation ``(..., D)`` of ``obs (..., D)`` (one, or a batch)."""

@@ -120,6 +120,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--lookahead", type=positive_int, nargs="+", default=[], metavar="STEPS",
                    help="the observation also shows the reference this many control steps ahead, each "
                         "(e.g. 1 4 10; MimicConfig.lookahead; --init-from a policy without it widens its inputs)")
+    g.add_argument("--lookbehind", type=positive_int, nargs="+", default=[], metavar="STEPS",
+                   help="the observation also shows the reference this many control steps back, each, after the "
+                        "lookahead (e.g. 1 2 4 8; MimicConfig.lookbehind; --init-from a policy without a window "
+                        "widens its inputs)")
     g.add_argument("--steer-gain", type=non_negative_float, default=MimicConfig.steer_gain_hz, metavar="HZ",
                    help="the observed reference velocities pull the character back onto the reference's position "
                         "at this rate, 1/s (MimicConfig.steer_gain_hz; 0: ADAPT's observation, same layout)")
@@ -376,11 +380,12 @@ def gait_config(args: argparse.Namespace) -> GaitConfig:
 
 def env_config(args: argparse.Namespace) -> MimicConfig:
     """The environments' constants for this run (defaults, with ``--track-cache``, ``--obs-frame``,
-    ``--com-offset``, ``--velocity-feedforward``, ``--lookahead``, ``--steer-gain``,
+    ``--com-offset``, ``--velocity-feedforward``, ``--lookahead``, ``--lookbehind``, ``--steer-gain``,
     ``--action-limit``, ``--physics-rate-hz``, ``--still-feet-*`` and ``--com-velocity-*``)."""
     return MimicConfig(track_cache_size=args.track_cache, obs_frame=args.obs_frame,
                        com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
-                       lookahead=tuple(args.lookahead), steer_gain_hz=args.steer_gain,
+                       lookahead=tuple(args.lookahead), lookbehind=tuple(args.lookbehind),
+                       steer_gain_hz=args.steer_gain,
                        physics_rate_hz=args.physics_rate_hz, action_limit_rad=args.action_limit,
                        still_feet_weight=args.still_feet_weight, still_feet_alpha=args.still_feet_alpha,
                        com_velocity_weight=args.com_velocity_weight, com_velocity_alpha=args.com_velocity_alpha)

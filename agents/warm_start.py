@@ -2,11 +2,11 @@
 observation that gained inputs or onto wider hidden layers.
 
 A policy trained on ADAPT's world-frame observation (:mod:`envs.observations`) can be carried to
-the same observation with ``dp_com`` (``MimicConfig.com_offset``) or with the future reference
-(``MimicConfig.lookahead``): the first layer of actor and critic gets zero weights for the new
+the same observation with ``dp_com`` (``MimicConfig.com_offset``) or with a window of the reference
+(``MimicConfig.lookahead``, ``lookbehind``): the first layer of actor and critic gets zero weights for the new
 inputs, so the widened network computes exactly what the source did until training gives those
 inputs weight, and the observation statistics get an entry for them (a fixed scale for
-``dp_com``; for the lookahead, which is the reference's alone, the mean and variance of the run's
+``dp_com``; for the window, which is the reference's alone, the mean and variance of the run's
 own environments over :data:`LOOKAHEAD_SAMPLE_RESETS` resets).
 
 A key-joint policy can seed a run that drives every hinge (``MimicFullAction-v0``,
@@ -62,6 +62,30 @@ def sampled_statistics(venv: VecEnv, columns: slice, resets: int) -> tuple[np.nd
     ``venv`` (raw observations, before normalisation)."""
     samples = np.concatenate([venv.reset()[:, columns] for _ in range(resets)])
     return samples.mean(axis=0), np.maximum(samples.var(axis=0), LOOKAHEAD_MIN_STD**2)
+
+
+def window_slice(slices: dict[str, slice]) -> slice | None:
+    """The observation columns of the reference window (``lookahead`` and ``lookbehind``
+    together, which end the observation) in the layout ``slices``; ``None`` without either."""
+    parts = [slices[name] for name in ("lookahead", "lookbehind") if name in slices]
+    return slice(parts[0].start, parts[-1].stop) if parts else None
+
+
+def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray,
+                    venv: VecEnv) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
+    """A policy's ``state_dict`` and observation statistics ``mean``, ``var`` ``(D,)`` carried to
+    the environments of ``venv``, whose observation is the policy's with the reference window
+    appended (:func:`window_slice`): zero first-layer weights for its inputs (:func:`widen_inputs`,
+    so the policy acts as before) and their mean and variance over :data:`LOOKAHEAD_SAMPLE_RESETS`
+    resets of ``venv`` (:func:`sampled_statistics`). Raises :class:`PolicyError` unless the
+    observation is exactly the policy's plus the window."""
+    window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
+    if window is None or window.start != len(mean) or window.stop != venv.observation_space.shape[0]:
+        raise PolicyError(f"the environment's observation ({venv.observation_space.shape[0]} values) is not the "
+                          f"policy's ({len(mean)}) followed by a reference window (lookahead, lookbehind)")
+    window_mean, window_var = sampled_statistics(venv, window, LOOKAHEAD_SAMPLE_RESETS)
+    return (widen_inputs(state_dict, window.start, window.stop - window.start),
+            np.concatenate([mean, window_mean]), np.concatenate([var, window_var]))
 
 
 def observation_normalizer(venv: VecEnv, gamma: float) -> VecNormalize:
@@ -207,7 +231,7 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     """Load ``source``'s weights into ``model`` (a new run on ``venv``, whose environments use
     ``config``) and return ``venv`` wrapped in ``source``'s observation statistics.
 
-    The spaces must match, or differ only by ``dp_com`` and/or the lookahead: ``config`` observes
+    The spaces must match, or differ only by ``dp_com`` and/or the reference window: ``config`` observes
     them and the source's environment did not (then the inputs are widened, see the module
     docstring). The frames must
     match too, or both be of :data:`envs.observations.SAME_LAYOUT_FRAMES` (world and reference
@@ -223,12 +247,12 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
-    ahead = venv.get_attr("obs_slices", indices=[0])[0].get("lookahead") if config.lookahead else None
-    n_ahead = ahead.stop - ahead.start if ahead is not None and not source_config.lookahead else 0
+    window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
+    n_window = window.stop - window.start if window is not None and not source_config.window_steps else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
     more_hinges = venv.action_space.shape != source.model.action_space.shape
     if more_hinges:
-        if n_com or n_ahead:
+        if n_com or n_window:
             raise PolicyError(f"{source.path}: a warm start may drive more hinges or observe more, not both at once")
         target_driven = venv.get_attr("driven", indices=[0])[0]
         source_driven = driven_actuators(load_model(FOOT_MODELS[source.foot]), action_mode_of(source.env_id))
@@ -238,18 +262,16 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
         print(f"{source.path} drives {len(source_driven)} hinges, this run {len(target_driven)}: the new ones start "
               f"at zero offset (the reference's PD target)", flush=True)
     # new inputs with a changed action space were refused above
-    widen = (n_com or n_ahead) and sizes[0][0] == sizes[1][0] + n_com + n_ahead
+    widen = (n_com or n_window) and sizes[0][0] == sizes[1][0] + n_com + n_window
     if widen and n_com:
         state = widen_inputs(state, span.start, n_com)
         rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_com, COM_OFFSET_STD_M**2))
         print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
-    if widen and n_ahead:
-        start = ahead.start  # the lookahead ends the observation
-        state = widen_inputs(state, start, n_ahead)
-        mean, var = sampled_statistics(venv, slice(start, None), LOOKAHEAD_SAMPLE_RESETS)
-        rms.mean, rms.var = np.concatenate([rms.mean, mean]), np.concatenate([rms.var, var])
-        print(f"widening {source.path}'s inputs by the lookahead {config.lookahead} (zero weights at "
-              f"{start}:{start + n_ahead}; statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
+    if widen and n_window:
+        state, rms.mean, rms.var = widen_by_window(state, rms.mean, rms.var, venv)
+        print(f"widening {source.path}'s inputs by the reference window (lookahead {config.lookahead}, lookbehind "
+              f"{config.lookbehind}; zero weights at {window.start}:{window.stop}; statistics from "
+              f"{LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
     if not widen and not more_hinges:
         source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
     fresh = model.policy.state_dict()

@@ -55,7 +55,10 @@ def main() -> None:
     p.add_argument("--ensemble", action="store_true",
                    help="the policies act as one actor, the mean of their actions (one row)")
     denoising = p.add_mutually_exclusive_group()
-    denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"))
+    denoising.add_argument("--denoise", type=Path, default=Path("models/imu_denoiser_dm"),
+                           help="the IMU denoiser every take passes through first (default, unlike evaluate.py's: "
+                                "models/imu_denoiser_dm, kept so the README's earlier commands reproduce; "
+                                "--no-denoise for the takes as given)")
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
     add_grounding_option(p, "every policy mimics the grounded takes and is judged against them as given")
     add_swing_lift_options(p, "every policy mimics the lifted takes and is judged against them as given")
@@ -75,6 +78,8 @@ def main() -> None:
         note = policy.preparation_note(denoiser_path, grounding, lift)
         if note:
             print(note)
+    print(f"IMU takes pass through the denoiser {denoiser_path} first (--no-denoise: as given)" if denoiser_path
+          else "IMU takes are tracked as given (--no-denoise)", flush=True)
     net = load_network(denoiser_path, "denoiser") if denoiser_path else None
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]

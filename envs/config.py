@@ -97,6 +97,13 @@ class MimicConfig:
             :mod:`envs.observations`). ADAPT's state shows the reference at the current frame
             only, so a change of step or direction is seen once it has begun. Empty (default):
             ADAPT's observation. Strictly increasing positive integers.
+        lookbehind: past control steps (each ``frames_per_control`` frames back, clamped to the
+            clip's first frame) whose reference the observation also shows, after the lookahead and
+            laid out as it is (its CoM's displacement from its current position, its CoM velocity,
+            its body origins relative to its CoM). With the lookahead it is a window of the take
+            around now, from which a policy can tell an IMU take's jitter and noise from its
+            motion as a denoiser does (README "Round 20"). Empty (default): ADAPT's observation.
+            Strictly increasing positive integers.
         steer_gain_hz: the observed reference velocities (its CoM's and every body's) get a
             horizontal pull back towards the reference's CoM position, this gain (1/s) times the
             character's offset from it (:func:`envs.observations.steered_velocities`), so a
@@ -149,6 +156,7 @@ class MimicConfig:
     com_offset: bool = False
     velocity_feedforward: bool = False
     lookahead: tuple[int, ...] = ()
+    lookbehind: tuple[int, ...] = ()
     steer_gain_hz: float = 0.0
     steer_max_speed_mps: float = 0.5
     still_feet_weight: float = 0.0
@@ -170,11 +178,13 @@ class MimicConfig:
                 and math.isfinite(self.steer_max_speed_mps) and self.steer_max_speed_mps > 0):
             raise ValueError("steer_gain_hz must be finite and >= 0 and steer_max_speed_mps finite and > 0, got "
                              f"{self.steer_gain_hz!r}, {self.steer_max_speed_mps!r}")
-        ahead = tuple(self.lookahead)  # a sidecar's JSON list arrives as a list
-        if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in ahead) or any(
-                k < 1 for k in ahead) or list(ahead) != sorted(set(ahead)):
-            raise ValueError(f"lookahead must be strictly increasing positive whole control steps, got {self.lookahead!r}")
-        object.__setattr__(self, "lookahead", tuple(int(k) for k in ahead))
+        for name in ("lookahead", "lookbehind"):
+            steps = tuple(getattr(self, name))  # a sidecar's JSON list arrives as a list
+            if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in steps) or any(
+                    k < 1 for k in steps) or list(steps) != sorted(set(steps)):
+                raise ValueError(f"{name} must be strictly increasing positive whole control steps, "
+                                 f"got {getattr(self, name)!r}")
+            object.__setattr__(self, name, tuple(int(k) for k in steps))
         steps = self.physics_rate_hz / self.frame_rate_hz
         if not steps >= 1 or abs(steps - round(steps)) > 1e-6:
             raise ValueError(f"physics_rate_hz must be a whole multiple of frame_rate_hz ({self.frame_rate_hz:g} Hz), "
@@ -190,6 +200,12 @@ class MimicConfig:
                              f"got {self.episode_frames}")
         if not 0.0 < self.action_smoothing <= 1.0:
             raise ValueError(f"action_smoothing must be in (0, 1], got {self.action_smoothing}")
+
+    @property
+    def window_steps(self) -> tuple[int, ...]:
+        """The control steps, relative to now, of the reference frames the observation shows beyond
+        the current one: ``lookahead`` (positive), then ``lookbehind`` negated, in that order."""
+        return self.lookahead + tuple(-k for k in self.lookbehind)
 
     @property
     def observes_com_offset(self) -> bool:

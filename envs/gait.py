@@ -236,9 +236,10 @@ class MimicGaitEnv(MimicEnv):
         if judged_clips is not None:
             raise ValueError("MimicGait-v0 takes no judged_clips: its reward compares the simulation with the clips "
                              "it follows and their contact targets")
-        if config is not None and config.lookahead:
+        if config is not None and config.window_steps:
             raise ValueError(f"MimicGait-v0 previews its contact and toe targets instead (GaitConfig.preview_frames); "
-                             f"MimicConfig.lookahead must be empty, got {config.lookahead}")
+                             f"MimicConfig.lookahead and lookbehind must be empty, got {config.lookahead} and "
+                             f"{config.lookbehind}")
         if config is not None and (config.still_feet_weight or config.com_velocity_weight):
             raise ValueError(f"MimicGait-v0 has ContactVision's own reward (GaitConfig), without the still-feet and "
                              f"CoM-velocity terms; MimicConfig.still_feet_weight and com_velocity_weight must be 0, got "

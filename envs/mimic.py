@@ -578,10 +578,11 @@ class MimicEnv(gym.Env):
         """Layout of the observation (:func:`envs.observations.observation_slices`); the observation
         space's size is the end of the last slice."""
         return observation_slices(n_bodies, n_action, com_offset=self.config.observes_com_offset,
-                                  lookahead_steps=len(self.config.lookahead))
+                                  lookahead_steps=len(self.config.lookahead),
+                                  lookbehind_steps=len(self.config.lookbehind))
 
     def _observe(self, state) -> np.ndarray:
-        return self._tracking_observation(state, self._track.frame(self._frame), self._action, self._ahead(self._track))
+        return self._tracking_observation(state, self._track.frame(self._frame), self._action, self._window(self._track))
 
     def observation_against(self, track: ReferenceTrack) -> np.ndarray:
         """The observation ``(D,)`` of the current simulated state against ``track`` at the running
@@ -596,7 +597,7 @@ class MimicEnv(gym.Env):
             raise ValueError(f"observation_against: the track has {track.n_frames} frames, the running track "
                              f"{self._track.n_frames}; it must be the running clip or one of its variants")
         state = read_body_state(self.model, self.data)
-        return self._tracking_observation(state, track.frame(self._frame), self._action, self._ahead(track))
+        return self._tracking_observation(state, track.frame(self._frame), self._action, self._window(track))
 
     @property
     def clip_index(self) -> int:
@@ -605,23 +606,24 @@ class MimicEnv(gym.Env):
             raise RuntimeError("call reset() first")
         return self._clip
 
-    def _ahead(self, track: ReferenceTrack) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
-        """What the observation's ``lookahead`` reads of ``track`` (``config.lookahead`` steps past
-        the current frame, clamped to its last): the reference CoM ``(K, 3)``, its velocity
+    def _window(self, track: ReferenceTrack) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+        """What the observation's ``lookahead`` and ``lookbehind`` read of ``track``
+        (:attr:`~envs.config.MimicConfig.window_steps` control steps from the current frame,
+        clamped to the track's first and last frames): the reference CoM ``(K, 3)``, its velocity
         ``(K, 3)`` and the observed body origins relative to it ``(K, B, 3)`` (world); ``None``
-        without lookahead."""
-        if not self.config.lookahead:
+        without either."""
+        steps = self.config.window_steps
+        if not steps:
             return None
-        frames = np.minimum(self._frame + self.config.frames_per_control * np.asarray(self.config.lookahead),
-                            track.n_frames - 1)
+        frames = np.clip(self._frame + self.config.frames_per_control * np.asarray(steps), 0, track.n_frames - 1)
         return track.com[frames], track.com_vel[frames], track.pos_rel_com[frames][:, self.observed]
 
     def _tracking_observation(self, state, ref: ReferenceFrame, action: np.ndarray,
-                              ahead: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+                              window: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
         """The mimic observation of body state(s) ``state`` against reference frame(s) ``ref`` with the
         smoothed action(s) ``action`` (one, or a batch with a leading axis on each), and with
-        ``config.lookahead`` the future reference ``ahead`` (:meth:`_ahead`, with the same leading
-        axes)."""
+        ``config.lookahead`` or ``config.lookbehind`` the reference around now, ``window``
+        (:meth:`_window`, with the same leading axes)."""
         obs = self.observed
         heading = None
         if self.config.obs_frame == "heading":
@@ -633,11 +635,12 @@ class MimicEnv(gym.Env):
         observation = mimic_observation(state.pos[..., obs, :], state.linvel[..., obs, :], state.com, state.com_vel,
                                         ref.pos_rel_com[..., obs, :], ref_linvel, ref_com_vel, action,
                                         heading, ref.com if self.config.observes_com_offset else None)
-        if not self.config.lookahead:
+        if not self.config.window_steps:
             return observation
-        if ahead is None:
-            raise ValueError("config.lookahead is set: the observation needs the future reference (ahead)")
-        return np.concatenate([observation, lookahead_observation(ref.com, *ahead, heading)], axis=-1)
+        if window is None:
+            raise ValueError("config.lookahead or lookbehind is set: the observation needs the reference around now "
+                             "(window)")
+        return np.concatenate([observation, lookahead_observation(ref.com, *window, heading)], axis=-1)
 
     def _spinal_contacts(self, touching: np.ndarray) -> int:
         """Number of spinal bodies among the bodies of the floor-touching geoms ``touching``."""

@@ -19,6 +19,7 @@ prev_action   A     the smoothed action of the previous step
 lookahead     K·L   (``MimicConfig.lookahead``, K future control steps; L = 6 + 3B) per step:
                     the reference CoM's displacement from its current position (3), its
                     CoM velocity (3) and its body origins relative to its CoM (3B)
+lookbehind    K'·L  (``MimicConfig.lookbehind``, K' past control steps) per step: the same
 ============  ====  =====================================================================
 
 With all 20 bodies and the 20-D key-joint action this is the 273-D state of ADAPT.
@@ -62,13 +63,15 @@ def same_layout(frame: str, other: str) -> bool:
 
 
 def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False,
-                       lookahead_steps: int = 0) -> dict[str, slice]:
+                       lookahead_steps: int = 0, lookbehind_steps: int = 0) -> dict[str, slice]:
     """Named slices of the observation vector (the module table, in order); ``com_offset``: with
-    ``dp_com`` (the ``heading`` frame's layout); ``lookahead_steps``: how many future reference
-    steps it shows (``lookahead``, absent for 0)."""
+    ``dp_com`` (the ``heading`` frame's layout); ``lookahead_steps`` / ``lookbehind_steps``: how
+    many future / past reference steps it shows (``lookahead`` / ``lookbehind``, absent for 0)."""
+    per_step = 6 + 3 * n_bodies
     sizes = {"v_com": 3, "ref_v_com": 3, "dv_com": 3, "ref_v_hor": 2, "dv_hor": 2,
              **({"dp_com": 3} if com_offset else {}), "p": 3 * n_bodies, "v": 3 * n_bodies, "dp": 3 * n_bodies, "dv": 3 * n_bodies,
-             "prev_action": n_action, **({"lookahead": lookahead_steps * (6 + 3 * n_bodies)} if lookahead_steps else {})}
+             "prev_action": n_action, **({"lookahead": lookahead_steps * per_step} if lookahead_steps else {}),
+             **({"lookbehind": lookbehind_steps * per_step} if lookbehind_steps else {})}
     out, start = {}, 0
     for name, size in sizes.items():
         out[name] = slice(start, start + size)
@@ -76,9 +79,12 @@ def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False,
     return out
 
 
-def observation_size(n_bodies: int, n_action: int, com_offset: bool = False, lookahead_steps: int = 0) -> int:
-    """Length of the observation: 13 + 12·B + A (+ 3 with ``dp_com``, + K·(6 + 3B) for K lookahead steps)."""
-    return 13 + 12 * n_bodies + n_action + (3 if com_offset else 0) + lookahead_steps * (6 + 3 * n_bodies)
+def observation_size(n_bodies: int, n_action: int, com_offset: bool = False, lookahead_steps: int = 0,
+                     lookbehind_steps: int = 0) -> int:
+    """Length of the observation: 13 + 12·B + A (+ 3 with ``dp_com``, + K·(6 + 3B) for K lookahead
+    and lookbehind steps together)."""
+    return (13 + 12 * n_bodies + n_action + (3 if com_offset else 0)
+            + (lookahead_steps + lookbehind_steps) * (6 + 3 * n_bodies))
 
 
 def heading_rotation(root_x_axis: np.ndarray) -> np.ndarray:
@@ -186,8 +192,8 @@ def steered_velocities(com: np.ndarray, ref_com: np.ndarray, ref_com_vel: np.nda
 
 def lookahead_observation(ref_com: np.ndarray, ahead_com: np.ndarray, ahead_com_vel: np.ndarray,
                           ahead_pos_rel: np.ndarray, heading: np.ndarray | None = None) -> np.ndarray:
-    """The ``lookahead`` part of the observation ``(K·(6 + 3B),)`` float32: for each of ``K`` future
-    reference frames, in order, the reference CoM's displacement from ``ref_com``, its CoM
+    """The ``lookahead`` and ``lookbehind`` parts of the observation ``(K·(6 + 3B),)`` float32: for
+    each of ``K`` other reference frames (future or past; the names say "ahead"), in order, the reference CoM's displacement from ``ref_com``, its CoM
     velocity and its body origins relative to its CoM, each in the observation's axes. Every
     argument may have leading batch axes (the same on all), which the result then has too.
 

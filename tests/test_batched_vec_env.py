@@ -72,11 +72,11 @@ def test_corrupted_episodes_judged_against_the_clean_clip_batch_alike():
 
 @pytest.mark.parametrize("config", [MimicConfig(obs_frame="heading"), MimicConfig(obs_frame="reference"),
                                     MimicConfig(com_offset=True), MimicConfig(velocity_feedforward=True),
-                                    MimicConfig(obs_frame="reference", lookahead=(1, 4, 10)),
+                                    MimicConfig(obs_frame="reference", lookahead=(1, 4, 10), lookbehind=(2, 8)),
                                     MimicConfig(physics_rate_hz=240.0, still_feet_weight=2.0),
                                     MimicConfig(obs_frame="reference", steer_gain_hz=1.0),
                                     MimicConfig(obs_frame="reference", steer_gain_hz=1.0, com_velocity_weight=1.0)],
-                         ids=["heading", "reference", "com_offset", "feedforward", "lookahead", "still_feet_240hz",
+                         ids=["heading", "reference", "com_offset", "feedforward", "window", "still_feet_240hz",
                               "steering", "com_velocity"])
 def test_every_observation_layout_the_velocity_feedforward_and_the_still_feet_term_batch_alike(config):
     assert_same_transitions(make(BatchedMimicVecEnv, config, n_threads=2), make(DummyVecEnv, config), steps=40)

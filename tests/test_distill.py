@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from agents.distill import (DistillConfig, Labels, Teachers, center_values, collect, fit, fit_report, load_teachers,
-                            main, mean_actions_and_values, new_student, rmse_text, teacher_observation, teacher_weight)
+                            main, mean_actions_and_values, new_student, rmse_text, student_task, symmetric_teacher,
+                            teacher_observation, teacher_weight)
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
@@ -255,3 +256,46 @@ def test_plain_teachers_label_as_their_plain_actor_under_mirror_average(tmp_path
         rows = first & (labels.teacher == index)
         assert rows.sum() > 20
         np.testing.assert_allclose(labels.actions[rows], mean_actions_and_values(actor, labels.obs[rows])[0], atol=1e-5)
+
+
+def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and_is_labelled_on_its_view(tmp_path):
+    """--lookahead / --lookbehind: the student observes the default teacher's observation and the
+    reference window after it; from the default it acts as the teacher before any fit (zero weights
+    on the window, statistics sampled for it), the teachers label from the leading values (as their
+    symmetric actors with --mirror-average), and the saved student observes the window and resumes."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg", min_frames=700)
+    teachers = load_teachers(MODELS / "mimic_walk", lambda foot: [walk])
+    default = teachers.policies[0]
+    config = DistillConfig(net="256,256", from_default=True, lookahead=(2,), lookbehind=(1, 4))
+    env = student_task(default, config).make(teachers.motions, artefacts=None)
+    size = default.model.observation_space.shape[0]
+    assert env.observation_space.shape == (size + 3 * 66,)
+    student = new_student(env, default, config)
+    obs = np.stack([env.reset(seed=s)[0] for s in range(3)])
+    np.testing.assert_allclose(mean_actions_and_values(student, obs)[0],
+                               mean_actions_and_values(default, obs[:, :size])[0], atol=1e-5)
+    window = student.normalizer.obs_rms
+    assert window.mean.shape == (size + 198,) and window.var[size:].min() > 0
+    assert np.array_equal(window.mean[:size], default.normalizer.obs_rms.mean)
+    maps = MirrorMaps.of(env)
+    teacher = symmetric_teacher(default, env, maps)
+    labels = collect(env, None, Teachers([teacher], {walk.name: 0}, 0, [walk]), 60, 0.17, np.random.default_rng(0),
+                     first_episode=0, progress=False, maps=maps)
+    assert labels.obs.shape == (120, size + 198)
+    np.testing.assert_allclose(labels.actions, mean_actions_and_values(teacher, labels.obs[:, :size])[0], atol=1e-5)
+    windowed = replace(default, sidecar=replace(default.record, env=student_task(default, config)).to_dict())
+    with pytest.raises(PolicyError, match="observes a reference window already"):
+        student_task(windowed, config)
+
+    out = tmp_path / "window"
+    common = ["--net", "256,256", "--steps-per-round", "150", "--epochs", "1", "--batch-size", "64", "--no-progress",
+              "--out", str(out)]
+    main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0.5",
+          "--teacher-reads", "clean", "--mirror-average", "--from-default", "--lookahead", "2", "--lookbehind", "1",
+          "4", "--rounds", "1", *common])
+    saved = load_policy(out / "student")
+    assert saved.record.env.mimic_config().window_steps == (2, -1, -4)
+    assert saved.normalizer.obs_rms.mean.shape == (size + 198,)
+    saved.check_env(saved.make_env(["deepmimic:walk"], artefacts=None))
+    main(["--resume", "--rounds", "2", "--no-progress", "--out", str(out)])
+    assert len(load_policy(out / "student").record.extra["distillation"]["rounds"]) == 2

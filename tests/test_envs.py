@@ -90,8 +90,34 @@ def test_the_lookahead_shows_the_reference_steps_ahead_clamped_to_the_last_frame
     for bad in ((0,), (4, 1), (2, 2), (True,)):
         with pytest.raises(ValueError, match="lookahead must be strictly increasing positive"):
             MimicConfig(lookahead=bad)
-    with pytest.raises(ValueError, match=r"MimicGait-v0 previews .*MimicConfig.lookahead must be empty"):
+    with pytest.raises(ValueError, match=r"MimicGait-v0 previews .*MimicConfig.lookahead and lookbehind must be"):
         gym.make("MimicGait-v0", clips=WALK, config=MimicConfig(lookahead=(1,)))
+
+
+def test_the_lookbehind_shows_the_reference_steps_back_clamped_to_the_first_frame():
+    """kick, reference axes, lookahead 1 and lookbehind 1 and 10 control steps (2 frames each): at
+    frame 30 the window shows frames 32, then 28 and 10; at frame 6, 8, then 4 and the first frame
+    (0, not -14). The lookbehind follows the lookahead, laid out as it is."""
+    config = MimicConfig(obs_frame="reference", lookahead=(1,), lookbehind=[1, 10])
+    env = gym.make("MimicIMU-v0", clips=["deepmimic:kick"], artefacts=None, config=config)
+    base = env.unwrapped
+    assert config.window_steps == (1, -1, -10) and env.observation_space.shape == (273 + 3 * 66,)
+    assert base.obs_slices["lookbehind"] == slice(273 + 66, 273 + 3 * 66)
+    track = base.track(0)
+    com = track.pos[:, 0] - track.pos_rel_com[:, 0]
+    for start, window in ((30, (32, 28, 10)), (6, (8, 4, 0))):
+        obs, _ = env.reset(seed=0, options={"start_frame": start})
+        turn = track.to_heading[start]
+        parts = obs[273:].reshape(3, 66)
+        for part, frame in zip(parts, window):
+            assert np.allclose(part[:3], turn @ (com[frame] - com[start]), atol=1e-5)
+            assert np.allclose(part[3:6], turn @ track.com_vel[frame], atol=1e-5)
+            assert np.allclose(part[6:].reshape(20, 3), track.pos_rel_com[frame] @ turn.T, atol=1e-5)
+    for bad in ((0,), (3, 1), (-1,)):
+        with pytest.raises(ValueError, match="lookbehind must be strictly increasing positive"):
+            MimicConfig(lookbehind=bad)
+    with pytest.raises(ValueError, match=r"MimicGait-v0 previews .*got \(\) and \(2,\)"):
+        gym.make("MimicGait-v0", clips=WALK, config=MimicConfig(lookbehind=(2,)))
 
 
 def test_first_step_tracks_the_reference_closely_and_reports_everything():

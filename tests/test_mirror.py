@@ -16,14 +16,19 @@ def walk():
     return load_motion("deepmimic:walker/turn_left0")
 
 
-@pytest.mark.parametrize("env_id,obs_frame", [("MimicIMU-v0", "reference"), ("MimicIMU-v0", "world"),
-                                              ("MimicDReCon-v0", "heading"), ("MimicFullAction-v0", "heading")])
-def test_the_maps_are_what_the_environment_does_to_the_mirrored_clip(walk, env_id, obs_frame):
+@pytest.mark.parametrize("env_id,obs_frame,window", [("MimicIMU-v0", "reference", {}), ("MimicIMU-v0", "world", {}),
+                                                     ("MimicDReCon-v0", "heading", {}),
+                                                     ("MimicFullAction-v0", "heading", {}),
+                                                     ("MimicIMU-v0", "reference", {"lookahead": (1, 4),
+                                                                                   "lookbehind": (2, 8)})])
+def test_the_maps_are_what_the_environment_does_to_the_mirrored_clip(walk, env_id, obs_frame, window):
     """A clip and its mirror image in one environment, from the same frame: the mirrored clip's
     observation is the clip's observation mirrored, at the reset and after a step in which the
-    mirrored clip gets the mirrored action (the model is left/right symmetric, so to float precision)."""
+    mirrored clip gets the mirrored action (the model is left/right symmetric, so to float precision);
+    also with the reference ahead and behind in the observation."""
     from envs.config import MimicConfig
-    env = gym.make(env_id, clips=[walk, mirror(walk)], config=MimicConfig(obs_frame=obs_frame), artefacts=None)
+    env = gym.make(env_id, clips=[walk, mirror(walk)], config=MimicConfig(obs_frame=obs_frame, **window),
+                   artefacts=None)
     maps = MirrorMaps.of(env)
     action = np.random.default_rng(0).normal(0.0, 0.3, env.action_space.shape).astype(np.float32)
     observed = []

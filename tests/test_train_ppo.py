@@ -308,28 +308,33 @@ def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_pat
     assert np.allclose(widened(obs), source(np.delete(obs, np.s_[13:16])), atol=1e-4)
 
 
-def test_a_warm_start_onto_the_lookahead_acts_as_the_source_with_the_new_inputs_scaled(tmp_path):
-    """--init-from a policy with --lookahead 1 5: the run observes 2 × 66 more values, takes the
-    source's actions whatever they hold, and normalises them with its own envs' statistics."""
+def test_a_warm_start_onto_the_reference_window_acts_as_the_source_with_the_new_inputs_scaled(tmp_path):
+    """--init-from a policy with --lookahead 1 5 --lookbehind 3: the run observes 3 × 66 more
+    values, takes the source's actions whatever they hold, and normalises them with its own envs'
+    statistics."""
     source = load_policy(WALK_POLICY)
     run = tmp_path / "run"
-    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--lookahead", "1", "5", "--run-dir", str(run),
-          "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--total-steps", "128",
-          "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128", "--eval-episodes", "1"])
+    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--lookahead", "1", "5", "--lookbehind", "3",
+          "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64",
+          "--total-steps", "128", "--lr", "1e-12", "--checkpoint-every", "1000", "--eval-every", "128",
+          "--eval-episodes", "1"])
     widened = load_policy(run / "best")
-    assert widened.record.env.mimic_config().lookahead == (1, 5)
+    config = widened.record.env.mimic_config()
+    assert config.lookahead == (1, 5) and config.lookbehind == (3,)
     env = widened.make_env(["deepmimic:walk"])
-    assert env.observation_space.shape == (273 + 132,)
+    assert env.observation_space.shape == (273 + 198,)
     obs, _ = env.reset(seed=0)
-    ahead = env.unwrapped.obs_slices["lookahead"]
+    window = slice(273, 273 + 198)
     moved = obs.copy()
-    moved[ahead] += np.random.default_rng(0).normal(0, 0.5, 132)
+    moved[window] += np.random.default_rng(0).normal(0, 0.5, 198)
     assert np.allclose(widened(obs), widened(moved), atol=1e-5)
     assert np.allclose(widened(obs), source(obs[:273]), atol=1e-4)
     stats = widened.normalizer.obs_rms
-    normalised = (obs[ahead] - stats.mean[ahead]) / np.sqrt(stats.var[ahead])
-    assert np.abs(normalised).max() < 10 and stats.var[ahead].min() > 0
-    assert 0.02 < stats.mean[ahead][0] < 0.06  # walk's CoM moves ~1.2 m/s × 1/30 s along +x in one control step
+    normalised = (obs[window] - stats.mean[window]) / np.sqrt(stats.var[window])
+    assert np.abs(normalised).max() < 10 and stats.var[window].min() > 0
+    assert 0.02 < stats.mean[window][0] < 0.06  # walk's CoM moves ~1.2 m/s × 1/30 s along +x in one control step
+    behind = env.unwrapped.obs_slices["lookbehind"]
+    assert -0.18 < stats.mean[behind][0] < -0.06  # and back ~0.12 m in three
 
 
 class Actor(torch.nn.Module):
