@@ -43,6 +43,12 @@ every state is also fitted mirrored, for a student evaluated as its own symmetri
 named in ``--plain-teachers`` labels as its plain actor (a policy set that routes one side of a take
 to a policy that performs it and the other side to that policy's mirror image, README "Round 19").
 
+A teacher behind the denoiser (``--teacher-reads denoised --denoise DIR``): in a corrupted episode the
+teacher reads the same corrupted variant after the IMU denoiser (and ``--ground``, ``--swing-lift``),
+while the student reads it as the suit gives it, with a window of the take around now
+(``--lookahead``, ``--lookbehind``): the student learns to act on the raw take as its teacher does
+behind the denoiser, as far as its window shows what the denoiser sees (README "Round 20").
+
 ``OUT`` holds ``student/`` (a policy directory: ``model.zip``, ``model_vecnormalize.pkl``,
 ``sidecar.json`` with the distillation's record), ``data.npz`` (the labelled states) and
 ``log.jsonl`` (one line per round), each written whole after every round: ``--resume`` continues
@@ -94,7 +100,7 @@ from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
 
-TEACHER_READS = ("track", "clean")
+TEACHER_READS = ("track", "clean", "denoised")
 """What a corrupted episode's teacher observes (``--teacher-reads``, :func:`teacher_observation`)."""
 
 
@@ -283,21 +289,30 @@ def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.nd
 
 
 def teacher_observation(env: gym.Env, obs: np.ndarray, info: dict, reads: str,
-                        inputs: int | None = None) -> np.ndarray:
+                        inputs: int | None = None, teacher_env: gym.Env | None = None) -> np.ndarray:
     """What an episode's teacher observes ``(inputs,)`` where the student observes ``obs (D,)``: the
-    same (``reads="track"``), or in a corrupted episode the clean take at the same state and frame
-    (``reads="clean"``: the privileged teacher, :meth:`envs.mimic.MimicEnv.observation_against` the
-    clip's track as a clean episode tracks it); its first ``inputs`` values (a student that also
-    observes a reference window has ``D > inputs``; ``None``: all of them)."""
+    same (``reads="track"``), or in a corrupted episode, at the same state and frame
+    (:meth:`envs.mimic.MimicEnv.observation_against`), the clean take as a clean episode tracks it
+    (``reads="clean"``: the privileged teacher) or the same corrupted variant as ``teacher_env``
+    prepares it (``reads="denoised"``: an env of the same clips and artefact seed whose references
+    pass through the IMU denoiser, while the student reads the take as the suit gives it); its first
+    ``inputs`` values (a student that also observes a reference window has ``D > inputs``; ``None``:
+    all of them)."""
     if reads == "track" or not info["corrupted"]:
         return obs[:inputs]
     base = env.unwrapped
-    return base.observation_against(base.track(base.clip_index, -1)).astype(obs.dtype)[:inputs]
+    if reads == "clean":
+        track = base.track(base.clip_index, -1)
+    elif teacher_env is None:
+        raise ValueError(f"teacher_observation: reads={reads!r} needs the teacher's env (teacher_env)")
+    else:
+        track = teacher_env.unwrapped.track(base.clip_index, base.variant_index)
+    return base.observation_against(track).astype(obs.dtype)[:inputs]
 
 
 def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: int, sigma: float,
             rng: np.random.Generator, first_episode: int, progress: bool = True, teacher_reads: str = "track",
-            maps: MirrorMaps | None = None) -> Labels:
+            maps: MirrorMaps | None = None, teacher_env: gym.Env | None = None) -> Labels:
     """``steps`` control steps on ``env``, acted by ``actor`` (``None``: each episode's teacher, on
     what it observes), mean action plus Gaussian noise of std ``sigma`` (rad), labelled by each
     episode's teacher from what it observes (:func:`teacher_observation` with ``teacher_reads``).
@@ -310,7 +325,7 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
     for _ in tqdm(range(steps), desc="collecting", unit="step", disable=not progress, leave=False):
         teacher = teachers.of_clip[info["clip"]]
         seen = teacher_observation(env, obs, info, teacher_reads,
-                                   teachers.policies[teacher].model.observation_space.shape[0])
+                                   teachers.policies[teacher].model.observation_space.shape[0], teacher_env)
         mean, _ = (mean_actions_and_values(actor, obs[None]) if actor is not None
                    else mean_actions_and_values(teachers.policies[teacher], seen[None]))
         obs_rows.append(obs)
@@ -488,20 +503,32 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
 
 def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
     """The IMU-corruption mix of the distillation's episodes and how every reference the student
-    tracks is prepared (``--denoise``, ``--ground``, ``--swing-lift``); a prepared take's episode is
-    judged against the take as given, as ``evaluate.py`` judges it. ``None`` without corruption or
-    preparation; a clear ``ValueError`` for options that cannot act."""
+    tracks is prepared (``--denoise``, unless the teacher reads the denoised take, ``--ground``,
+    ``--swing-lift``); a prepared take's episode is judged against the take as given, as
+    ``evaluate.py`` judges it. ``None`` without corruption or preparation; a clear ``ValueError``
+    for options that cannot act."""
     grounding, lift = grounding_of(args), swing_lift_of(args)
+    if args.teacher_reads == "denoised" and not args.denoise:
+        raise ValueError("--teacher-reads denoised: the teacher reads the take after the IMU denoiser --denoise "
+                         "names; give --denoise [DIR]")
     if args.corrupted_fraction <= 0:
-        if args.teacher_reads == "clean" or args.denoise:
-            raise ValueError("--teacher-reads clean and --denoise act on corrupted episodes; "
+        if args.teacher_reads != "track" or args.denoise:
+            raise ValueError(f"--teacher-reads {args.teacher_reads} and --denoise act on corrupted episodes; "
                              "give --corrupted-fraction > 0")
         if grounding is None and lift is None:
             return None
+    student_denoiser = None if args.teacher_reads == "denoised" else args.denoise
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
-                      variants_per_clip=args.variants_per_clip, seed=seed, denoiser=args.denoise,
+                      variants_per_clip=args.variants_per_clip, seed=seed, denoiser=student_denoiser,
                       grounding=grounding, lift=lift)
     return replace(mix, judge="given") if mix.prepares(args.corrupted_fraction > 0) else mix
+
+
+def teacher_mix(args: argparse.Namespace, mix: ArtefactMix | None) -> ArtefactMix | None:
+    """With ``--teacher-reads denoised``, the student's ``mix`` with its corrupted variants passed
+    through ``--denoise`` (the same artefact seed, so the same corruptions): what the teachers
+    read; otherwise ``None`` (they read the student's env)."""
+    return replace(mix, denoiser=args.denoise) if args.teacher_reads == "denoised" and mix is not None else None
 
 
 def teacher_weight(text: str) -> tuple[str, float]:
@@ -542,7 +569,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="what a corrupted episode's teacher observes: the reference the student tracks ('track'), "
                         "or the clean take it was corrupted from, at the same state ('clean': a privileged "
                         "teacher, so the student learns to act on the corrupted take as the teacher does on "
-                        "the clean one)")
+                        "the clean one), or the corrupted take after --denoise while the student reads it as "
+                        "given ('denoised': the student learns to act on the raw take as the teacher does "
+                        "behind the denoiser; give it a window, --lookahead/--lookbehind, to see the jitter)")
     p.add_argument("--mirror-average", action="store_true",
                    help="the teachers and the acting student are their symmetric actors (agents/mirror.py), and "
                         "every state is also fitted mirrored, as evaluate.py --mirror-average acts")
@@ -611,6 +640,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                             else "it exempts teachers from --mirror-average, which is not given"))
     mix = artefact_mix(args, config.seed)
     env = student_task(default, config).make(teachers.motions, artefacts=mix)
+    readers = teacher_mix(args, mix)
+    teacher_env = None if readers is None else default.record.env.make(teachers.motions, artefacts=readers)
     maps = MirrorMaps.of(env) if args.mirror_average else None
     if maps is not None:
         teachers = replace(teachers, policies=[t if name in args.plain_teachers else symmetric_teacher(t, env, maps)
@@ -633,7 +664,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         actor = None if round_ == 0 else acting
         first_episode = int(labels.episode.max()) + 1 if labels is not None else 0
         new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress,
-                      args.teacher_reads, maps)
+                      args.teacher_reads, maps, teacher_env)
         labels = new if labels is None else labels + new
         train, held = split_holdout(labels, config.holdout, config.seed)
         if round_ == 0 and not config.from_default:
@@ -645,7 +676,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
                                   strength=tuple(args.strength), judge=mix.judge if mix else ArtefactMix().judge,
-                                  denoiser=repository_relative(args.denoise),
+                                  denoiser=repository_relative(mix.denoiser if mix else None),
                                   grounding=asdict(mix.grounding) if mix and mix.grounding else None,
                                   lift=asdict(mix.lift) if mix and mix.lift else None, mirror=args.mirror, warps=warps,
                                   postures=args.postures, posture_seed=config.seed,
@@ -667,6 +698,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
               + f"), value R² {report['value_r2']:.3f}, {record['acted_episode_steps']:.0f} steps per episode acted",
               flush=True)
     env.close()
+    if teacher_env is not None:
+        teacher_env.close()
     return out / "student"
 
 

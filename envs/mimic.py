@@ -606,6 +606,14 @@ class MimicEnv(gym.Env):
             raise RuntimeError("call reset() first")
         return self._clip
 
+    @property
+    def variant_index(self) -> int:
+        """The running episode's track variant (after :meth:`reset`): -1 for the clip as given, else
+        its corrupted variant (:meth:`track`'s ``variant``)."""
+        if self._track is None:
+            raise RuntimeError("call reset() first")
+        return self._variant
+
     def _window(self, track: ReferenceTrack) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
         """What the observation's ``lookahead`` and ``lookbehind`` read of ``track``
         (:attr:`~envs.config.MimicConfig.window_steps` control steps from the current frame,

@@ -299,3 +299,32 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     saved.check_env(saved.make_env(["deepmimic:walk"], artefacts=None))
     main(["--resume", "--rounds", "2", "--no-progress", "--out", str(out)])
     assert len(load_policy(out / "student").record.extra["distillation"]["rounds"]) == 2
+
+
+def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised(tmp_path):
+    """--teacher-reads denoised: the student's env tracks the corrupted take as given, the teacher
+    reads the same corruption (same artefact seed and variant) after the denoiser, at the student's
+    state; without --denoise it is refused, and the student's sidecar records no denoiser."""
+    args = argparse.Namespace(teacher_reads="denoised", denoise=str(MODELS / "imu_denoiser_soles"),
+                              corrupted_fraction=1.0, strength=(1.0, 1.0), variants_per_clip=2, ground=False,
+                              swing_lift=None, swing_from=None)
+    from agents.distill import artefact_mix, teacher_mix
+    mix = artefact_mix(args, 5)
+    readers = teacher_mix(args, mix)
+    assert mix.denoiser is None and readers.denoiser == args.denoise and readers.seed == mix.seed == 5
+    policy = load_policy(MODELS / "mimic_walk")
+    env, teacher_env = (policy.make_env(["deepmimic:walk"], artefacts=m) for m in (mix, readers))
+    obs, info = env.reset(seed=0, options={"corrupted": True})
+    for _ in range(5):
+        obs, *_, info = env.step(np.zeros(env.action_space.shape))
+    base, variant = env.unwrapped, env.unwrapped.variant_index
+    raw, denoised = base.track(0, variant), teacher_env.unwrapped.track(0, variant)
+    np.testing.assert_array_equal(teacher_env.unwrapped.track(0, variant, as_given=True).pos, raw.pos)
+    assert np.abs(denoised.pos_rel_com - raw.pos_rel_com).max() > 0.01  # the denoiser moved the bodies (m)
+    seen = teacher_observation(env, obs, info, "denoised", teacher_env=teacher_env)
+    np.testing.assert_allclose(seen, base.observation_against(denoised), atol=1e-6)
+    assert np.abs(seen - obs).max() > 0.01
+    with pytest.raises(ValueError, match="needs the teacher's env"):
+        teacher_observation(env, obs, info, "denoised")
+    with pytest.raises(ValueError, match="give --denoise"):
+        artefact_mix(argparse.Namespace(**{**vars(args), "denoise": None}), 5)
