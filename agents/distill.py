@@ -362,7 +362,6 @@ def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: floa
     policy = student.model.policy
     params = [p for name, p in policy.named_parameters() if name != "log_std"]
     optimizer = torch.optim.Adam(params, lr=config.lr)
-    x_all = torch.as_tensor(student.normalizer.normalize_obs(labels.obs), dtype=torch.float32)
     a_all, v_all = torch.as_tensor(labels.actions), torch.as_tensor(labels.values)
     w_all = torch.ones(len(labels)) if weights is None else torch.as_tensor(weights)[labels.teacher]
     value_var = max(float(v_all.var()), 1e-6)
@@ -371,7 +370,9 @@ def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: floa
     for _ in tqdm(range(config.epochs), desc="fitting", unit="epoch", disable=not progress, leave=False):
         total, weight_total = 0.0, 0.0
         for batch in np.array_split(rng.permutation(len(labels)), max(1, len(labels) // config.batch_size)):
-            x, a, v, w = x_all[batch], a_all[batch], v_all[batch], w_all[batch]
+            # normalised a minibatch at a time: a normalised copy of every label would double the memory
+            x = torch.as_tensor(student.normalizer.normalize_obs(labels.obs[batch]), dtype=torch.float32)
+            a, v, w = a_all[batch], v_all[batch], w_all[batch]
             mean = policy.get_distribution(x).distribution.mean
             value = policy.predict_values(x)[:, 0]
             per_state = ((mean - a) ** 2).sum(1) / (n_actions * sigma**2) + (value - v) ** 2 / value_var

@@ -7,6 +7,8 @@ Each policy's score is the rule registered in the README ("Wider stances"):
 
     (validation clean ELR + 2 × mean ELR over the IMU draws behind the denoiser) / 3
 
+(the rows that track IMU takes with no denoiser in front read draws made with none, README "Round 20")
+
 ``--clean`` takes ``agents/evaluate.py --json`` files (one policy each, read from their ``policy``
 field); ``--draws`` and ``--confirm`` take ``bench/imu_draws.py --json`` files, whole or split into
 one draw per file (``--draws 1 --first-seed S``, as ``bench/device/score_candidates.sh`` runs them):
@@ -132,8 +134,9 @@ def main() -> None:
     gathered = gather_draws(args.draws)
     confirmation = gather_draws(args.confirm) if args.confirm else None
     denoisers = {d.settings[2] for d in (gathered, confirmation) if d is not None}
-    if None in denoisers or len(denoisers) > 1:
-        p.error(f"the rule's draws are tracked behind one denoiser; these files name {sorted(map(str, denoisers))}")
+    if len(denoisers) > 1:
+        p.error(f"the rule's draws and confirmation draws must be tracked alike (one denoiser, or none for the rows "
+                f"with no denoiser); these files name {sorted(map(str, denoisers))}")
     draws = gathered.elr
     short = {policy: len(elr) for policy, elr in draws.items() if len(elr) != args.draws_per_policy}
     if short:

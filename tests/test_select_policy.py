@@ -116,3 +116,19 @@ def test_a_baseline_that_was_not_scored_is_a_clear_error(tmp_path):
                              str(clean), "--draws", str(draws), "--draws-per-policy", "1"],
                             capture_output=True, text=True, timeout=120)
     assert result.returncode != 0 and "--baseline other is none of the scored policies" in result.stderr
+
+
+def test_draws_with_no_denoiser_are_scored_but_not_confirmed_by_denoised_ones(tmp_path):
+    """The rows with no denoiser in front are chosen on raw draws (denoiser null); confirmation draws
+    tracked otherwise are refused."""
+    clean = [clean_file(tmp_path / "c_base.json", "base", 0.96), clean_file(tmp_path / "c_new.json", "new", 0.93)]
+    raw = draws_file(tmp_path / "d.json", [100, 107], {"base": [0.6, 0.6], "new": [0.45, 0.4]}, denoiser=None)
+    command = [sys.executable, str(BENCH / "select_policy.py"), "--baseline", "base", "--clean", *map(str, clean),
+               "--draws", str(raw), "--draws-per-policy", "2", "--json", "-"]
+    result = subprocess.run(command, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    report = json.loads(result.stdout[result.stdout.index("{"):])
+    assert report["rows"][0]["score"] == pytest.approx((0.96 + 2 * 0.6) / 3) and report["winner"] == "base"
+    denoised = draws_file(tmp_path / "k.json", [200, 207], {"base": [0.9, 0.9], "new": [0.9, 0.9]})
+    result = subprocess.run([*command, "--confirm", str(denoised)], capture_output=True, text=True, timeout=120)
+    assert result.returncode != 0 and "must be tracked alike" in result.stderr
