@@ -86,7 +86,7 @@ from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
 from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
                               reposed_copies, stance_extra, warped_clips)
-from agents.warm_start import widen_by_window, widen_hidden
+from agents.warm_start import widen_by_window, widen_hidden, window_slice
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
 from perception.imu_denoiser import add_denoise_option
@@ -99,6 +99,10 @@ from reference_motion.library import STANCE_EXTRA_M, expand_clips
 from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
+
+STUDENT_WINDOW_RESETS = 1024
+"""Resets of the student's one environment whose observations give its reference window's inputs
+their statistics (frozen, as the rest of the student's are: ~1,000 start states over the clips)."""
 
 TEACHER_READS = ("track", "clean", "denoised")
 """What a corrupted episode's teacher observes (``--teacher-reads``, :func:`teacher_observation`)."""
@@ -260,6 +264,19 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     return Teachers(policies, of_clip, default, [m for _, clips in groups for m in clips])
 
 
+def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
+    """Raise :class:`PolicyError` unless every teacher observes ``env``'s observation, or the part of it
+    before the student's reference window (:func:`teacher_observation` gives a teacher the first
+    values): a teacher with a window of its own would read the student's as if it were its own."""
+    window = window_slice(env.unwrapped.obs_slices)
+    own = env.observation_space.shape[0] if window is None else window.start
+    for teacher in teachers.policies:
+        if teacher.model.observation_space.shape[0] != own or (
+                window is not None and teacher.record.env.mimic_config().window_steps):
+            raise PolicyError(f"{teacher.path}: observes {teacher.model.observation_space.shape[0]} values; a teacher "
+                              f"reads the student's observation before its reference window ({own} values)")
+
+
 def symmetric_teacher(teacher: MimicPolicy, env: gym.Env, maps: MirrorMaps) -> MimicPolicy:
     """``teacher`` acting as its symmetric actor in ``env`` (whose mirror maps are ``maps``), where
     it reads the first values of ``env``'s observation (:func:`teacher_observation`): the maps of
@@ -318,7 +335,9 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
     episode's teacher from what it observes (:func:`teacher_observation` with ``teacher_reads``).
     With ``maps`` (:class:`agents.mirror.MirrorMaps` of ``env``) every state is also labelled
     mirrored: its mirror image, with the mirrored label (the teachers then act as their symmetric
-    actors, whose labels mirror exactly), in the same episode."""
+    actors, whose labels mirror exactly), in the same episode; with ``teacher_reads="denoised"`` only
+    as exactly as the denoiser commutes with the mirror. ``teacher_env``: the teachers' env for
+    ``teacher_reads="denoised"`` (:func:`teacher_observation`)."""
     obs_rows, teacher_rows, who, episode_of = [], [], [], []
     episode = first_episode
     obs, info = env.reset(seed=int(rng.integers(2**31)))
@@ -436,9 +455,11 @@ def student_task(default: MimicPolicy, config: DistillConfig) -> EnvSpec:
 
 def with_statistics(normalizer: VecNormalize, mean: np.ndarray, var: np.ndarray) -> VecNormalize:
     """A copy of a loaded policy's observation ``normalizer`` (the same settings; the original is
-    untouched) normalising by ``mean`` and ``var`` ``(D,)``, with the original's count of samples."""
+    untouched) normalising by ``mean`` and ``var`` ``(D,)``, with the original's count of samples
+    and an observation space of ``D`` values, so that it loads onto the student's env."""
     widened = VecNormalize.__new__(VecNormalize)  # a loaded one wraps no envs, which copy.copy would look up
     widened.__dict__.update(normalizer.__dict__)
+    widened.observation_space = gym.spaces.Box(-np.inf, np.inf, mean.shape, np.float32)  # VecNormalize.load checks it
     widened.obs_rms = RunningMeanStd(shape=mean.shape)
     widened.obs_rms.mean, widened.obs_rms.var, widened.obs_rms.count = mean, var, normalizer.obs_rms.count
     return widened
@@ -450,7 +471,8 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
     in wider hidden layers where ``config.net`` is wider (:func:`agents.warm_start.widen_hidden`: it
     acts as the default from the start; raises :class:`PolicyError` for a narrower or deeper ``net``).
     Where ``env`` also shows a reference window (:func:`student_task`), its inputs get zero weights
-    and statistics sampled from ``env`` (:func:`agents.warm_start.widen_by_window`)."""
+    and statistics sampled from :data:`STUDENT_WINDOW_RESETS` resets of ``env``
+    (:func:`agents.warm_start.widen_by_window`)."""
     if config.from_default and default.symmetric_network:
         raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
                           "so it cannot start from this default teacher's weights")
@@ -460,7 +482,7 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
     weights, normalizer = default.model.policy.state_dict(), default.normalizer
     if env.observation_space.shape != default.model.observation_space.shape:
         stats = normalizer.obs_rms
-        weights, mean, var = widen_by_window(weights, stats.mean, stats.var, model.get_env())
+        weights, mean, var = widen_by_window(weights, stats.mean, stats.var, model.get_env(), STUDENT_WINDOW_RESETS)
         normalizer = with_statistics(normalizer, mean, var)
     if config.from_default:
         try:
@@ -581,7 +603,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "plain actor, not their symmetric one: a teacher of the side of a take a policy performs "
                         "(its mirror image teaching the other side) would otherwise average the failing side back in")
     add_denoise_option(p, "every corrupted reference, before the student observes it, as evaluate.py --denoise does")
-    add_grounding_option(p, "every reference the student tracks is set on the floor after --denoise")
+    add_grounding_option(p, "every reference the student tracks is set on the floor (after --denoise, unless the "
+                            "teacher reads the denoised take)")
     add_swing_lift_options(p, "every reference the student tracks is lifted last")
     defaults = DistillConfig()
     p.add_argument("--net", default=defaults.net, help="the student's hidden layer sizes")
@@ -641,6 +664,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                             else "it exempts teachers from --mirror-average, which is not given"))
     mix = artefact_mix(args, config.seed)
     env = student_task(default, config).make(teachers.motions, artefacts=mix)
+    check_teacher_layouts(teachers, env)
     readers = teacher_mix(args, mix)
     teacher_env = None if readers is None else default.record.env.make(teachers.motions, artefacts=readers)
     maps = MirrorMaps.of(env) if args.mirror_average else None
@@ -687,8 +711,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                   init_from=str(args.teacher),
                                   commands=args.commands, seed=config.seed,
                                   steps=len(labels), wall_s=record["wall_s"])
-        save_student(out, student, default, {"config": asdict(config), "teachers": names, "rounds": done + [record]},
-                     training, config)
+        save_student(out, student, default, {"config": asdict(config), "teachers": names, "rounds": done + [record],
+                                             "teacher_reads": args.teacher_reads,
+                                             "teacher_denoiser": repository_relative(readers.denoiser) if readers
+                                             else None}, training, config)
         with open(log_file, "a") as f:
             f.write(json.dumps(record) + "\n")
         done.append(record)

@@ -24,6 +24,7 @@ import gymnasium as gym
 import numpy as np
 
 from envs.mimic import actuator_qpos
+from envs.observations import WINDOW_PARTS, window_step_size
 from reference_motion.transforms import mirror_map, mirror_twin
 
 if TYPE_CHECKING:
@@ -33,9 +34,7 @@ LATERAL_VECTORS = ("v_com", "ref_v_com", "dv_com", "ref_v_hor", "dv_hor", "dp_co
 """Observation slices that are one vector (x, y[, z]) each: under the mirror only y changes sign."""
 BODY_VECTORS = ("p", "v", "dp", "dv")
 """Observation slices holding one 3-vector per observed body."""
-WINDOW_PARTS = ("lookahead", "lookbehind")
-"""Observation slices holding other reference frames, each step two vectors (the CoM's shift and
-velocity) and one 3-vector per observed body (:func:`envs.observations.lookahead_observation`)."""
+
 
 
 @dataclass(frozen=True)
@@ -100,7 +99,7 @@ class MirrorMaps:
 
         for name in BODY_VECTORS:
             mirror_bodies(slices[name].start)
-        per_step = 6 + 3 * len(observed)
+        per_step = window_step_size(len(observed))
         for name in WINDOW_PARTS:
             if name in slices:
                 for start in range(slices[name].start, slices[name].stop, per_step):

@@ -35,7 +35,7 @@ from stable_baselines3.common.running_mean_std import RunningMeanStd
 from agents.policy import MimicPolicy, PolicyError
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.mimic import driven_actuators
-from envs.observations import observation_slices, same_layout
+from envs.observations import WINDOW_PARTS, observation_slices, same_layout
 from reference_motion.humanoid.model import load_model
 
 FIRST_LAYERS = ("mlp_extractor.policy_net.0.weight", "mlp_extractor.value_net.0.weight")
@@ -67,23 +67,23 @@ def sampled_statistics(venv: VecEnv, columns: slice, resets: int) -> tuple[np.nd
 def window_slice(slices: dict[str, slice]) -> slice | None:
     """The observation columns of the reference window (``lookahead`` and ``lookbehind``
     together, which end the observation) in the layout ``slices``; ``None`` without either."""
-    parts = [slices[name] for name in ("lookahead", "lookbehind") if name in slices]
+    parts = [slices[name] for name in WINDOW_PARTS if name in slices]
     return slice(parts[0].start, parts[-1].stop) if parts else None
 
 
-def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray,
-                    venv: VecEnv) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
+def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray, venv: VecEnv,
+                    resets: int = LOOKAHEAD_SAMPLE_RESETS) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
     """A policy's ``state_dict`` and observation statistics ``mean``, ``var`` ``(D,)`` carried to
     the environments of ``venv``, whose observation is the policy's with the reference window
     appended (:func:`window_slice`): zero first-layer weights for its inputs (:func:`widen_inputs`,
-    so the policy acts as before) and their mean and variance over :data:`LOOKAHEAD_SAMPLE_RESETS`
-    resets of ``venv`` (:func:`sampled_statistics`). Raises :class:`PolicyError` unless the
+    so the policy acts as before) and their mean and variance over ``resets`` resets of every env of
+    ``venv`` (:func:`sampled_statistics`). Raises :class:`PolicyError` unless the
     observation is exactly the policy's plus the window."""
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
     if window is None or window.start != len(mean) or window.stop != venv.observation_space.shape[0]:
         raise PolicyError(f"the environment's observation ({venv.observation_space.shape[0]} values) is not the "
                           f"policy's ({len(mean)}) followed by a reference window (lookahead, lookbehind)")
-    window_mean, window_var = sampled_statistics(venv, window, LOOKAHEAD_SAMPLE_RESETS)
+    window_mean, window_var = sampled_statistics(venv, window, resets)
     return (widen_inputs(state_dict, window.start, window.stop - window.start),
             np.concatenate([mean, window_mean]), np.concatenate([var, window_var]))
 
@@ -247,6 +247,11 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
+    if source_config.window_steps and source_config.window_steps != config.window_steps:
+        raise PolicyError(f"{source.path}: observes the reference window lookahead {source_config.lookahead}, "
+                          f"lookbehind {source_config.lookbehind}; this run's is lookahead {config.lookahead}, "
+                          f"lookbehind {config.lookbehind}. A warm start adds a window to a policy without one, "
+                          f"or keeps the same one")
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
     n_window = window.stop - window.start if window is not None and not source_config.window_steps else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()

@@ -124,7 +124,8 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--baseline", required=True, help="the policy in use (as named in the JSON files)")
     p.add_argument("--clean", nargs="+", type=Path, required=True, help="validation clean, evaluate.py --json")
-    p.add_argument("--draws", nargs="+", type=Path, required=True, help="IMU draws behind the denoiser")
+    p.add_argument("--draws", nargs="+", type=Path, required=True, help="IMU draws (bench/imu_draws.py --json): behind the denoiser, or "
+                                                                     "with none for the rows with none in front")
     p.add_argument("--confirm", nargs="*", type=Path, default=[], help="more draws the winner must also lead on")
     p.add_argument("--draws-per-policy", type=int, default=10, help="draws each policy must have (both sets)")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
@@ -145,6 +146,7 @@ def main() -> None:
         p.error(f"validation clean covers {sorted(clean)} but the draws cover {sorted(draws)}")
     if args.baseline not in clean:
         p.error(f"--baseline {args.baseline} is none of the scored policies {sorted(clean)}")
+    print(f"IMU draws tracked {'behind ' + gathered.settings[2] if gathered.settings[2] else 'as given (no denoiser)'}")
     rows = [{"policy": policy, "clean_ELR": clean[policy], "imu_ELR": float(draws[policy].mean()),
              "score": rule_score(clean[policy], float(draws[policy].mean())),
              "against_baseline": paired(draws[policy], draws[args.baseline])} for policy in sorted(clean)]
@@ -156,7 +158,7 @@ def main() -> None:
     winner = max(rows, key=lambda r: (r["score"], r["policy"] == args.baseline))["policy"]
     leads = winner != args.baseline
     report = {"baseline": args.baseline, "rows": rows, "winner": winner, "imu_weight": IMU_WEIGHT,
-              "leads_by_rule": leads}
+              "denoiser": gathered.settings[2], "leads_by_rule": leads}
     replaces = False
     if leads and confirmation is not None:
         confirm = confirmation.elr

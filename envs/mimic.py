@@ -88,7 +88,8 @@ class MimicEnv(gym.Env):
             humanoid. The episode's draw is in :attr:`physics_draw`.
 
     Observation: ``Box(13 + 12·B + A,)`` float32 (3 more with ``config.obs_frame="heading"`` or ``config.com_offset``,
-    ``K·(6 + 3B)`` more with ``K`` steps of ``config.lookahead``) — layout in :mod:`envs.observations`,
+    ``K·(6 + 3B)`` more with ``K`` steps of ``config.lookahead`` and ``config.lookbehind`` together) — layout in
+    :mod:`envs.observations`,
     named slices in ``env.unwrapped.obs_slices``. Action: ``Box(−1, 1, (A,))`` rad offsets
     added to the reference PD targets of the driven hinges.
 

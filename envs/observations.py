@@ -62,12 +62,23 @@ def same_layout(frame: str, other: str) -> bool:
     return frame == other or {frame, other} <= set(SAME_LAYOUT_FRAMES)
 
 
+WINDOW_PARTS = ("lookahead", "lookbehind")
+"""Observation slices holding other reference frames than the current one (the reference window),
+in the order they end the observation; each step :func:`window_step_size` values."""
+
+
+def window_step_size(n_bodies: int) -> int:
+    """Values per step of the reference window: the CoM's shift (3) and velocity (3), then one
+    3-vector per observed body (:func:`lookahead_observation`)."""
+    return 6 + 3 * n_bodies
+
+
 def observation_slices(n_bodies: int, n_action: int, com_offset: bool = False,
                        lookahead_steps: int = 0, lookbehind_steps: int = 0) -> dict[str, slice]:
     """Named slices of the observation vector (the module table, in order); ``com_offset``: with
     ``dp_com`` (the ``heading`` frame's layout); ``lookahead_steps`` / ``lookbehind_steps``: how
     many future / past reference steps it shows (``lookahead`` / ``lookbehind``, absent for 0)."""
-    per_step = 6 + 3 * n_bodies
+    per_step = window_step_size(n_bodies)
     sizes = {"v_com": 3, "ref_v_com": 3, "dv_com": 3, "ref_v_hor": 2, "dv_hor": 2,
              **({"dp_com": 3} if com_offset else {}), "p": 3 * n_bodies, "v": 3 * n_bodies, "dp": 3 * n_bodies, "dv": 3 * n_bodies,
              "prev_action": n_action, **({"lookahead": lookahead_steps * per_step} if lookahead_steps else {}),
@@ -84,7 +95,7 @@ def observation_size(n_bodies: int, n_action: int, com_offset: bool = False, loo
     """Length of the observation: 13 + 12·B + A (+ 3 with ``dp_com``, + K·(6 + 3B) for K lookahead
     and lookbehind steps together)."""
     return (13 + 12 * n_bodies + n_action + (3 if com_offset else 0)
-            + (lookahead_steps + lookbehind_steps) * (6 + 3 * n_bodies))
+            + (lookahead_steps + lookbehind_steps) * window_step_size(n_bodies))
 
 
 def heading_rotation(root_x_axis: np.ndarray) -> np.ndarray:

@@ -8,9 +8,11 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
 from agents.distill import (DistillConfig, Labels, Teachers, center_values, collect, fit, fit_report, load_teachers,
                             main, mean_actions_and_values, new_student, rmse_text, student_task, symmetric_teacher,
+                            check_teacher_layouts,
                             teacher_observation, teacher_weight)
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
@@ -296,9 +298,15 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     saved = load_policy(out / "student")
     assert saved.record.env.mimic_config().window_steps == (2, -1, -4)
     assert saved.normalizer.obs_rms.mean.shape == (size + 198,)
-    saved.check_env(saved.make_env(["deepmimic:walk"], artefacts=None))
+    student_env = saved.make_env(["deepmimic:walk"], artefacts=None)
+    saved.check_env(student_env)
+    VecNormalize.load(str(out / "student" / "model_vecnormalize.pkl"), DummyVecEnv([lambda: student_env]))  # as adapting does
     main(["--resume", "--rounds", "2", "--no-progress", "--out", str(out)])
-    assert len(load_policy(out / "student").record.extra["distillation"]["rounds"]) == 2
+    resumed = load_policy(out / "student")
+    assert len(resumed.record.extra["distillation"]["rounds"]) == 2
+    np.testing.assert_array_equal(resumed.normalizer.obs_rms.mean, saved.normalizer.obs_rms.mean)
+    with pytest.raises(PolicyError, match="a teacher reads the student's observation before its reference window"):
+        check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), env)
 
 
 def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised(tmp_path):
@@ -328,3 +336,13 @@ def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised
         teacher_observation(env, obs, info, "denoised")
     with pytest.raises(ValueError, match="give --denoise"):
         artefact_mix(argparse.Namespace(**{**vars(args), "denoise": None}), 5)
+
+    out = tmp_path / "behind"
+    main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "1",
+          "--variants-per-clip", "1", "--teacher-reads", "denoised", "--denoise", args.denoise, "--lookahead", "2",
+          "--rounds", "1", "--net", "32,32", "--steps-per-round", "120", "--epochs", "1", "--batch-size", "64",
+          "--no-progress", "--out", str(out)])
+    student = load_policy(out / "student")
+    assert student.record.training.denoiser is None  # the student tracked the takes as given
+    record = student.record.extra["distillation"]
+    assert record["teacher_reads"] == "denoised" and record["teacher_denoiser"].endswith("imu_denoiser_soles")

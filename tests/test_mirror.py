@@ -74,6 +74,14 @@ def test_mirror_twins_of_bodies_hinges_and_contact_channels():
     assert sorted(mirror_twin(c) for c in CONTACT_CHANNELS) == sorted(CONTACT_CHANNELS)
 
 
+def test_the_leading_maps_are_the_prefix_and_a_prefix_the_mirror_leaves_is_refused():
+    maps = MirrorMaps(np.array([1, 0, 2, 3]), np.array([1.0, 1.0, -1.0, 1.0]), np.array([0]), np.array([1.0]))
+    leading = maps.leading(3)
+    assert leading.obs_perm.tolist() == [1, 0, 2] and leading.obs_sign.tolist() == [1.0, 1.0, -1.0]
+    with pytest.raises(ValueError, match="first 1 values are not closed under the mirror"):
+        maps.leading(1)
+
+
 def test_maps_that_are_not_a_mirror_are_refused():
     """Each map must be a signed permutation that undoes itself; lists are taken as arrays."""
     good = dict(obs_perm=[1, 0, 2], obs_sign=[1.0, 1.0, -1.0], action_perm=[1, 0], action_sign=[1.0, 1.0])

@@ -129,6 +129,7 @@ def test_draws_with_no_denoiser_are_scored_but_not_confirmed_by_denoised_ones(tm
     assert result.returncode == 0, result.stderr
     report = json.loads(result.stdout[result.stdout.index("{"):])
     assert report["rows"][0]["score"] == pytest.approx((0.96 + 2 * 0.6) / 3) and report["winner"] == "base"
+    assert report["denoiser"] is None and "tracked as given (no denoiser)" in result.stdout
     denoised = draws_file(tmp_path / "k.json", [200, 207], {"base": [0.9, 0.9], "new": [0.9, 0.9]})
     result = subprocess.run([*command, "--confirm", str(denoised)], capture_output=True, text=True, timeout=120)
     assert result.returncode != 0 and "must be tracked alike" in result.stderr

@@ -335,6 +335,10 @@ def test_a_warm_start_onto_the_reference_window_acts_as_the_source_with_the_new_
     assert 0.02 < stats.mean[window][0] < 0.06  # walk's CoM moves ~1.2 m/s × 1/30 s along +x in one control step
     behind = env.unwrapped.obs_slices["lookbehind"]
     assert -0.18 < stats.mean[behind][0] < -0.06  # and back ~0.12 m in three
+    with pytest.raises(SystemExit, match="A warm start adds a window to a policy without one, or keeps the same one"):
+        main(["--clips", "deepmimic:walk", "--init-from", str(run / "best"), "--lookahead", "1", "5",
+              "--run-dir", str(tmp_path / "other"), "--no-progress", "--n-envs", "2", "--n-steps", "64",
+              "--batch-size", "64", "--total-steps", "128"])
 
 
 class Actor(torch.nn.Module):
