@@ -36,7 +36,6 @@ BODY_VECTORS = ("p", "v", "dp", "dv")
 """Observation slices holding one 3-vector per observed body."""
 
 
-
 @dataclass(frozen=True)
 class MirrorMaps:
     """Index permutation and sign of the observation ``(D,)`` and the action ``(A,)`` under the

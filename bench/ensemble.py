@@ -31,14 +31,13 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import reference_clips, tracked_and_judged, tracked_label
-from agents.evaluation import Policy, evaluate_tracking, per_clip
+from agents.evaluation import evaluate_tracking, per_clip
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, PolicyError, load_policy
 from envs.config import FOOT_MODELS, MimicConfig
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option, grounding_of
-from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
 
@@ -62,13 +61,6 @@ class MeanAction:
 def ensemble_label(paths: list[str]) -> str:
     """How results name the mean action of the policies at ``paths``."""
     return "mean action of " + " and ".join(map(str, paths))
-
-
-def score(builder: MimicPolicy, actor: Policy, tracked: list[Motion], judged: list[Motion] | None,
-          episodes: int, mirror_average: bool = False) -> tuple[dict, list]:
-    """The summary (:func:`agents.evaluation.summarize`) and rollouts of ``actor`` (its symmetric
-    actor with ``mirror_average``) in ``builder``'s task, tracking ``tracked`` judged against ``judged``."""
-    return evaluate_tracking(builder, tracked, judged, episodes=episodes, actor=actor, mirror_average=mirror_average)
 
 
 def main() -> None:
@@ -104,7 +96,8 @@ def main() -> None:
     actors += [(ensemble_name, ensemble.widest, ensemble)]
     for name, builder, actor in actors:
         for input_name, (tracked, judged) in inputs.items():
-            summary, runs = score(builder, actor, tracked, judged, args.episodes, args.mirror_average)
+            summary, runs = evaluate_tracking(builder, tracked, judged, episodes=args.episodes, actor=actor,
+                                              mirror_average=args.mirror_average)
             rows.append({"policy": name, "input": input_name, "ELR": summary["ELR_mean"], "SR90": summary["SR90"],
                          "rollouts": summary["rollouts"]})
             print(f"{name:<36} {input_name:<26} ELR {summary['ELR_mean']:.3f}  SR90 {summary['SR90']:.3f}", flush=True)

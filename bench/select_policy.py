@@ -124,8 +124,9 @@ def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--baseline", required=True, help="the policy in use (as named in the JSON files)")
     p.add_argument("--clean", nargs="+", type=Path, required=True, help="validation clean, evaluate.py --json")
-    p.add_argument("--draws", nargs="+", type=Path, required=True, help="IMU draws (bench/imu_draws.py --json): behind the denoiser, or "
-                                                                     "with none for the rows with none in front")
+    p.add_argument("--draws", nargs="+", type=Path, required=True,
+                   help="IMU draws (bench/imu_draws.py --json): behind the denoiser, or with none for the rows "
+                        "with none in front")
     p.add_argument("--confirm", nargs="*", type=Path, default=[], help="more draws the winner must also lead on")
     p.add_argument("--draws-per-policy", type=int, default=10, help="draws each policy must have (both sets)")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")

@@ -204,9 +204,10 @@ def steered_velocities(com: np.ndarray, ref_com: np.ndarray, ref_com_vel: np.nda
 def lookahead_observation(ref_com: np.ndarray, ahead_com: np.ndarray, ahead_com_vel: np.ndarray,
                           ahead_pos_rel: np.ndarray, heading: np.ndarray | None = None) -> np.ndarray:
     """The ``lookahead`` and ``lookbehind`` parts of the observation ``(K·(6 + 3B),)`` float32: for
-    each of ``K`` other reference frames (future or past; the names say "ahead"), in order, the reference CoM's displacement from ``ref_com``, its CoM
-    velocity and its body origins relative to its CoM, each in the observation's axes. Every
-    argument may have leading batch axes (the same on all), which the result then has too.
+    each of ``K`` other reference frames (future or past; the names say "ahead"), in order, the
+    reference CoM's displacement from ``ref_com``, its CoM velocity and its body origins relative
+    to its CoM, each in the observation's axes. Every argument may have leading batch axes (the
+    same on all), which the result then has too.
 
     Args:
         ref_com: ``(3,)`` the reference's CoM now (world, m).
