@@ -104,6 +104,10 @@ STUDENT_WINDOW_RESETS = 1024
 """Resets of the student's one environment whose observations give its reference window's inputs
 their statistics (frozen, as the rest of the student's are: ~1,000 start states over the clips)."""
 
+ANSWER_CHUNK = 16_384
+"""Observations a policy answers at a time in :func:`mean_actions_and_values` and
+:func:`center_values` (~60 MB of float32 observations with a ±16-step reference window, ~900 values)."""
+
 TEACHER_READS = ("track", "clean", "denoised")
 """What a corrupted episode's teacher observes (``--teacher-reads``, :func:`teacher_observation`)."""
 
@@ -265,9 +269,10 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
 
 
 def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
-    """Raise :class:`PolicyError` unless every teacher observes ``env``'s observation, or the part of it
-    before the student's reference window (:func:`teacher_observation` gives a teacher the first
-    values): a teacher with a window of its own would read the student's as if it were its own."""
+    """Raise :class:`PolicyError` unless every teacher acts with ``env``'s actions and observes its
+    observation, or the part of it before the student's reference window (:func:`teacher_observation`
+    gives a teacher the first values): a teacher with a window of its own would read the student's
+    as if it were its own."""
     window = window_slice(env.unwrapped.obs_slices)
     own = env.observation_space.shape[0] if window is None else window.start
     for teacher in teachers.policies:
@@ -275,15 +280,17 @@ def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
                 window is not None and teacher.record.env.mimic_config().window_steps):
             raise PolicyError(f"{teacher.path}: observes {teacher.model.observation_space.shape[0]} values; a teacher "
                               f"reads the student's observation before its reference window ({own} values)")
+        if teacher.model.action_space.shape != env.action_space.shape:
+            raise PolicyError(f"{teacher.path}: acts with {teacher.model.action_space.shape[0]} values; the student's "
+                              f"environment takes {env.action_space.shape[0]}")
 
 
-def symmetric_teacher(teacher: MimicPolicy, env: gym.Env, maps: MirrorMaps) -> MimicPolicy:
-    """``teacher`` acting as its symmetric actor in ``env`` (whose mirror maps are ``maps``), where
-    it reads the first values of ``env``'s observation (:func:`teacher_observation`): the maps of
-    those (:meth:`agents.mirror.MirrorMaps.leading`)."""
+def symmetric_teacher(teacher: MimicPolicy, maps: MirrorMaps) -> MimicPolicy:
+    """``teacher`` acting as its symmetric actor in the student's env (whose mirror maps are
+    ``maps``), where it reads the first values of that env's observation (:func:`teacher_observation`):
+    the maps of those (:meth:`agents.mirror.MirrorMaps.leading`; :func:`check_teacher_layouts` has
+    checked that the teacher fits the env)."""
     inputs = teacher.model.observation_space.shape[0]
-    if inputs == env.observation_space.shape[0]:
-        return teacher.mirror_averaged(env)
     return teacher if teacher.symmetric_network else replace(teacher, mirror=maps.leading(inputs))
 
 
@@ -298,11 +305,16 @@ def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.nd
             return (policy.model.policy.get_distribution(x).distribution.mean.numpy(),
                     policy.model.policy.predict_values(x)[:, 0].numpy())
 
-    mean, value = network(obs)
-    if policy.mirror is None:
-        return mean, value
-    mean_mirrored, value_mirrored = network(policy.mirror.observation(obs))
-    return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
+    def answer(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        mean, value = network(raw)
+        if policy.mirror is None:
+            return mean, value
+        mean_mirrored, value_mirrored = network(policy.mirror.observation(raw))
+        return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
+
+    # a chunk at a time: a normalised (and a mirrored) copy of millions of labels would double the memory
+    answers = [answer(obs[start:start + ANSWER_CHUNK]) for start in range(0, max(len(obs), 1), ANSWER_CHUNK)]
+    return np.concatenate([a for a, _ in answers]), np.concatenate([v for _, v in answers])
 
 
 def teacher_observation(env: gym.Env, obs: np.ndarray, info: dict, reads: str,
@@ -369,11 +381,12 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
 
 
 def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: float, rng: np.random.Generator,
-        progress: bool = True, teacher_names: list[str] | None = None) -> float:
-    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``,
-    each state's term weighted by its teacher's ``config.teacher_weights`` (``teacher_names``: the
-    names of ``labels.teacher``'s indices, needed when weights are given); a minibatch's loss is its
-    weighted mean. Returns the last epoch's weighted mean loss."""
+        progress: bool = True, teacher_names: list[str] | None = None, rows: np.ndarray | None = None) -> float:
+    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``
+    (its ``rows``, indices; ``None``: all), each state's term weighted by its teacher's
+    ``config.teacher_weights`` (``teacher_names``: the names of ``labels.teacher``'s indices, needed
+    when weights are given); a minibatch's loss is its weighted mean. Returns the last epoch's
+    weighted mean loss."""
     if config.teacher_weights and teacher_names is None:
         raise ValueError("fit: config.teacher_weights are given, so teacher_names must name labels.teacher's teachers")
     weights = config.weights_of(teacher_names) if teacher_names is not None else None
@@ -382,12 +395,13 @@ def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: floa
     optimizer = torch.optim.Adam(params, lr=config.lr)
     a_all, v_all = torch.as_tensor(labels.actions), torch.as_tensor(labels.values)
     w_all = torch.ones(len(labels)) if weights is None else torch.as_tensor(weights)[labels.teacher]
-    value_var = max(float(v_all.var()), 1e-6)
+    rows = np.arange(len(labels)) if rows is None else rows
+    value_var = max(float(v_all[rows].var()), 1e-6)
     n_actions = a_all.shape[1]
     loss_mean = float("nan")
     for _ in tqdm(range(config.epochs), desc="fitting", unit="epoch", disable=not progress, leave=False):
         total, weight_total = 0.0, 0.0
-        for batch in np.array_split(rng.permutation(len(labels)), max(1, len(labels) // config.batch_size)):
+        for batch in np.array_split(rows[rng.permutation(len(rows))], max(1, len(rows) // config.batch_size)):
             # normalised a minibatch at a time: a normalised copy of every label would double the memory
             x = torch.as_tensor(student.normalizer.normalize_obs(labels.obs[batch]), dtype=torch.float32)
             a, v, w = a_all[batch], v_all[batch], w_all[batch]
@@ -404,13 +418,15 @@ def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: floa
     return loss_mean
 
 
-def center_values(student: MimicPolicy, labels: Labels) -> None:
-    """Shift the student's value output by the mean gap to the teachers' values on ``labels``: a
-    fresh critic outputs ~0 where the teachers' values are ~10² (returns of ~1-3 per step at γ
-    0.99), a gap minibatch Adam would close at only ~``lr`` per step."""
-    _, values = mean_actions_and_values(student, labels.obs)
+def center_values(student: MimicPolicy, labels: Labels, rows: np.ndarray | None = None) -> None:
+    """Shift the student's value output by the mean gap to the teachers' values on ``labels`` (its
+    ``rows``, indices; ``None``: all): a fresh critic outputs ~0 where the teachers' values are ~10²
+    (returns of ~1-3 per step at γ 0.99), a gap minibatch Adam would close at only ~``lr`` per step."""
+    rows = np.arange(len(labels)) if rows is None else rows
+    gaps = [labels.values[chunk] - mean_actions_and_values(student, labels.obs[chunk])[1]
+            for chunk in np.array_split(rows, max(1, -(-len(rows) // ANSWER_CHUNK)))]
     with torch.no_grad():
-        student.model.policy.value_net.bias += float(np.mean(labels.values - values))
+        student.model.policy.value_net.bias += float(np.mean(np.concatenate(gaps)))
 
 
 def rmse_text(rmse: float | None) -> str:
@@ -430,10 +446,15 @@ def fit_report(student: MimicPolicy, labels: Labels, names: list[str]) -> dict:
     return report
 
 
+def holdout_mask(labels: Labels, share: float, seed: int) -> np.ndarray:
+    """``(N,)`` bool, true for the held-out states: whole episodes, about ``share`` of them (the
+    same ones whatever the round, by hashing the episode number with ``seed``)."""
+    return (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
+
+
 def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labels]:
-    """``(train, held out)``: whole episodes, about ``share`` of them held out (the same ones
-    whatever the round, by hashing the episode number with ``seed``)."""
-    held = (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
+    """``(train, held out)`` copies of ``labels`` split by :func:`holdout_mask`."""
+    held = holdout_mask(labels, share, seed)
     return labels.take(~held), labels.take(held)
 
 
@@ -668,9 +689,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     teacher_env = None if readers is None else default.record.env.make(teachers.motions, artefacts=readers)
     maps = MirrorMaps.of(env) if args.mirror_average else None
     if maps is not None:
-        teachers = replace(teachers, policies=[t if name in args.plain_teachers else symmetric_teacher(t, env, maps)
+        teachers = replace(teachers, policies=[t if name in args.plain_teachers else symmetric_teacher(t, maps)
                                                for t, name in zip(teachers.policies, names)])
-    student = new_student(env, default, config)
     sigma = float(default.model.policy.log_std.detach().exp().mean())
     log_file, data_file = out / "log.jsonl", out / "data.npz"
     done, labels = finished_rounds(out, "distillation", args.resume)
@@ -678,6 +698,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         student = MimicPolicy(default.path, PPO.load(out / "student" / MODEL_FILE, env=DummyVecEnv([lambda: env]),
                                                      device="cpu"), load_policy(out / "student").normalizer, {})
         print(f"resuming after round {len(done) - 1} ({len(labels)} labelled states)", flush=True)
+    else:
+        student = new_student(env, default, config)
     acting = student if maps is None else replace(student, mirror=maps)  # shares the weights the fit moves
     out.mkdir(parents=True, exist_ok=True)
     args.commands = history + [shlex.join(["python", "agents/distill.py", *argv])]  # every command of the run, in order
@@ -690,12 +712,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress,
                       args.teacher_reads, maps, teacher_env)
         labels = new if labels is None else labels + new
-        train, held = split_holdout(labels, config.holdout, config.seed)
+        held = holdout_mask(labels, config.holdout, config.seed)
+        train_rows = np.flatnonzero(~held)  # indices, not a copy of most of the labels
         if round_ == 0 and not config.from_default:
-            center_values(student, train)
-        loss = fit(student, train, config, sigma, rng, not args.no_progress, names)
+            center_values(student, labels, train_rows)
+        loss = fit(student, labels, config, sigma, rng, not args.no_progress, names, rows=train_rows)
         record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),
-                  "loss": loss, "wall_s": time.monotonic() - started, "held_out": fit_report(acting, held, names),
+                  "loss": loss, "wall_s": time.monotonic() - started,
+                  "held_out": fit_report(acting, labels.take(held), names),
                   "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,

@@ -10,10 +10,13 @@ import numpy as np
 import pytest
 from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
-from agents.distill import (DistillConfig, Labels, Teachers, center_values, collect, fit, fit_report, load_teachers,
-                            main, mean_actions_and_values, new_student, rmse_text, student_task, symmetric_teacher,
-                            check_teacher_layouts,
-                            teacher_observation, teacher_weight)
+import gymnasium as gym
+
+import agents.distill
+from agents.distill import (DistillConfig, Labels, Teachers, center_values, check_teacher_layouts, collect, fit,
+                            fit_report, holdout_mask, load_teachers, main, mean_actions_and_values, new_student,
+                            rmse_text, split_holdout, student_task, symmetric_teacher, teacher_observation,
+                            teacher_weight)
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
@@ -115,6 +118,38 @@ def test_teacher_weights_pull_the_fit_toward_the_heavier_teachers_labels():
     for bad in ("mimic_walk_back", "mimic_walk_back=0", "=4", "mimic_walk_back=inf"):
         with pytest.raises(argparse.ArgumentTypeError, match="expected NAME=W"):
             teacher_weight(bad)
+
+
+def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answer_a_chunk_at_a_time(monkeypatch):
+    """The distillation fits the held-out split's training rows in place (indices, no copy): the
+    same loss and weights as a fit on the copy with the same generator; a policy's answers for many
+    observations, plain or as its symmetric actor, are the same answered 7 at a time."""
+    default = load_policy(MODELS / "mimic_walk")
+    env = default.make_env(["deepmimic:walk"], artefacts=None)
+    obs = np.stack([env.reset(seed=s)[0] for s in range(40)])
+    symmetric = replace(default, mirror=MirrorMaps.of(env))
+    whole = [mean_actions_and_values(p, obs) for p in (default, symmetric)]
+    monkeypatch.setattr(agents.distill, "ANSWER_CHUNK", 7)
+    for policy, (actions, values) in zip((default, symmetric), whole):
+        chunked = mean_actions_and_values(policy, obs)
+        np.testing.assert_allclose(chunked[0], actions, atol=1e-6)
+        np.testing.assert_allclose(chunked[1], values, rtol=1e-6)
+    assert not np.allclose(whole[0][0], whole[1][0])  # the symmetric actor answers otherwise
+
+    labels = Labels(obs, whole[0][0] + 0.05, whole[0][1] + 3.0, np.zeros(40, int), np.arange(40))
+    held = holdout_mask(labels, 0.25, 0)
+    train, held_out = split_holdout(labels, 0.25, 0)
+    assert 0 < held.sum() < 40 and np.array_equal(held_out.obs, obs[held]) and len(train) == 40 - held.sum()
+    rows = np.flatnonzero(~held)
+    config = DistillConfig(net="16,16", epochs=3, batch_size=8, lr=1e-3)
+    in_place, copied = new_student(env, default, config), new_student(env, default, config)
+    center_values(in_place, labels, rows)
+    center_values(copied, train)
+    loss_in_place = fit(in_place, labels, config, 0.17, np.random.default_rng(1), progress=False, rows=rows)
+    loss_copied = fit(copied, train, config, 0.17, np.random.default_rng(1), progress=False)
+    assert loss_in_place == pytest.approx(loss_copied, rel=1e-5)
+    for a, b in zip(mean_actions_and_values(in_place, obs), mean_actions_and_values(copied, obs)):
+        np.testing.assert_allclose(a, b, atol=1e-5)
 
 
 def test_a_resumed_distillation_keeps_its_weights_and_reads_an_older_run(tmp_path):
@@ -280,7 +315,7 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     assert window.mean.shape == (size + 198,) and window.var[size:].min() > 0
     assert np.array_equal(window.mean[:size], default.normalizer.obs_rms.mean)
     maps = MirrorMaps.of(env)
-    teacher = symmetric_teacher(default, env, maps)
+    teacher = symmetric_teacher(default, maps)
     labels = collect(env, None, Teachers([teacher], {walk.name: 0}, 0, [walk]), 60, 0.17, np.random.default_rng(0),
                      first_episode=0, progress=False, maps=maps)
     assert labels.obs.shape == (120, size + 198)
@@ -307,6 +342,10 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     np.testing.assert_array_equal(resumed.normalizer.obs_rms.mean, saved.normalizer.obs_rms.mean)
     with pytest.raises(PolicyError, match="a teacher reads the student's observation before its reference window"):
         check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), env)
+    other_actions = load_policy(MODELS / "mimic_walk")
+    other_actions.model.action_space = gym.spaces.Box(-1.0, 1.0, (3,), np.float32)
+    with pytest.raises(PolicyError, match="acts with 3 values; the student's environment takes"):
+        check_teacher_layouts(Teachers([other_actions], {walk.name: 0}, 0, [walk]), env)
 
 
 def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised(tmp_path):
