@@ -105,8 +105,9 @@ STUDENT_WINDOW_RESETS = 1024
 their statistics (frozen, as the rest of the student's are: ~1,000 start states over the clips)."""
 
 ANSWER_CHUNK = 16_384
-"""Observations a policy answers at a time in :func:`mean_actions_and_values` and
-:func:`center_values` (~60 MB of float32 observations with a ±16-step reference window, ~900 values)."""
+"""Observations a policy answers at a time in :func:`mean_actions_and_values` (a chunk of raw
+float32 observations with a ±16-step reference window, ~900 values, is ~60 MB; normalised, and
+mirrored for a symmetric actor, a few times that at once)."""
 
 TEACHER_READS = ("track", "clean", "denoised")
 """What a corrupted episode's teacher observes (``--teacher-reads``, :func:`teacher_observation`)."""
@@ -312,7 +313,7 @@ def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.nd
         mean_mirrored, value_mirrored = network(policy.mirror.observation(raw))
         return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
 
-    # a chunk at a time: a normalised (and a mirrored) copy of millions of labels would double the memory
+    # a chunk at a time: a normalised (float64) and a mirrored copy of millions of labels would be several times theirs
     answers = [answer(obs[start:start + ANSWER_CHUNK]) for start in range(0, max(len(obs), 1), ANSWER_CHUNK)]
     return np.concatenate([a for a, _ in answers]), np.concatenate([v for _, v in answers])
 
@@ -382,11 +383,12 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
 
 def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: float, rng: np.random.Generator,
         progress: bool = True, teacher_names: list[str] | None = None, rows: np.ndarray | None = None) -> float:
-    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``
-    (its ``rows``, indices; ``None``: all), each state's term weighted by its teacher's
-    ``config.teacher_weights`` (``teacher_names``: the names of ``labels.teacher``'s indices, needed
-    when weights are given); a minibatch's loss is its weighted mean. Returns the last epoch's
-    weighted mean loss."""
+    """``config.epochs`` passes of minibatch Adam on the module docstring's loss over ``labels``,
+    each state's term weighted by its teacher's ``config.teacher_weights`` (``teacher_names``: the
+    names of ``labels.teacher``'s indices, needed when weights are given); a minibatch's loss is its
+    weighted mean. ``rows``: ``(M,)`` int indices of the states to fit (:func:`label_rows`; ``None``:
+    all): the minibatches, var(V_t) and ``rng``'s draws are those of a fit on ``labels.take(rows)``,
+    without that copy. Returns the last epoch's weighted mean loss."""
     if config.teacher_weights and teacher_names is None:
         raise ValueError("fit: config.teacher_weights are given, so teacher_names must name labels.teacher's teachers")
     weights = config.weights_of(teacher_names) if teacher_names is not None else None
@@ -395,7 +397,7 @@ def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: floa
     optimizer = torch.optim.Adam(params, lr=config.lr)
     a_all, v_all = torch.as_tensor(labels.actions), torch.as_tensor(labels.values)
     w_all = torch.ones(len(labels)) if weights is None else torch.as_tensor(weights)[labels.teacher]
-    rows = np.arange(len(labels)) if rows is None else rows
+    rows = label_rows(labels, rows)
     value_var = max(float(v_all[rows].var()), 1e-6)
     n_actions = a_all.shape[1]
     loss_mean = float("nan")
@@ -419,12 +421,15 @@ def fit(student: MimicPolicy, labels: Labels, config: DistillConfig, sigma: floa
 
 
 def center_values(student: MimicPolicy, labels: Labels, rows: np.ndarray | None = None) -> None:
-    """Shift the student's value output by the mean gap to the teachers' values on ``labels`` (its
-    ``rows``, indices; ``None``: all): a fresh critic outputs ~0 where the teachers' values are ~10²
-    (returns of ~1-3 per step at γ 0.99), a gap minibatch Adam would close at only ~``lr`` per step."""
-    rows = np.arange(len(labels)) if rows is None else rows
+    """Shift the student's value output by the mean gap to the teachers' values on ``labels``'s
+    ``rows`` (``(M,)`` int indices, :func:`label_rows`; ``None``: all): a fresh critic outputs ~0
+    where the teachers' values are ~10² (returns of ~1-3 per step at γ 0.99), a gap minibatch Adam
+    would close at only ~``lr`` per step."""
+    rows = label_rows(labels, rows)
     gaps = [labels.values[chunk] - mean_actions_and_values(student, labels.obs[chunk])[1]
-            for chunk in np.array_split(rows, max(1, -(-len(rows) // ANSWER_CHUNK)))]
+            for chunk in (rows[start:start + ANSWER_CHUNK] for start in range(0, len(rows), ANSWER_CHUNK))]
+    if not gaps:
+        raise ValueError("center_values: no labelled state to centre the values on")
     with torch.no_grad():
         student.model.policy.value_net.bias += float(np.mean(np.concatenate(gaps)))
 
@@ -446,9 +451,23 @@ def fit_report(student: MimicPolicy, labels: Labels, names: list[str]) -> dict:
     return report
 
 
+def label_rows(labels: Labels, rows: np.ndarray | None) -> np.ndarray:
+    """``rows`` as ``(M,)`` int indices into ``labels`` (``None``: all of them); a clear
+    ``ValueError`` for a boolean mask (give ``np.flatnonzero(mask)``) or an index out of range."""
+    if rows is None:
+        return np.arange(len(labels))
+    rows = np.asarray(rows)
+    if not np.issubdtype(rows.dtype, np.integer) or rows.ndim != 1:
+        raise ValueError(f"rows: expected (M,) int indices into the labels, got {rows.dtype} of shape {rows.shape}"
+                         + ("; give np.flatnonzero(mask)" if rows.dtype == bool else ""))
+    if len(rows) and (rows.min() < 0 or rows.max() >= len(labels)):
+        raise ValueError(f"rows: indices must lie in [0, {len(labels)}), got {rows.min()}..{rows.max()}")
+    return rows
+
+
 def holdout_mask(labels: Labels, share: float, seed: int) -> np.ndarray:
     """``(N,)`` bool, true for the held-out states: whole episodes, about ``share`` of them (the
-    same ones whatever the round, by hashing the episode number with ``seed``)."""
+    same ones whatever the round: one draw per episode number from a generator seeded by ``seed``)."""
     return (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
 
 
@@ -714,6 +733,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         labels = new if labels is None else labels + new
         held = holdout_mask(labels, config.holdout, config.seed)
         train_rows = np.flatnonzero(~held)  # indices, not a copy of most of the labels
+        if not len(train_rows):
+            raise ValueError(f"round {round_}: every labelled episode ({len(np.unique(labels.episode))}) is held out; "
+                             f"collect more steps per round (--steps-per-round {config.steps_per_round})")
         if round_ == 0 and not config.from_default:
             center_values(student, labels, train_rows)
         loss = fit(student, labels, config, sigma, rng, not args.no_progress, names, rows=train_rows)

@@ -6,16 +6,16 @@ import json
 from dataclasses import replace
 from pathlib import Path
 
+import gymnasium as gym
 import numpy as np
 import pytest
+import torch
 from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
-
-import gymnasium as gym
 
 import agents.distill
 from agents.distill import (DistillConfig, Labels, Teachers, center_values, check_teacher_layouts, collect, fit,
-                            fit_report, holdout_mask, load_teachers, main, mean_actions_and_values, new_student,
-                            rmse_text, split_holdout, student_task, symmetric_teacher, teacher_observation,
+                            fit_report, holdout_mask, label_rows, load_teachers, main, mean_actions_and_values,
+                            new_student, rmse_text, split_holdout, student_task, symmetric_teacher, teacher_observation,
                             teacher_weight)
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
@@ -123,20 +123,30 @@ def test_teacher_weights_pull_the_fit_toward_the_heavier_teachers_labels():
 def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answer_a_chunk_at_a_time(monkeypatch):
     """The distillation fits the held-out split's training rows in place (indices, no copy): the
     same loss and weights as a fit on the copy with the same generator; a policy's answers for many
-    observations, plain or as its symmetric actor, are the same answered 7 at a time."""
+    observations, plain or as its symmetric actor, are the same answered 7 at a time, and so is the
+    critic's centring."""
     default = load_policy(MODELS / "mimic_walk")
     env = default.make_env(["deepmimic:walk"], artefacts=None)
     obs = np.stack([env.reset(seed=s)[0] for s in range(40)])
     symmetric = replace(default, mirror=MirrorMaps.of(env))
     whole = [mean_actions_and_values(p, obs) for p in (default, symmetric)]
+    labels = Labels(obs, whole[0][0] + 0.05, whole[0][1] + 3.0, np.zeros(40, int), np.arange(40))
+    rows = np.arange(0, 40, 3)
+    centred_whole = new_student(env, default, DistillConfig(net="16,16"))
+    center_values(centred_whole, labels, rows)
     monkeypatch.setattr(agents.distill, "ANSWER_CHUNK", 7)
     for policy, (actions, values) in zip((default, symmetric), whole):
         chunked = mean_actions_and_values(policy, obs)
         np.testing.assert_allclose(chunked[0], actions, atol=1e-6)
         np.testing.assert_allclose(chunked[1], values, rtol=1e-6)
     assert not np.allclose(whole[0][0], whole[1][0])  # the symmetric actor answers otherwise
+    none_actions, none_values = mean_actions_and_values(default, obs[:0])
+    assert none_actions.shape == (0, env.action_space.shape[0]) and none_values.shape == (0,)
+    centred_chunked = new_student(env, default, DistillConfig(net="16,16"))
+    center_values(centred_chunked, labels, rows)
+    assert centred_chunked.model.policy.value_net.bias.item() == pytest.approx(
+        centred_whole.model.policy.value_net.bias.item(), rel=1e-6)
 
-    labels = Labels(obs, whole[0][0] + 0.05, whole[0][1] + 3.0, np.zeros(40, int), np.arange(40))
     held = holdout_mask(labels, 0.25, 0)
     train, held_out = split_holdout(labels, 0.25, 0)
     assert 0 < held.sum() < 40 and np.array_equal(held_out.obs, obs[held]) and len(train) == 40 - held.sum()
@@ -147,9 +157,15 @@ def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answe
     center_values(copied, train)
     loss_in_place = fit(in_place, labels, config, 0.17, np.random.default_rng(1), progress=False, rows=rows)
     loss_copied = fit(copied, train, config, 0.17, np.random.default_rng(1), progress=False)
-    assert loss_in_place == pytest.approx(loss_copied, rel=1e-5)
-    for a, b in zip(mean_actions_and_values(in_place, obs), mean_actions_and_values(copied, obs)):
-        np.testing.assert_allclose(a, b, atol=1e-5)
+    assert loss_in_place == loss_copied
+    for (name, a), b in zip(in_place.model.policy.state_dict().items(), copied.model.policy.state_dict().values()):
+        assert torch.equal(a, b), name
+    with pytest.raises(ValueError, match=r"got bool of shape \(40,\); give np.flatnonzero\(mask\)"):
+        label_rows(labels, ~held)
+    with pytest.raises(ValueError, match=r"indices must lie in \[0, 40\), got 3..40"):
+        label_rows(labels, np.array([3, 40]))
+    with pytest.raises(ValueError, match="no labelled state"):
+        center_values(in_place, labels, np.array([], int))
 
 
 def test_a_resumed_distillation_keeps_its_weights_and_reads_an_older_run(tmp_path):
