@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from dataclasses import asdict
 from pathlib import Path
 
@@ -53,6 +54,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="SOURCE strings or files of the clips to evaluate on, or clip sets (library:DIR/test)")
     add_mocap_options(p)
     p.add_argument("--corrupt", choices=("imu",) + ARTEFACT_KINDS, help="corrupt each clip with IMU artefacts first")
+    p.add_argument("--without", nargs="+", choices=ARTEFACT_KINDS, default=[], metavar="KIND",
+                   help="with --corrupt imu: switch these artefact kinds off (what the others cost together; "
+                        "the others' random numbers stay the same)")
     p.add_argument("--strength", type=non_negative_float, default=1.0, help="artefact strength")
     p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
     p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
@@ -82,14 +86,16 @@ def build_parser(prog: str | None = None) -> CliParser:
 
 
 def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: str | None, strength: float,
-                    seed: int, mocap: MocapOptions = MocapOptions()) -> list[Motion]:
+                    seed: int, mocap: MocapOptions = MocapOptions(), without: Sequence[str] = ()) -> list[Motion]:
     """The clips as the policy gets them: loaded for ``model`` (cyclic ones looped to two episodes
-    of ``config``; each as long as the environment needs) and optionally corrupted."""
+    of ``config``; each as long as the environment needs) and optionally corrupted (``kind``, with
+    the artefact kinds ``without`` switched off: :meth:`ArtefactRecipe.without`)."""
+    recipe = ArtefactRecipe.named(kind, strength).without(without) if kind else None
     out = []
     for i, source in enumerate(expand_clips(sources)):
         motion = load_motion(source, model, min_frames=2 * (config.episode_frames + 1), mocap=mocap)
         require_frames(motion, config.min_clip_frames + 1, source, "a mimic episode")
-        out.append(corrupt(motion, ArtefactRecipe.named(kind, strength), seed + i) if kind else motion)
+        out.append(corrupt(motion, recipe, seed + i) if recipe else motion)
     return out
 
 
@@ -128,11 +134,15 @@ def artefact_table(runs: list) -> dict[str, dict[str, float]]:
 def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
+    if args.without and args.corrupt != "imu":
+        raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu, "
+                         f"got --corrupt {args.corrupt}")
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
     lift, grounding = swing_lift_of(args), grounding_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
-            args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args))):
+            args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args),
+            args.without)):
         note = policy.preparation_note(args.denoise, grounding, lift)
         if note:
             print(note)
@@ -153,7 +163,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), grounding=grounding, lift=lift),
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None,
-              "clips": args.clips, "corrupt": args.corrupt,
+              "clips": args.clips, "corrupt": args.corrupt, "without": args.without,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),
               "denoiser": str(args.denoise) if args.denoise else None,
@@ -163,6 +173,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
                if text]
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
+          + (f" without {', '.join(args.without)}" if args.without else "")
           + (f", denoised by {args.denoise}" if args.denoise else "")
           + (f", tracking takes {' and '.join(changes)}" if changes else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")

@@ -33,7 +33,8 @@ angles (``qpos[7:]``), the other kinds on the root (``qpos[:7]``).
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, fields
+from collections.abc import Sequence
+from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
@@ -164,6 +165,16 @@ class ArtefactRecipe:
     def named(cls, kind: str, strength: float = 1.0) -> "ArtefactRecipe":
         """``"imu"`` (every kind, :meth:`imu`) or a single kind (:meth:`only`) at ``strength``."""
         return cls.imu(strength) if kind == "imu" else cls.only(kind, strength)
+
+    def without(self, kinds: Sequence[str]) -> "ArtefactRecipe":
+        """This recipe with the artefact ``kinds`` (of :data:`ARTEFACT_KINDS`) switched off: what the
+        others cost together (:func:`corrupt` draws each kind from its own stream, so the others'
+        numbers stay the same)."""
+        unknown = sorted(set(kinds) - set(ARTEFACT_KINDS))
+        if unknown:
+            raise ValueError(f"unknown artefact kind(s) {', '.join(map(repr, unknown))}; expected some of "
+                             f"{', '.join(ARTEFACT_KINDS)}")
+        return replace(self, **{k: 0.0 for k in kinds})
 
     def scaled(self, factor: float) -> "ArtefactRecipe":
         """Every strength multiplied by ``factor``."""

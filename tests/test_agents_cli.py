@@ -41,6 +41,13 @@ def test_evaluate_reports_adapt_metrics_and_artefacts(policy_dir, tmp_path):
     assert saved["artefacts"]["jitter"]["input"] > 0 and saved["corrupt"] == "imu"
     [row] = saved["per_clip"]  # one clip: its row is the whole evaluation
     assert row["rollouts"] == 3 and row["ELR"] == pytest.approx(saved["ELR_mean"])
+    quieter = evaluate.main(["--policy", str(policy_dir), "--clips", "deepmimic:walk", "--episodes", "3",
+                             "--corrupt", "imu", "--without", "jitter", "noise", "--strength", "0.5", "--seed", "1000"])
+    assert quieter["without"] == ["jitter", "noise"]
+    assert quieter["artefacts"]["jitter"]["input"] < saved["artefacts"]["jitter"]["input"]
+    with pytest.raises(SystemExit, match="it switches kinds off in --corrupt imu, got --corrupt skate"):
+        evaluate.main(["--policy", str(policy_dir), "--clips", "deepmimic:walk", "--corrupt", "skate",
+                       "--without", "noise"])
 
 
 def test_evaluate_through_the_denoiser_judges_against_the_clip_as_given(policy_dir):

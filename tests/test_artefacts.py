@@ -152,6 +152,17 @@ def test_kinds_use_independent_streams(walk):
     assert np.allclose(both.qpos[:, :2], skate_only.qpos[:, :2])
 
 
+def test_a_recipe_without_kinds_leaves_the_others_numbers_unchanged(walk):
+    recipe = ArtefactRecipe.imu(1.0).without(["adduction", "skate"])
+    assert recipe.adduction == 0 and recipe.skate == 0 and recipe.drift == 1.0
+    without = corrupt(walk, recipe, seed=3)
+    by_hand = corrupt(walk, ArtefactRecipe(**{k: 1.0 for k in ARTEFACT_KINDS if k not in ("adduction", "skate")}), 3)
+    np.testing.assert_array_equal(without.qpos, by_hand.qpos)
+    assert not np.allclose(without.qpos, corrupt(walk, ArtefactRecipe.imu(1.0), seed=3).qpos)
+    with pytest.raises(ValueError, match=r"unknown artefact kind\(s\) 'wobble'"):
+        ArtefactRecipe.imu().without(["wobble"])
+
+
 def test_bad_recipe():
     with pytest.raises(ValueError, match="unknown artefact kind 'wobble'"):
         ArtefactRecipe.only("wobble")
