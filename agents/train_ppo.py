@@ -91,9 +91,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="IMU artefact strength range of corrupted references")
     g.add_argument("--judge", choices=JUDGES, default=ArtefactMix().judge,
                    help="what an episode is rewarded and terminated against: the reference the policy observes "
-                        "(ADAPT), the clean clip a corrupted one was made from, or the reference as made, before "
-                        "--denoise, --ground and --swing-lift prepared it, as evaluate.py judges a take "
-                        "(envs.ArtefactMix.judge)")
+                        "(ADAPT), the clean clip a corrupted one was made from, the reference as made, before "
+                        "--denoise, --ground and --swing-lift prepared it, as evaluate.py judges a take, or "
+                        "(clean_pose) that reference as made with the clean clip's hinge angles: the corrupted "
+                        "root path, a performable pose (envs.ArtefactMix.judge)")
     add_denoise_option(g, "every corrupted reference (training, and --eval-strength evaluation), before the "
                           "policy observes it, as clean.py --denoise does (envs.ArtefactMix.denoiser); the "
                           "--eval-strength evaluation then judges a rollout against the denoised reference it follows "
@@ -833,7 +834,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes, denoiser=args.denoise,
                                                grounding=grounding_of(args), lift=swing_lift_of(args),
-                                               judge="given" if args.judge == "given" else "corrupted")
+                                               judge="given" if args.judge in ("given", "clean_pose")
+                                               else "corrupted")
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
     maps = MirrorMaps.of(eval_env) if args.symmetric else None  # refuses a layout it does not know, before the run

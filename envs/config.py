@@ -218,7 +218,7 @@ class MimicConfig:
         return round(self.frame_rate_hz / self.control_rate_hz)
 
 
-JUDGES = ("corrupted", "clean", "given")
+JUDGES = ("corrupted", "clean", "given", "clean_pose")
 """What an episode is rewarded and terminated against (:attr:`ArtefactMix.judge`)."""
 
 
@@ -246,8 +246,14 @@ class ArtefactMix:
             :mod:`agents.expert_iteration`'s ``--judge clean``); or ``"given"``, the reference as made,
             before ``denoiser``, ``grounding`` and ``lift`` prepared it (the corrupted variant, or in a
             clean episode the clip), as ``evaluate.py --denoise --ground --swing-lift`` judges a take.
-            With ``"clean"`` and ``"given"`` a clean episode the mix prepares is judged against the
-            clip as given; with ``"corrupted"`` every episode against what the policy tracks.
+            Or ``"clean_pose"``: the variant as made with none of its hinge errors
+            (:data:`reference_motion.artefacts.HINGE_KINDS`): the clean clip's pose on the corrupted
+            variant's root path (its heading, root drift, skate and height, drawn from the same
+            streams), so the policy is paid for a pose it can perform (the IMU suit's hip adduction
+            crosses the legs) along the path that evaluation judges it against.
+            With ``"clean"``, ``"given"`` and ``"clean_pose"`` a clean episode the mix prepares is
+            judged against the clip as given; with ``"corrupted"`` every episode against what the
+            policy tracks.
         denoiser: directory of an IMU denoiser (:mod:`perception.imu_denoiser`) that every
             corrupted variant passes through before the policy observes it, as ``clean.py
             --denoise`` passes a take; ``None`` (default): the corrupted reference as made.

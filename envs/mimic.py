@@ -34,7 +34,7 @@ from envs.rendering import GhostRenderer
 from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, com_velocity_reward, cube_face_points,
                           cube_face_velocities, fallen, lagging, mimic_reward, still_feet_reward, unstable)
 from reference_motion import rotations as rot
-from reference_motion.artefacts import corrupt
+from reference_motion.artefacts import HINGE_KINDS, corrupt
 from reference_motion.humanoid.model import HumanoidModel, load_model
 from reference_motion.library import load_motion, named_set
 from reference_motion.motion import Motion
@@ -199,7 +199,7 @@ class MimicEnv(gym.Env):
         self._judged_keys = [] if self._judged is None else [_content_key(c) for c in self._judged]
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
-        self._tracks: OrderedDict[tuple[int, int, bool], ReferenceTrack] = OrderedDict()
+        self._tracks: OrderedDict[tuple[int, int, bool, bool], ReferenceTrack] = OrderedDict()
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None if artefacts is None else artefacts.seed
         """Base seed of the corrupted variants: ``artefacts.seed`` if fixed, else the last reset seed."""
@@ -271,7 +271,8 @@ class MimicEnv(gym.Env):
             raise RuntimeError("call reset() first")
         return self._episode_end
 
-    def track(self, clip: int, variant: int = -1, *, as_given: bool = False) -> ReferenceTrack:
+    def track(self, clip: int, variant: int = -1, *, as_given: bool = False,
+              clean_pose: bool = False) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
         ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use (or
         taken from another environment of this process that holds the same one,
@@ -279,12 +280,14 @@ class MimicEnv(gym.Env):
         says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
         variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
         (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
-        prepared. A variant's artefact seed and strength depend only on (``artefacts.seed``, or else
+        prepared. ``clean_pose``: a corrupted variant without its hinge errors (what
+        ``ArtefactMix.judge == "clean_pose"`` compares with, with ``as_given``). A variant's artefact seed and strength depend only on (``artefacts.seed``, or else
         the last seed given to :meth:`reset`; clip; variant), so the same seed always gives the same
         references whatever order episodes come in."""
         as_given = (as_given and variant != JUDGED and self.artefacts is not None
                     and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
-        key = (clip, variant, as_given)
+        clean_pose = clean_pose and variant >= 0
+        key = (clip, variant, as_given, clean_pose)
         if key in self._tracks:
             self._tracks.move_to_end(key)
             return self._tracks[key]
@@ -297,7 +300,8 @@ class MimicEnv(gym.Env):
                 self._variant_base = int(self.np_random.integers(2**31))
             rng = np.random.default_rng([self._variant_base, clip, variant])
             seed = int(rng.integers(2**31))
-            corruption = (mix.recipe.scaled(float(rng.uniform(*mix.strength))), seed)
+            recipe = mix.recipe.scaled(float(rng.uniform(*mix.strength)))
+            corruption = (recipe.without(HINGE_KINDS) if clean_pose else recipe, seed)
             self._variant_seeds[(clip, variant)] = seed
         judged = variant == JUDGED
         if variant < JUDGED or (judged and self._judged is None):
@@ -383,7 +387,7 @@ class MimicEnv(gym.Env):
         """What an episode on ``variant`` of ``clip``, tracking ``track``, is judged against: the
         env's ``judged_clips``, else as ``ArtefactMix.judge`` says (``"corrupted"``: ``track``
         itself; ``"clean"``: the clip as given; ``"given"``: the variant as given, before the mix
-        prepared it), else ``track``."""
+        prepared it; ``"clean_pose"``: that without its hinge errors), else ``track``."""
         if self._judged is not None:
             return self.track(clip, JUDGED)
         mix = self.artefacts
@@ -392,6 +396,8 @@ class MimicEnv(gym.Env):
         corrupted = variant >= 0
         if mix.judge == "clean" and corrupted:
             return self.track(clip, -1, as_given=True)
+        if mix.judge == "clean_pose" and corrupted:
+            return self.track(clip, variant, as_given=True, clean_pose=True)
         return self.track(clip, variant, as_given=True) if mix.prepares(corrupted) else track
 
     @property

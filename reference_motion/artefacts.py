@@ -46,6 +46,8 @@ from reference_motion.motion import Motion
 from reference_motion.quality import motion_contacts
 
 ARTEFACT_KINDS = ("bias", "drift", "noise", "jitter", "adduction", "heading", "root_drift", "skate", "height")
+HINGE_KINDS = ARTEFACT_KINDS[:5]
+"""The kinds that act on the hinge angles (``qpos[7:]``); the others act on the root (``qpos[:7]``)."""
 
 
 @dataclass(frozen=True)

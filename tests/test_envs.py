@@ -430,7 +430,7 @@ def test_a_corrupted_episode_can_be_judged_against_the_clean_clip(walk):
     assert info_j["corrupted"] and info_a["corrupted"]
     np.testing.assert_array_equal(obs_j, obs_a)  # the same corrupted reference is observed ...
     assert judged.judging_track is judged.track(0, -1) and judged.current_track is judged.track(0, 0)
-    assert sorted(judged._tracks) == [(0, -1, False), (0, 0, False)]  # nothing prepared: one slot per track
+    assert sorted(judged._tracks) == [(0, -1, False, False), (0, 0, False, False)]  # nothing prepared: one slot each
     assert adapt.judging_track is adapt.current_track
     action = np.zeros(adapt.action_space.shape)
     for _ in range(10):
@@ -483,6 +483,27 @@ def test_training_references_can_be_prepared_as_evaluation_prepares_takes(walk):
     same.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
     assert same.judging_track is same.current_track  # "corrupted": judged against what it tracks
     assert ArtefactMix(lift=SwingLift()).prepares(False) and not ArtefactMix(denoiser="d").prepares(False)
+
+
+def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_clean_hinge_angles(walk):
+    """ArtefactMix.judge="clean_pose": a corrupted episode tracks its variant (set on the floor here)
+    but is judged against the variant as made without its hinge errors: the same root path (heading,
+    root drift, skate and height), the clean clip's hinge angles (no adduction crossing the legs); a
+    clean episode against the clip as given."""
+    mix = ArtefactMix(strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5, grounding=Grounding(),
+                      judge="clean_pose")
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    as_made = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, grounding=None, judge="corrupted")).unwrapped
+    for e in (env, as_made):
+        e.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    variant, judged = as_made.current_track.motion.qpos, env.judging_track.motion.qpos
+    np.testing.assert_array_equal(judged[:, :7], variant[:, :7])
+    np.testing.assert_array_equal(judged[:, 7:], walk.qpos[:len(judged), 7:])
+    assert np.abs(variant[:, 7:] - walk.qpos[:len(variant), 7:]).max() > 0.1  # the hinge errors it is spared
+    assert env.judging_track is env.track(0, 0, as_given=True, clean_pose=True)
+    assert env.current_track is env.track(0, 0)  # it tracks the variant, set on the floor
+    env.reset(options={"clip": 0, "start_frame": 0, "corrupted": False})
+    np.testing.assert_array_equal(env.judging_track.motion.qpos, walk.qpos[:env.judging_track.n_frames])
 
 
 def test_a_clip_can_be_judged_against_another_motion(walk):
