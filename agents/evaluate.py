@@ -135,8 +135,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the results."""
     args = build_parser(prog).parse_args(argv)
     if args.without and args.corrupt != "imu":
-        raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu, "
-                         f"got --corrupt {args.corrupt}")
+        raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu; "
+                         + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
     lift, grounding = swing_lift_of(args), grounding_of(args)
     runs, frames, rates, gains = [], set(), set(), set()

@@ -107,8 +107,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="distinct corrupted references made per training clip (the same in every "
                         "process and shared by its envs: that many in all; with --vec subproc that many per env)")
     g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
-                   help="reference tracks each env keeps in memory (~2 MB each; more clips × variants than "
-                        "this are rebuilt on use, which slows training)")
+                   help="reference tracks each env keeps in memory (~2 MB each; more than this are rebuilt on "
+                        "use, which slows training). Per clip: 1, and 1 per variant; each doubles where the "
+                        "episode is judged against another track (--judge given with --denoise, --ground or "
+                        "--swing-lift; --judge clean_pose)")
     g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
                    help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
                         "offset from the reference (envs.observations)")
@@ -734,6 +736,9 @@ def check_preparation(args: argparse.Namespace) -> None:
     if args.judge == "given" and (mix is None or not mix.prepares(args.corrupted_fraction > 0)):
         raise ValueError("--judge given judges against the reference as made, before --denoise, --ground and "
                          "--swing-lift prepare it; this run prepares none (give one of them)")
+    if args.judge in ("clean", "clean_pose") and not args.corrupted_fraction:
+        raise ValueError(f"--judge {args.judge} judges corrupted episodes against another reference; this run "
+                         f"has none (give --corrupted-fraction > 0)")
 
 
 def check_symmetric(args: argparse.Namespace, run_dir: Path) -> None:

@@ -280,10 +280,11 @@ class MimicEnv(gym.Env):
         says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
         variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
         (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
-        prepared. ``clean_pose``: a corrupted variant without its hinge errors (what
-        ``ArtefactMix.judge == "clean_pose"`` compares with, with ``as_given``). A variant's artefact seed and strength depend only on (``artefacts.seed``, or else
-        the last seed given to :meth:`reset`; clip; variant), so the same seed always gives the same
-        references whatever order episodes come in."""
+        prepared. ``clean_pose``: a corrupted variant without its hinge errors (with ``as_given``,
+        what ``ArtefactMix.judge == "clean_pose"`` compares with; without, prepared as the variant
+        is; ignored for the clip and ``JUDGED``). A variant's artefact seed and strength depend only
+        on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant), so the
+        same seed always gives the same references whatever order episodes come in."""
         as_given = (as_given and variant != JUDGED and self.artefacts is not None
                     and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
         clean_pose = clean_pose and variant >= 0

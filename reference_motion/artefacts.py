@@ -46,7 +46,7 @@ from reference_motion.motion import Motion
 from reference_motion.quality import motion_contacts
 
 ARTEFACT_KINDS = ("bias", "drift", "noise", "jitter", "adduction", "heading", "root_drift", "skate", "height")
-HINGE_KINDS = ARTEFACT_KINDS[:5]
+HINGE_KINDS = ("bias", "drift", "noise", "jitter", "adduction")
 """The kinds that act on the hinge angles (``qpos[7:]``); the others act on the root (``qpos[:7]``)."""
 
 
@@ -172,6 +172,8 @@ class ArtefactRecipe:
         """This recipe with the artefact ``kinds`` (of :data:`ARTEFACT_KINDS`) switched off: what the
         others cost together (:func:`corrupt` draws each kind from its own stream, so the others'
         numbers stay the same)."""
+        if isinstance(kinds, str):
+            raise TypeError(f"without: give a sequence of kinds, e.g. [{kinds!r}], not the string {kinds!r}")
         unknown = sorted(set(kinds) - set(ARTEFACT_KINDS))
         if unknown:
             raise ValueError(f"unknown artefact kind(s) {', '.join(map(repr, unknown))}; expected some of "

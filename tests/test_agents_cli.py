@@ -45,7 +45,7 @@ def test_evaluate_reports_adapt_metrics_and_artefacts(policy_dir, tmp_path):
                              "--corrupt", "imu", "--without", "jitter", "noise", "--strength", "0.5", "--seed", "1000"])
     assert quieter["without"] == ["jitter", "noise"]
     assert quieter["artefacts"]["jitter"]["input"] < saved["artefacts"]["jitter"]["input"]
-    with pytest.raises(SystemExit, match="it switches kinds off in --corrupt imu, got --corrupt skate"):
+    with pytest.raises(SystemExit, match="it switches kinds off in --corrupt imu; got --corrupt skate"):
         evaluate.main(["--policy", str(policy_dir), "--clips", "deepmimic:walk", "--corrupt", "skate",
                        "--without", "noise"])
 

@@ -504,6 +504,13 @@ def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_cl
     assert env.current_track is env.track(0, 0)  # it tracks the variant, set on the floor
     env.reset(options={"clip": 0, "start_frame": 0, "corrupted": False})
     np.testing.assert_array_equal(env.judging_track.motion.qpos, walk.qpos[:env.judging_track.n_frames])
+    unprepared = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, grounding=None, seed=None)).unwrapped
+    unprepared.reset(seed=3, options={"clip": 0, "start_frame": 0, "corrupted": True})
+    assert unprepared.judging_track is not unprepared.current_track  # nothing prepared, yet another track
+    assert sorted(unprepared._tracks) == [(0, 0, False, False), (0, 0, False, True)]
+    np.testing.assert_array_equal(unprepared.judging_track.motion.qpos[:, 7:], walk.qpos[:len(judged), 7:])
+    unprepared.reset(seed=11, options={"clip": 0, "start_frame": 0, "corrupted": False})
+    assert sorted(unprepared._tracks) == [(0, -1, False, False)]  # a new seed drops every variant's tracks
 
 
 def test_a_clip_can_be_judged_against_another_motion(walk):
