@@ -465,16 +465,13 @@ def label_rows(labels: Labels, rows: np.ndarray | None) -> np.ndarray:
     return rows
 
 
-def holdout_mask(labels: Labels, share: float, seed: int) -> np.ndarray:
-    """``(N,)`` bool, true for the held-out states: whole episodes, about ``share`` of them (the
-    same ones whatever the round: one draw per episode number from a generator seeded by ``seed``)."""
-    return (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
-
-
-def split_holdout(labels: Labels, share: float, seed: int) -> tuple[Labels, Labels]:
-    """``(train, held out)`` copies of ``labels`` split by :func:`holdout_mask`."""
-    held = holdout_mask(labels, share, seed)
-    return labels.take(~held), labels.take(held)
+def split_holdout(labels: Labels, share: float, seed: int) -> tuple[np.ndarray, Labels]:
+    """``(train_rows, held_out)``: the ``(M,)`` int indices of the training states (to fit in place,
+    :func:`fit`'s ``rows``, rather than copy most of the labels) and a copy of the held-out states.
+    Whole episodes are held out, about ``share`` of them (the same ones whatever the round: one draw
+    per episode number from a generator seeded by ``seed``)."""
+    held = (np.random.default_rng([seed, 7]).random(labels.episode.max() + 1) < share)[labels.episode]
+    return np.flatnonzero(~held), labels.take(held)
 
 
 def student_task(default: MimicPolicy, config: DistillConfig) -> EnvSpec:
@@ -731,8 +728,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         new = collect(env, actor, teachers, config.steps_per_round, sigma, rng, first_episode, not args.no_progress,
                       args.teacher_reads, maps, teacher_env)
         labels = new if labels is None else labels + new
-        held = holdout_mask(labels, config.holdout, config.seed)
-        train_rows = np.flatnonzero(~held)  # indices, not a copy of most of the labels
+        train_rows, held = split_holdout(labels, config.holdout, config.seed)
         if not len(train_rows):
             raise ValueError(f"round {round_}: every labelled episode ({len(np.unique(labels.episode))}) is held out; "
                              f"collect more steps per round (--steps-per-round {config.steps_per_round})")
@@ -741,7 +737,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         loss = fit(student, labels, config, sigma, rng, not args.no_progress, names, rows=train_rows)
         record = {"round": round_, "acted_by": "teachers" if actor is None else "student", "states": len(labels),
                   "loss": loss, "wall_s": time.monotonic() - started,
-                  "held_out": fit_report(acting, labels.take(held), names),
+                  "held_out": fit_report(acting, held, names),
                   "acted_episode_steps": float(len(new) / max(1, len(np.unique(new.episode))))}
         labels.save(data_file)
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,

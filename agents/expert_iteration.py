@@ -49,7 +49,7 @@ import torch
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
-from agents.distill import DistillConfig, Labels, finished_rounds, fit, fit_report, holdout_mask
+from agents.distill import DistillConfig, Labels, finished_rounds, fit, fit_report, split_holdout
 from agents.policy import STATS_FILE, MimicPolicy, load_policy, save_policy
 from agents.rollout import FAILURES, Episode, run_episode, torch_threads
 from agents.search import SearchConfig, search
@@ -314,11 +314,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         first_episode = int(labels.episode.max()) + 1 if labels is not None and len(labels) else 0
         new, outcomes = collect(guide, tasks, config, args.workers, first_episode, not args.no_progress)
         labels = new if labels is None else labels + new
-        held_rows = holdout_mask(labels, config.holdout, config.seed)
-        held = labels.take(held_rows)
+        train_rows, held = split_holdout(labels, config.holdout, config.seed)
         before = held_out_rmse(student, held)
-        loss = fit(student, labels, config.fit_config(net), sigma, rng, not args.no_progress,
-                   rows=np.flatnonzero(~held_rows))  # indices, not a copy of most of the labels
+        loss = fit(student, labels, config.fit_config(net), sigma, rng, not args.no_progress, rows=train_rows)
         failed = sum(o["ended_by"] in FAILURES for o in outcomes)
         record = {"round": round_, "guided_by": str(guide), "episodes": len(outcomes), "searches_failed": failed,
                   "labelled": len(new), "states": len(labels), "rollouts": sum(o["rollouts"] for o in outcomes),

@@ -14,7 +14,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
 import agents.distill
 from agents.distill import (DistillConfig, Labels, Teachers, center_values, check_teacher_layouts, collect, fit,
-                            fit_report, holdout_mask, label_rows, load_teachers, main, mean_actions_and_values,
+                            fit_report, label_rows, load_teachers, main, mean_actions_and_values,
                             new_student, rmse_text, split_holdout, student_task, symmetric_teacher, teacher_observation,
                             teacher_weight)
 from agents.mirror import MirrorMaps
@@ -147,10 +147,10 @@ def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answe
     assert centred_chunked.model.policy.value_net.bias.item() == pytest.approx(
         centred_whole.model.policy.value_net.bias.item(), rel=1e-6)
 
-    held = holdout_mask(labels, 0.25, 0)
-    train, held_out = split_holdout(labels, 0.25, 0)
-    assert 0 < held.sum() < 40 and np.array_equal(held_out.obs, obs[held]) and len(train) == 40 - held.sum()
-    rows = np.flatnonzero(~held)
+    rows, held_out = split_holdout(labels, 0.25, 0)
+    held = np.setdiff1d(np.arange(40), rows)
+    assert 0 < len(held) < 40 and np.array_equal(held_out.obs, obs[held]) and np.array_equal(held_out.episode, held)
+    train = labels.take(rows)
     config = DistillConfig(net="16,16", epochs=3, batch_size=8, lr=1e-3)
     in_place, copied = new_student(env, default, config), new_student(env, default, config)
     center_values(in_place, labels, rows)
@@ -161,7 +161,7 @@ def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answe
     for (name, a), b in zip(in_place.model.policy.state_dict().items(), copied.model.policy.state_dict().values()):
         assert torch.equal(a, b), name
     with pytest.raises(ValueError, match=r"got bool of shape \(40,\); give np.flatnonzero\(mask\)"):
-        label_rows(labels, ~held)
+        label_rows(labels, np.isin(np.arange(40), rows))  # a mask of the training rows
     with pytest.raises(ValueError, match=r"indices must lie in \[0, 40\), got 3..40"):
         label_rows(labels, np.array([3, 40]))
     with pytest.raises(ValueError, match="no labelled state"):
