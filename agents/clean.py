@@ -70,6 +70,7 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
                                   non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
                                   positive_int, require_frames)
 from reference_motion.grounding import add_grounding_option, grounding_of
+from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
@@ -450,6 +451,7 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
+        add_leg_gap_option(p, "the policy is adapted to the take with its legs parted and re-performs it")
         add_grounding_option(p, "the policy is adapted to the grounded take and re-performs it")
         add_swing_lift_options(p, "the policy is adapted to the lifted take and re-performs it, so the simulated "
                                   "swing foot does not drag on the floor")
@@ -597,10 +599,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
     args = parser.parse_args(argv)
-    lift, grounding = swing_lift_of(args), grounding_of(args)
+    lift, grounding, legs = swing_lift_of(args), grounding_of(args), leg_gap_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        given = [flag for flag, on in (("--denoise", args.denoise), ("--ground", args.ground),
+        given = [flag for flag, on in (("--denoise", args.denoise), ("--part-legs", legs), ("--ground", args.ground),
                                        ("--swing-lift", args.swing_lift),
                                        ("--mirror-average", args.mirror_average)) if on]
         if given:
@@ -616,9 +618,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         if note:
             print(note)
         denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-        performed = prepared(reference, denoiser, grounding=grounding, lift=lift)
-        steps = [step for step, on in ((f"denoised with {args.denoise}", denoiser), ("set on the floor", grounding),
-                                       (lift.label if lift else "", lift)) if on]
+        performed = prepared(reference, denoiser, legs=legs, grounding=grounding, lift=lift)
+        steps = [step for step, on in ((f"denoised with {args.denoise}", denoiser), (legs.label if legs else "", legs),
+                                       ("set on the floor", grounding), (lift.label if lift else "", lift)) if on]
         if steps:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
             height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
@@ -656,7 +658,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
-              "grounding": asdict(grounding) if grounding else None, **extra}
+              "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
+              **extra}
     if args.json:
         write_json(args.json, result)
     return result
