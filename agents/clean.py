@@ -30,6 +30,7 @@ retries with up to ``--retries`` stochastic rollouts of it, keeping the first th
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
 a red border in the video, which shows the reference (left) and the result (right).
 ``--denoise`` first undoes an IMU take's joint-angle and height errors (:mod:`perception.imu_denoiser`),
+``--part-legs`` parts legs that the suit's hip adduction crossed (:mod:`reference_motion.leg_gap`),
 ``--ground`` then sets the take on the floor (:mod:`reference_motion.grounding`) and ``--swing-lift``
 bends its backward steps' knees more in swing (:mod:`reference_motion.swing_lift`); the policy is
 adapted to and re-performs the take so prepared (:func:`envs.preparation.prepared`).
@@ -614,7 +615,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
-        note = policy.preparation_note(args.denoise, grounding, lift)
+        note = policy.preparation_note(args.denoise, grounding, lift, legs)
         if note:
             print(note)
         denoiser = load_network(args.denoise, "denoiser") if args.denoise else None

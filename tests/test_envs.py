@@ -21,6 +21,7 @@ from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.grounding import Grounding
+from reference_motion.leg_gap import LegGap, lateral_foot_gap
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
@@ -483,6 +484,20 @@ def test_training_references_can_be_prepared_as_evaluation_prepares_takes(walk):
     same.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
     assert same.judging_track is same.current_track  # "corrupted": judged against what it tracks
     assert ArtefactMix(lift=SwingLift()).prepares(False) and not ArtefactMix(denoiser="d").prepares(False)
+
+
+def test_training_references_can_have_their_legs_parted(walk):
+    """ArtefactMix.legs: a corrupted variant whose feet cross (the suit's hip adduction) is tracked
+    with its legs parted to the gap, before it is set on the floor, and judged as given."""
+    mix = ArtefactMix(recipe=ArtefactRecipe.named("adduction"), strength=(1.0, 1.0), fraction=1.0,
+                      variants_per_clip=1, seed=5, legs=LegGap(), grounding=Grounding(), judge="given")
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    env.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    as_made, tracked = env.judging_track.motion, env.current_track.motion
+    assert np.median(lateral_foot_gap(walk.model, as_made.qpos)) < 0.0  # crossed as made
+    assert np.median(lateral_foot_gap(walk.model, tracked.qpos)) == pytest.approx(LegGap().min_gap_m, abs=0.003)
+    np.testing.assert_allclose(tracked.qpos, prepared(as_made, legs=LegGap(), grounding=Grounding()).qpos)
+    assert replace(mix, grounding=None, judge="corrupted").prepares(True)  # the legs alone prepare it
 
 
 def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_clean_hinge_angles(walk):
