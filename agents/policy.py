@@ -216,7 +216,7 @@ class MimicPolicy:
         return replace(self, sidecar=sidecar)
 
     def preparation_note(self, denoiser: str | Path | None, grounding: Grounding | None = None,
-                         lift: SwingLift | None = None, legs: LegGap | None = None) -> str | None:
+                         lift: SwingLift | None = None, *, legs: LegGap | None = None) -> str | None:
         """A warning when the policy's training references were prepared (``train_ppo.py
         --denoise``, ``--part-legs``, ``--ground``, ``--swing-lift``; :class:`~agents.sidecar.TrainingRecord`'s
         ``denoiser``, ``legs``, ``grounding`` and ``lift``) and the takes it is given now are not, or

@@ -42,6 +42,7 @@ from scipy.special import ndtri
 
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import load_model
+from reference_motion.leg_gap import HIP_ABDUCTION
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_contacts
 
@@ -297,9 +298,8 @@ def corrupt(motion: Motion, recipe: ArtefactRecipe, seed: int, scales: ArtefactS
         qpos[:, cols] += recipe.jitter * scales.jitter_rad * gate * np.sin(2 * np.pi * freq * t[:, None] + phase)
     if recipe.adduction:
         hm = load_model(motion.model)
-        # Hip x axis: positive moves the left leg outwards (+y) and the right leg inwards.
-        qpos[:, hm.qpos_index("l_thigh_x")] -= recipe.adduction * scales.adduction_rad
-        qpos[:, hm.qpos_index("r_thigh_x")] += recipe.adduction * scales.adduction_rad
+        for joint, abduction_sign in HIP_ABDUCTION:  # both legs turned toward the midline
+            qpos[:, hm.qpos_index(joint)] -= abduction_sign * recipe.adduction * scales.adduction_rad
 
     # ---- global placement of the root
     if recipe.heading:

@@ -38,6 +38,11 @@ from reference_motion.motion import Motion
 HIP_ABDUCTION = (("l_thigh_x", 1.0), ("r_thigh_x", -1.0))
 """The hip hinges that part the legs, each with the sign of its abduction (``reference_motion.artefacts``'
 adduction turns them the other way)."""
+LEG_LENGTH_M = 0.9
+"""Hip to sole (m), for the first guess only: abducting a leg by ``a`` moves its foot about
+``LEG_LENGTH_M · sin a`` sideways."""
+GAP_TOLERANCE_M = 1e-3
+"""The search stops once the median gap is this close (m) to ``LegGap.min_gap_m``."""
 
 
 @dataclass(frozen=True)
@@ -51,7 +56,9 @@ class LegGap:
             m; below the mean of the library's clean training takes (0.18 m).
         max_abduction_rad: the largest constant abduction added to each hip (0.35 rad, 20°, more than
             twice the suit's 8°), so that a take whose feet cannot be read apart is not bent away.
-        iterations: secant steps on the gap after the first guess (each one forward kinematics pass).
+        iterations: at most this many angles tried after the take as given (each one forward
+            kinematics pass): the first guess, then secant steps; fewer once the gap is within
+            :data:`GAP_TOLERANCE_M`, or the step would leave ``[0, max_abduction_rad]`` no further.
     """
 
     min_gap_m: float = 0.15
@@ -79,42 +86,56 @@ class LegGap:
 def lateral_foot_gap(model_name: str, qpos: np.ndarray) -> np.ndarray:
     """``(T,)`` the sideways gap (m) between the feet in each frame of ``qpos (T, nq)`` on the
     humanoid ``model_name``: the centre of the left foot's sole points minus the right's, along the
-    left axis of the pelvis' heading (world xy); negative where the legs cross."""
-    kin = load_model(model_name).forward_kinematics(qpos)
+    left axis of the pelvis' heading (world xy); negative where the legs cross. A ``(nq,)`` pose is one
+    frame."""
+    qpos = np.atleast_2d(np.asarray(qpos, dtype=float))
+    kin = load_model(model_name).forward_kinematics(qpos)  # raises for a qpos of another model
     left, right = (kin.foot_points[:, list(channels), :2].mean(axis=1) for channels in FOOT_CHANNELS)
-    heading = rot.yaw(np.asarray(qpos, dtype=float)[:, 3:7])
+    heading = rot.yaw(qpos[:, 3:7])
     left_axis = np.stack([-np.sin(heading), np.cos(heading)], axis=1)
     return np.sum((left - right) * left_axis, axis=1)
 
 
 def abducted(motion: Motion, angle_rad: float) -> np.ndarray:
-    """``motion``'s ``qpos (T, nq)`` with both hips abducted by ``angle_rad`` (negative: adducted)."""
+    """``motion``'s ``qpos (T, nq)`` with both hips abducted by ``angle_rad`` (negative: adducted),
+    each kept within its hinge's range (as given where ``angle_rad`` is 0)."""
     model = load_model(motion.model)
     qpos = motion.qpos.copy()
+    if angle_rad == 0.0:
+        return qpos
+    limited, ranges = model.hinge_ranges
     for joint, sign in HIP_ABDUCTION:
-        qpos[:, model.qpos_index(joint)] += sign * angle_rad
+        index = model.qpos_index(joint)
+        low, high = ranges[list(limited).index(index)]
+        qpos[:, index] = np.clip(qpos[:, index] + sign * angle_rad, low, high)
     return qpos
 
 
 def leg_abduction(motion: Motion, gap: LegGap = LegGap()) -> float:
     """The constant abduction (rad, ≥ 0, at most ``gap.max_abduction_rad``) of both hips that brings
     ``motion``'s median foot gap (:func:`lateral_foot_gap`) up to ``gap.min_gap_m``; 0 where it is
-    there already. The first guess turns each leg by the angle whose sine, over a 0.9 m leg, moves
-    its foot half the lack sideways; then secant steps."""
-    def median_gap(angle: float) -> float:
-        return float(np.median(lateral_foot_gap(motion.model, abducted(motion, angle))))
+    there already. The first guess turns each leg by the angle whose sine, over a
+    :data:`LEG_LENGTH_M` leg, moves its foot half the lack sideways; then secant steps, each kept
+    within ``[0, gap.max_abduction_rad]``. Of the angles tried, the one whose gap came closest to
+    ``gap.min_gap_m`` is returned (0 if none came closer than the take as given)."""
+    def lack_at(angle: float) -> float:
+        return gap.min_gap_m - float(np.median(lateral_foot_gap(motion.model, abducted(motion, angle))))
 
-    lack = gap.min_gap_m - median_gap(0.0)
-    if lack <= 0:
+    lacks = {0.0: lack_at(0.0)}
+    if lacks[0.0] <= 0:
         return 0.0
-    angles, lacks = [0.0, float(np.arcsin(min(1.0, lack / (2 * 0.9))))], [lack]
+    last = 0.0
+    angle = min(float(np.arcsin(min(1.0, lacks[0.0] / (2 * LEG_LENGTH_M)))), gap.max_abduction_rad)
     for _ in range(gap.iterations):
-        lacks.append(gap.min_gap_m - median_gap(angles[-1]))
-        slope = (lacks[-2] - lacks[-1]) / (angles[-1] - angles[-2]) if angles[-1] != angles[-2] else 0.0
-        if abs(lacks[-1]) < 1e-3 or slope <= 0:
+        lacks[angle] = lack_at(angle)
+        slope = (lacks[last] - lacks[angle]) / (angle - last)  # d gap / d angle
+        if abs(lacks[angle]) < GAP_TOLERANCE_M or slope <= 0:
             break
-        angles.append(angles[-1] + lacks[-1] / slope)
-    return float(np.clip(angles[-1], 0.0, gap.max_abduction_rad))
+        step = float(np.clip(angle + lacks[angle] / slope, 0.0, gap.max_abduction_rad))
+        if step in lacks:  # at a bound it has tried: it can get no nearer
+            break
+        last, angle = angle, step
+    return min(lacks, key=lambda tried: abs(lacks[tried]))
 
 
 def part_legs(motion: Motion, gap: LegGap = LegGap()) -> Motion:

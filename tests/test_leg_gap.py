@@ -83,3 +83,24 @@ def test_the_command_line_option_builds_the_leg_gap():
     assert leg_gap_of(parser.parse_args(["--part-legs", "0.2"])) == LegGap(min_gap_m=0.2)
     with pytest.raises(UsageError, match="--part-legs: expected a positive number"):
         parser.parse_args(["--part-legs", "-0.1"])
+
+
+def test_the_search_keeps_the_closest_angle_it_tried_within_its_bounds(walk):
+    crossed = corrupt(walk, ArtefactRecipe.named("adduction", 1.0), 0)
+    short = LegGap(min_gap_m=0.5, max_abduction_rad=0.05)  # the cap is reached and the gap is still short
+    assert leg_abduction(crossed, short) == pytest.approx(0.05)
+    assert _median_gap(part_legs(crossed, short)) < 0.05
+    one_try = LegGap(iterations=1)  # only the first guess: 2 × 0.9 m × sin(a) = the lack
+    lack = LegGap().min_gap_m - _median_gap(crossed)
+    assert leg_abduction(crossed, one_try) == pytest.approx(np.arcsin(lack / 1.8))
+    model = load_model(walk.model)
+    limited, ranges = model.hinge_ranges
+    high = ranges[list(limited).index(model.qpos_index("l_thigh_x")), 1]
+    assert abducted(walk, 2.0)[:, model.qpos_index("l_thigh_x")].max() == pytest.approx(high)  # within range
+    np.testing.assert_array_equal(abducted(walk, 0.0), walk.qpos)
+
+
+def test_an_angle_that_only_narrows_the_gap_is_not_taken(walk, monkeypatch):
+    import reference_motion.leg_gap as leg_gap
+    monkeypatch.setattr(leg_gap, "HIP_ABDUCTION", (("l_thigh_x", -1.0), ("r_thigh_x", 1.0)))  # signs turned over
+    assert leg_abduction(walk) == 0.0 and part_legs(walk) is walk

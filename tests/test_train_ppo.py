@@ -248,7 +248,7 @@ def test_a_run_can_track_references_prepared_as_evaluation_prepares_takes(tmp_pa
     training = policy.record.training
     assert training.grounding == asdict(Grounding()) and training.lift == asdict(SwingLift())
     assert training.legs == asdict(LegGap())
-    assert policy.preparation_note(None, Grounding(), SwingLift(), LegGap()) is None
+    assert policy.preparation_note(None, Grounding(), SwingLift(), legs=LegGap()) is None
     assert "--part-legs" in policy.preparation_note(None, Grounding(), SwingLift())
     mix = env_kwargs(run_args(run), ["deepmimic:walk"], 0.0)["artefacts"]  # clean only, yet prepared
     assert mix.fraction == 0.0 and mix.grounding == Grounding() and mix.lift == SwingLift() and mix.judge == "given"
