@@ -94,8 +94,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="what an episode is rewarded and terminated against: the reference the policy observes "
                         "(ADAPT), the clean clip a corrupted one was made from, the reference as made, before "
                         "--denoise, --part-legs, --ground and --swing-lift prepared it, as evaluate.py judges a "
-                        "take, or (clean_pose) that reference as made with the clean clip's hinge angles: the corrupted "
-                        "root path, a performable pose (envs.ArtefactMix.judge)")
+                        "take, or (clean_pose) that reference as made with the clean clip's hinge angles: the "
+                        "corrupted root path, a performable pose (envs.ArtefactMix.judge)")
     add_denoise_option(g, "every corrupted reference (training, and --eval-strength evaluation), before the "
                           "policy observes it, as clean.py --denoise does (envs.ArtefactMix.denoiser); the "
                           "--eval-strength evaluation then judges a rollout against the denoised reference it follows "
