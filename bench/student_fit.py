@@ -52,20 +52,19 @@ def main(argv: list[str] | None = None) -> dict:
     settings, labels = read_run(args.run)
     base = DistillConfig(batch_size=settings["batch_size"], lr=settings["lr"], seed=settings["seed"])
     train_rows, held = split_holdout(labels, base.holdout, base.seed)
-    train = labels.take(train_rows)
-    rng = np.random.default_rng(base.seed)
-    sample = train.take(rng.choice(len(train), min(args.train_sample, len(train)), replace=False))
+    rng = np.random.default_rng(base.seed)  # the rows drawn as from a copy of the training states
+    sample = labels.take(rng.choice(train_rows, min(args.train_sample, len(train_rows)), replace=False))
     default = load_policy(settings["teacher"])
     env = default.make_env(["deepmimic:walk"])  # the spaces only: any clip observes alike
     sigma = float(default.model.policy.log_std.detach().exp().mean())
-    print(f"{args.run}: {len(train)} training states, {len(held)} held out", flush=True)
+    print(f"{args.run}: {len(train_rows)} training states, {len(held)} held out", flush=True)
     rows = []
     for net in args.nets:
         config = replace(base, net=net, epochs=args.report_every)
         student = new_student(env, default, config)
         started, curve = time.monotonic(), []
         for done in range(args.report_every, args.epochs + 1, args.report_every):
-            fit(student, train, config, sigma, rng, progress=False)
+            fit(student, labels, config, sigma, rng, progress=False, rows=train_rows)
             point = {"epochs": done, "train_rmse": fit_report(student, sample, [])["action_rmse"],
                      "held_out_rmse": fit_report(student, held, [])["action_rmse"],
                      "wall_s": time.monotonic() - started}
@@ -74,8 +73,8 @@ def main(argv: list[str] | None = None) -> dict:
                   f"{point['held_out_rmse']:.4f} rad  ({point['wall_s']:.0f} s)", flush=True)
         rows.append({"net": net, "curve": curve})
     env.close()
-    result = {"run": str(args.run), "states": len(labels), "train_states": len(train), "held_out_states": len(held),
-              "epochs": args.epochs, "rows": rows}
+    result = {"run": str(args.run), "states": len(labels), "train_states": len(train_rows),
+              "held_out_states": len(held), "epochs": args.epochs, "rows": rows}
     emit_json(result, args.json)
     return result
 

@@ -103,11 +103,9 @@ def abducted(motion: Motion, angle_rad: float) -> np.ndarray:
     qpos = motion.qpos.copy()
     if angle_rad == 0.0:
         return qpos
-    limited, ranges = model.hinge_ranges
     for joint, sign in HIP_ABDUCTION:
         index = model.qpos_index(joint)
-        low, high = ranges[list(limited).index(index)]
-        qpos[:, index] = np.clip(qpos[:, index] + sign * angle_rad, low, high)
+        qpos[:, index] = np.clip(qpos[:, index] + sign * angle_rad, *model.hinge_range(joint))
     return qpos
 
 

@@ -144,10 +144,9 @@ def lift_swing(motion: Motion, lift: SwingLift = SwingLift()) -> Motion:
     backward = backward_weights(motion.root_pos[:, :2], rot.yaw(motion.root_quat), motion.fps,
                                 lift.backward_speed_mps, lift.backward_window_s)
     qpos = motion.qpos.copy()
-    limited, ranges = model.hinge_ranges
     for knee, columns in zip(KNEES, FOOT_CHANNELS):
         index = model.qpos_index(knee)
-        low, high = ranges[list(limited).index(index)]
+        low, high = model.hinge_range(knee)
         foot = points[:, list(columns)]
         if lift.swing_from == "height":
             swing = swing_weights(foot[..., 2].min(axis=1), lift.clearance_m, lift.smoothing_frames)

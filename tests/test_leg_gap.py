@@ -95,7 +95,8 @@ def test_the_search_keeps_the_closest_angle_it_tried_within_its_bounds(walk):
     assert leg_abduction(crossed, one_try) == pytest.approx(np.arcsin(lack / 1.8))
     model = load_model(walk.model)
     limited, ranges = model.hinge_ranges
-    high = ranges[list(limited).index(model.qpos_index("l_thigh_x")), 1]
+    low, high = model.hinge_range("l_thigh_x")
+    assert [low, high] == ranges[list(limited).index(model.qpos_index("l_thigh_x"))].tolist()
     assert abducted(walk, 2.0)[:, model.qpos_index("l_thigh_x")].max() == pytest.approx(high)  # within range
     np.testing.assert_array_equal(abducted(walk, 0.0), walk.qpos)
 

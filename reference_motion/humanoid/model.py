@@ -98,6 +98,15 @@ class HumanoidModel:
         limited = [j for j in range(1, m.njnt) if m.jnt_limited[j]]
         return m.jnt_qposadr[limited].copy(), m.jnt_range[limited].copy()
 
+    def hinge_range(self, joint: str) -> tuple[float, float]:
+        """The range ``(lower, upper)`` (rad) of the limited hinge ``joint`` (one of :attr:`hinge_ranges`)."""
+        limited, ranges = self.hinge_ranges
+        index = self.qpos_index(joint)
+        if index not in limited:
+            raise KeyError(f"model {self.name}: joint {joint!r} has no range")
+        low, high = ranges[list(limited).index(index)]
+        return float(low), float(high)
+
     def body_id(self, body: str) -> int:
         try:
             return self.model.body(body).id
