@@ -30,6 +30,8 @@ retries with up to ``--retries`` stochastic rollouts of it, keeping the first th
 are listed in the output's ``source["reanchors"]``, printed, written with ``--json`` and marked by
 a red border in the video, which shows the reference (left) and the result (right).
 ``--denoise`` first undoes an IMU take's joint-angle and height errors (:mod:`perception.imu_denoiser`),
+``--even-legs`` takes out the left-right difference of the legs that the suit's per-hinge offsets most
+likely added (:mod:`reference_motion.leg_symmetry`),
 ``--part-legs`` parts legs that the suit's hip adduction crossed (:mod:`reference_motion.leg_gap`),
 ``--ground`` then sets the take on the floor (:mod:`reference_motion.grounding`) and ``--swing-lift``
 bends its backward steps' knees more in swing (:mod:`reference_motion.swing_lift`); the policy is
@@ -72,6 +74,7 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
                                   positive_int, require_frames)
 from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
+from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
@@ -452,6 +455,7 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
+        add_leg_symmetry_option(p, "the policy is adapted to the take with its legs evened and re-performs it")
         add_leg_gap_option(p, "the policy is adapted to the take with its legs parted and re-performs it")
         add_grounding_option(p, "the policy is adapted to the grounded take and re-performs it")
         add_swing_lift_options(p, "the policy is adapted to the lifted take and re-performs it, so the simulated "
@@ -600,10 +604,11 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
     args = parser.parse_args(argv)
-    lift, grounding, legs = swing_lift_of(args), grounding_of(args), leg_gap_of(args)
+    lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        given = [flag for flag, on in (("--denoise", args.denoise), ("--part-legs", legs), ("--ground", args.ground),
+        given = [flag for flag, on in (("--denoise", args.denoise), ("--even-legs", symmetry), ("--part-legs", legs),
+                                       ("--ground", args.ground),
                                        ("--swing-lift", args.swing_lift),
                                        ("--mirror-average", args.mirror_average)) if on]
         if given:
@@ -619,8 +624,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         if note:
             print(note)
         denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-        performed = prepared(reference, denoiser, legs=legs, grounding=grounding, lift=lift)
-        steps = [step for step, on in ((f"denoised with {args.denoise}", denoiser), (legs.label if legs else "", legs),
+        performed = prepared(reference, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
+        steps = [step for step, on in ((f"denoised with {args.denoise}", denoiser),
+                                       (symmetry.label if symmetry else "", symmetry), (legs.label if legs else "", legs),
                                        ("set on the floor", grounding), (lift.label if lift else "", lift)) if on]
         if steps:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
@@ -660,7 +666,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
-              **extra}
+              "leg_symmetry": asdict(symmetry) if symmetry else None, **extra}
     if args.json:
         write_json(args.json, result)
     return result

@@ -40,6 +40,7 @@ from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, n
                                   one_line_errors, output_file, positive_float, positive_int, require_frames)
 from reference_motion.grounding import Grounding, add_grounding_option, grounding_of
 from reference_motion.leg_gap import LegGap, add_leg_gap_option, leg_gap_of
+from reference_motion.leg_symmetry import LegSymmetry, add_leg_symmetry_option, leg_symmetry_of
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
@@ -64,6 +65,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
                         "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
                         "the clip as given")
+    add_leg_symmetry_option(p, "the policy mimics the clip with its legs evened and is judged against the clip as given")
     add_leg_gap_option(p, "the policy mimics the clip with its legs parted and is judged against the clip as given")
     add_grounding_option(p, "the policy mimics the grounded clip and is judged against the clip as given")
     add_swing_lift_options(p, "the policy mimics the lifted clip and is judged against the clip as given")
@@ -101,22 +103,22 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     return out
 
 
-def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, *, legs: LegGap | None = None,
-                       grounding: Grounding | None = None,
+def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, *, symmetry: LegSymmetry | None = None,
+                       legs: LegGap | None = None, grounding: Grounding | None = None,
                        lift: SwingLift | None = None) -> tuple[list[Motion], list[Motion] | None]:
     """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
     what it tracks: ``None``), or the clips :func:`prepared`, judged against the clips as given."""
-    if denoiser is None and legs is None and grounding is None and lift is None:
+    if denoiser is None and all(step is None for step in (symmetry, legs, grounding, lift)):
         return clips, None
-    return [prepared(c, denoiser, legs=legs, grounding=grounding, lift=lift) for c in clips], clips
+    return [prepared(c, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift) for c in clips], clips
 
 
-def tracked_label(label: str, *, legs: LegGap | None = None, grounding: Grounding | None = None,
-                  lift: SwingLift | None = None) -> str:
-    """How results name an actor that tracked clips with their legs parted, grounded or
+def tracked_label(label: str, *, symmetry: LegSymmetry | None = None, legs: LegGap | None = None,
+                  grounding: Grounding | None = None, lift: SwingLift | None = None) -> str:
+    """How results name an actor that tracked clips with their legs evened or parted, grounded or
     swing-lifted (so ``bench/select_policy.py`` tells it from the same actor without them), in the
     order :func:`prepared` applies them."""
-    return " + ".join([label, *(step.label for step in (legs, grounding, lift) if step is not None)])
+    return " + ".join([label, *(step.label for step in (symmetry, legs, grounding, lift) if step is not None)])
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:
@@ -142,7 +144,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu; "
                          + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
     denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
-    lift, grounding, legs = swing_lift_of(args), grounding_of(args), leg_gap_of(args)
+    lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args),
@@ -160,21 +162,23 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        tracked, judged = tracked_and_judged(clips, denoiser, legs=legs, grounding=grounding, lift=lift)
+        tracked, judged = tracked_and_judged(clips, denoiser, symmetry=symmetry, legs=legs, grounding=grounding,
+                                             lift=lift)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), legs=legs, grounding=grounding,
-                                      lift=lift),
+    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), symmetry=symmetry, legs=legs,
+                                      grounding=grounding, lift=lift),
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
-              "clips": args.clips, "corrupt": args.corrupt, "without": args.without,
+              "leg_symmetry": asdict(symmetry) if symmetry else None, "clips": args.clips, "corrupt": args.corrupt, "without": args.without,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),
               "denoiser": str(args.denoise) if args.denoise else None,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
-    changes = [text for text in (f"with their {legs.label}" if legs else "", "set on the floor" if grounding else "",
+    changes = [text for text in (f"with their {symmetry.label}" if symmetry else "",
+                                 f"with their {legs.label}" if legs else "", "set on the floor" if grounding else "",
                                  f"with a {lift.label}" if lift else "") if text]
     print(f"{len(runs)} rollouts ({args.episodes} per clip) of {result['policy']} on {', '.join(args.clips)}"
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")

@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ensemble] [--part-legs [M]] [--ground]
+[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ensemble] [--even-legs] [--part-legs [M]] [--ground]
 [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
@@ -37,6 +37,7 @@ from paired_draws import paired
 from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
+from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
 from reference_motion.library import expand_clips
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
 
@@ -61,12 +62,13 @@ def main() -> None:
                                 "models/imu_denoiser_dm, kept so the README's earlier commands reproduce; "
                                 "--no-denoise for the takes as given)")
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
+    add_leg_symmetry_option(p, "every policy mimics the takes with their legs evened and is judged against them as given")
     add_leg_gap_option(p, "every policy mimics the takes with their legs parted and is judged against them as given")
     add_grounding_option(p, "every policy mimics the grounded takes and is judged against them as given")
     add_swing_lift_options(p, "every policy mimics the lifted takes and is judged against them as given")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
-    lift, grounding, legs = swing_lift_of(args), grounding_of(args), leg_gap_of(args)
+    lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     n_clips = len(expand_clips(args.clips))
     stride = n_clips if args.stride is None else args.stride
     if stride < n_clips:
@@ -86,7 +88,7 @@ def main() -> None:
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
     draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net,
-                                legs=legs, grounding=grounding, lift=lift)
+                                symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
              for seed in seeds]
     if args.ensemble:
         mean = MeanAction(policies)
@@ -98,7 +100,8 @@ def main() -> None:
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = tracked_label(actor_label(path, args.mirror_average), legs=legs, grounding=grounding, lift=lift)
+        label = tracked_label(actor_label(path, args.mirror_average), symmetry=symmetry, legs=legs, grounding=grounding,
+                              lift=lift)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
@@ -112,6 +115,7 @@ def main() -> None:
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
                "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
                "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
+               "leg_symmetry": asdict(symmetry) if symmetry else None,
                "rows": rows}, args.json)
 
 
