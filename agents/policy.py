@@ -36,6 +36,7 @@ from envs.observations import SAME_LAYOUT_FRAMES, same_layout
 if TYPE_CHECKING:
     from reference_motion.grounding import Grounding
     from reference_motion.leg_gap import LegGap
+    from reference_motion.leg_symmetry import LegSymmetry
     from reference_motion.swing_lift import SwingLift
 
 MODEL_FILE, STATS_FILE, SIDECAR_FILE = "model.zip", "model_vecnormalize.pkl", "sidecar.json"
@@ -216,12 +217,14 @@ class MimicPolicy:
         return replace(self, sidecar=sidecar)
 
     def preparation_note(self, denoiser: str | Path | None, grounding: Grounding | None = None,
-                         lift: SwingLift | None = None, *, legs: LegGap | None = None) -> str | None:
+                         lift: SwingLift | None = None, *, legs: LegGap | None = None,
+                         symmetry: LegSymmetry | None = None) -> str | None:
         """A warning when the policy's training references were prepared (``train_ppo.py
-        --denoise``, ``--part-legs``, ``--ground``, ``--swing-lift``; :class:`~agents.sidecar.TrainingRecord`'s
-        ``denoiser``, ``legs``, ``grounding`` and ``lift``) and the takes it is given now are not, or
-        otherwise: through another IMU denoiser or none (``denoiser``: a path or ``None``), with the
-        legs parted otherwise or not, set on the floor with other settings or not, lifted in
+        --denoise``, ``--even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``;
+        :class:`~agents.sidecar.TrainingRecord`'s ``denoiser``, ``leg_symmetry``, ``legs``, ``grounding``
+        and ``lift``) and the takes it is given now are not, or otherwise: through another IMU denoiser
+        or none (``denoiser``: a path or ``None``), with the legs evened otherwise or not, parted
+        otherwise or not, set on the floor with other settings or not, lifted in
         backward swing otherwise or not; else
         ``None``. Settings are compared where the sidecar records them (a field added since keeps
         its default's silence). Preparations the policy did not train on draw no note."""
@@ -230,6 +233,9 @@ class MimicPolicy:
         if trained.denoiser and not (denoiser and Path(denoiser).resolve() == recorded_path(trained.denoiser)):
             unlike.append(f"passed through the IMU denoiser {trained.denoiser}; these takes are "
                           f"{f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
+        if trained.leg_symmetry and not recorded_as(trained.leg_symmetry, symmetry):
+            unlike.append(f"with the legs evened; these takes are {'evened otherwise' if symmetry else 'not'} "
+                          f"(--even-legs)")
         if trained.legs and not recorded_as(trained.legs, legs):
             unlike.append(f"with the legs parted to {trained.legs.get('min_gap_m')} m; these takes are "
                           f"{'parted otherwise' if legs else 'not'} (--part-legs)")

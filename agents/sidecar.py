@@ -136,11 +136,13 @@ class TrainingRecord:
         judge: what the episodes were rewarded against (:attr:`envs.ArtefactMix.judge`).
         denoiser: the IMU denoiser the corrupted references passed through (:attr:`envs.ArtefactMix.denoiser`),
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
-        legs, grounding, lift: how every training reference had its legs parted, was set on the floor
-            and swing-lifted (:class:`reference_motion.leg_gap.LegGap`,
+        leg_symmetry, legs, grounding, lift: how every training reference had its legs evened and
+            parted, was set on the floor and swing-lifted
+            (:class:`reference_motion.leg_symmetry.LegSymmetry`, :class:`reference_motion.leg_gap.LegGap`,
             :class:`reference_motion.grounding.Grounding`, :class:`reference_motion.swing_lift.SwingLift`
-            as dicts; ``train_ppo.py --part-legs``, ``--ground``, ``--swing-lift``), if it was: the
-            policy expects takes prepared the same way (``evaluate.py --part-legs --ground --swing-lift``).
+            as dicts; ``train_ppo.py --even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``), if it
+            was: the policy expects takes prepared the same way (``evaluate.py --even-legs --part-legs
+            --ground --swing-lift``).
         mirror, speeds: augmentation.
         reversed_clips: the clips also trained on played backwards in time (``train_ppo.py --reverse``).
         warps: the clips also trained on at extra time-warp speeds, ``{clip: speeds}`` (``train_ppo.py --warp``).
@@ -165,6 +167,7 @@ class TrainingRecord:
     strength: tuple[float, float] = (0.5, 1.0)
     judge: str = "corrupted"
     denoiser: str | None = None
+    leg_symmetry: dict | None = None
     legs: dict | None = None
     grounding: dict | None = None
     lift: dict | None = None

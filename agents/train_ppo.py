@@ -63,6 +63,7 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
                                   non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
 from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
+from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
 from reference_motion.library import (STANCE_EXTRA_M, augmented, expand_clips, load_motion, posture_copies,
                                       stance_copies)
 from reference_motion.motion import Motion
@@ -93,15 +94,17 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--judge", choices=JUDGES, default=ArtefactMix().judge,
                    help="what an episode is rewarded and terminated against: the reference the policy observes "
                         "(ADAPT), the clean clip a corrupted one was made from, the reference as made, before "
-                        "--denoise, --part-legs, --ground and --swing-lift prepared it, as evaluate.py judges a "
-                        "take, or (clean_pose) that reference as made with the clean clip's hinge angles: the "
+                        "--denoise, --even-legs, --part-legs, --ground and --swing-lift prepared it, as evaluate.py "
+                        "judges a take, or (clean_pose) that reference as made with the clean clip's hinge angles: the "
                         "corrupted root path, a performable pose (envs.ArtefactMix.judge)")
     add_denoise_option(g, "every corrupted reference (training, and --eval-strength evaluation), before the "
                           "policy observes it, as clean.py --denoise does (envs.ArtefactMix.denoiser); the "
                           "--eval-strength evaluation then judges a rollout against the denoised reference it follows "
                           "(with --judge given against the reference as made, as evaluate.py --denoise judges the "
                           "take as given)")
-    add_leg_gap_option(g, "every training reference, clean or corrupted, after --denoise (envs.ArtefactMix.legs)")
+    add_leg_symmetry_option(g, "every training reference, clean or corrupted (envs.ArtefactMix.symmetry)")
+    add_leg_gap_option(g, "every training reference, clean or corrupted, after --denoise and --even-legs "
+                          "(envs.ArtefactMix.legs)")
     add_grounding_option(g, "every training reference, clean or corrupted, is set on the floor after --denoise "
                             "and --part-legs (envs.ArtefactMix.grounding)")
     add_swing_lift_options(g, "every training reference is lifted last (envs.ArtefactMix.lift)")
@@ -111,8 +114,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
                    help="reference tracks each env keeps in memory (~2 MB each; more than this are rebuilt on "
                         "use, which slows training). Per clip: 1, and 1 per variant; each doubles where the "
-                        "episode is judged against another track (--judge given with --denoise, --part-legs, "
-                        "--ground or --swing-lift; --judge clean_pose)")
+                        "episode is judged against another track (--judge given with --denoise, --even-legs, "
+                        "--part-legs, --ground or --swing-lift; --judge clean_pose)")
     g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
                    help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
                         "offset from the reference (envs.observations)")
@@ -265,14 +268,14 @@ def build_parser(prog: str | None = None) -> CliParser:
 def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> ArtefactMix | None:
     """The run's corrupted references (``--strength``, ``--variants-per-clip``, its variant seed,
     ``--judge``, ``--denoise``) in ``corrupted_fraction`` of the episodes, and how every reference is
-    prepared before the policy tracks it (``--part-legs``, ``--ground``, ``--swing-lift``); ``None``
-    when there is neither."""
-    legs, grounding, lift = leg_gap_of(args), grounding_of(args), swing_lift_of(args)
-    if corrupted_fraction <= 0 and legs is None and grounding is None and lift is None:
+    prepared before the policy tracks it (``--even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``);
+    ``None`` when there is neither."""
+    symmetry, legs, grounding, lift = leg_symmetry_of(args), leg_gap_of(args), grounding_of(args), swing_lift_of(args)
+    if corrupted_fraction <= 0 and all(step is None for step in (symmetry, legs, grounding, lift)):
         return None
     return ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
-                       denoiser=args.denoise, legs=legs, grounding=grounding, lift=lift)
+                       denoiser=args.denoise, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
@@ -641,13 +644,14 @@ class CheckpointAndEvaluate(BaseCallback):
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
         push, varied = pushes(args), dynamics(args)
-        legs, grounding, lift = leg_gap_of(args), grounding_of(args), swing_lift_of(args)
+        symmetry, legs, grounding, lift = leg_symmetry_of(args), leg_gap_of(args), grounding_of(args), swing_lift_of(args)
         clips = training_clips(args)
         training = TrainingRecord(
             clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
-            denoiser=repository_relative(args.denoise), legs=asdict(legs) if legs else None,
+            denoiser=repository_relative(args.denoise), leg_symmetry=asdict(symmetry) if symmetry else None,
+            legs=asdict(legs) if legs else None,
             grounding=asdict(grounding) if grounding else None, lift=asdict(lift) if lift else None,
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(clips, args.reverse),
@@ -736,8 +740,8 @@ def check_preparation(args: argparse.Namespace) -> None:
     no reference is prepared (it would judge as ``corrupted`` does)."""
     mix = artefact_mix(args, args.corrupted_fraction)  # grounding_of and swing_lift_of refuse bad options
     if args.judge == "given" and (mix is None or not mix.prepares(args.corrupted_fraction > 0)):
-        raise ValueError("--judge given judges against the reference as made, before --denoise, --part-legs, "
-                         "--ground and --swing-lift prepare it; this run prepares none (give one of them)")
+        raise ValueError("--judge given judges against the reference as made, before --denoise, --even-legs, "
+                         "--part-legs, --ground and --swing-lift prepare it; this run prepares none (give one of them)")
     if args.judge in ("clean", "clean_pose") and not args.corrupted_fraction:
         raise ValueError(f"--judge {args.judge} judges corrupted episodes against another reference; this run "
                          f"has none (give --corrupted-fraction > 0)")
@@ -840,7 +844,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes, denoiser=args.denoise,
-                                               legs=leg_gap_of(args), grounding=grounding_of(args),
+                                               symmetry=leg_symmetry_of(args), legs=leg_gap_of(args),
+                                               grounding=grounding_of(args),
                                                lift=swing_lift_of(args),
                                                judge="given" if args.judge in ("given", "clean_pose")
                                                else "corrupted")

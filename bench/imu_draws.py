@@ -79,7 +79,7 @@ def main() -> None:
         p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
     denoiser_path = None if args.no_denoise else args.denoise
     for policy in policies:
-        note = policy.preparation_note(denoiser_path, grounding, lift, legs=legs)
+        note = policy.preparation_note(denoiser_path, grounding, lift, legs=legs, symmetry=symmetry)
         if note:
             print(note)
     print(f"IMU takes pass through the denoiser {denoiser_path} first (--no-denoise: as given)" if denoiser_path

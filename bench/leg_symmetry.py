@@ -38,7 +38,8 @@ def main() -> None:
     args = p.parse_args()
     config = MimicConfig()
     fitted = np.degrees([leg_asymmetry(c) for c in reference_clips(args.fit, MODEL, config, None, 1.0, 0)])
-    prior = {h: {"mean_deg": float(m), "std_deg": float(s), "default": LIBRARY_ASYMMETRY[h]}
+    defaults = {hinge: (mean, spread) for hinge, mean, spread in LIBRARY_ASYMMETRY}
+    prior = {h: {"mean_deg": float(m), "std_deg": float(s), "default": defaults[h]}
              for h, m, s in zip(LEG_HINGES, fitted.mean(axis=0), fitted.std(axis=0))}
     print(f"clean asymmetry over {len(fitted)} takes of {' '.join(args.fit)} (degrees; default in brackets)")
     for h, row in prior.items():

@@ -19,6 +19,7 @@ from envs.observations import OBS_FRAMES
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.grounding import Grounding
 from reference_motion.leg_gap import LegGap
+from reference_motion.leg_symmetry import LegSymmetry
 from reference_motion.quality import QualityConfig
 from reference_motion.swing_lift import SwingLift
 
@@ -245,7 +246,7 @@ class ArtefactMix:
             or ``"clean"``, the clip it was corrupted from, which only training can know (the
             policy is then rewarded for performing the clean motion from the corrupted reference:
             :mod:`agents.expert_iteration`'s ``--judge clean``); or ``"given"``, the reference as made,
-            before ``denoiser``, ``legs``, ``grounding`` and ``lift`` prepared it (the corrupted variant, or
+            before ``denoiser``, ``symmetry``, ``legs``, ``grounding`` and ``lift`` prepared it (the corrupted variant, or
             in a clean episode the clip), as ``evaluate.py --denoise --part-legs --ground --swing-lift``
             judges a take.
             Or ``"clean_pose"``: the variant as made with none of its hinge errors
@@ -259,8 +260,11 @@ class ArtefactMix:
         denoiser: directory of an IMU denoiser (:mod:`perception.imu_denoiser`) that every
             corrupted variant passes through before the policy observes it, as ``clean.py
             --denoise`` passes a take; ``None`` (default): the corrupted reference as made.
+        symmetry: every reference the policy tracks, clean or corrupted, with its legs evened after
+            the denoiser (:func:`reference_motion.leg_symmetry.even_legs`, ``evaluate.py --even-legs``);
+            ``None`` (default): as made.
         legs: every reference the policy tracks, clean or corrupted, with its legs parted after the
-            denoiser where its feet pass closer than ``legs.min_gap_m``
+            denoiser and the evening where its feet pass closer than ``legs.min_gap_m``
             (:func:`reference_motion.leg_gap.part_legs`, ``evaluate.py --part-legs``); ``None``
             (default): as made.
         grounding: every reference the policy tracks, clean or corrupted, set on the floor after
@@ -268,7 +272,7 @@ class ArtefactMix:
             ``None`` (default): as made.
         lift: every reference the policy tracks with its backward steps' knees lifted in swing, last
             (:func:`reference_motion.swing_lift.lift_swing`, ``evaluate.py --swing-lift``); ``None``
-            (default): as made. The four steps are :func:`envs.preparation.prepared`'s.
+            (default): as made. The five steps are :func:`envs.preparation.prepared`'s.
     """
 
     recipe: ArtefactRecipe = field(default_factory=ArtefactRecipe.imu)
@@ -278,16 +282,17 @@ class ArtefactMix:
     seed: int | None = None
     judge: str = "corrupted"
     denoiser: str | None = None
+    symmetry: LegSymmetry | None = None
     legs: LegGap | None = None
     grounding: Grounding | None = None
     lift: SwingLift | None = None
 
     def prepares(self, corrupted: bool) -> bool:
         """Whether the reference of a corrupted (or clean) episode is prepared before the policy
-        tracks it (denoised, its legs parted, grounded or lifted), so that ``judge`` may compare with
-        another one."""
+        tracks it (denoised, its legs evened or parted, grounded or lifted), so that ``judge`` may
+        compare with another one."""
         return ((corrupted and self.denoiser is not None)
-                or any(step is not None for step in (self.legs, self.grounding, self.lift)))
+                or any(step is not None for step in (self.symmetry, self.legs, self.grounding, self.lift)))
 
     def __post_init__(self) -> None:
         lo, hi = self.strength

@@ -4,8 +4,8 @@ the floor, then with its backward steps' knees lifted in swing (each step only w
 Evaluation and cleaning prepare a take this way (``evaluate.py``, ``clean.py`` and
 ``bench/imu_draws.py`` with ``--denoise``, ``--even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``) and judge
 the simulation against the take as given; training can prepare its references the same way
-(:class:`envs.config.ArtefactMix`'s ``denoiser``, ``legs``, ``grounding`` and ``lift``), so that a policy
-learns on what it will be given (``--even-legs`` is not offered to training yet). The denoiser is imported only when one is given, so that
+(:class:`envs.config.ArtefactMix`'s ``denoiser``, ``symmetry``, ``legs``, ``grounding`` and ``lift``), so that a policy
+learns on what it will be given. The denoiser is imported only when one is given, so that
 ``import envs`` stays free of torch.
 """
 

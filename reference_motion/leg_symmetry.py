@@ -24,7 +24,7 @@ little too (by ``k``, 0.15–0.75 of the difference beyond the library's mean).
 from __future__ import annotations
 
 import argparse
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass
 
 import numpy as np
 
@@ -35,11 +35,11 @@ from reference_motion.transforms import mirror_map, mirror_twin
 LEG_HINGES = ("l_thigh_x", "l_thigh_y", "l_thigh_z", "l_shin_y", "l_foot_x", "l_foot_y", "l_foot_z")
 """The left leg's hinges; each is evened with its right twin (:func:`reference_motion.transforms.mirror_twin`)."""
 
-LIBRARY_ASYMMETRY = {  # hinge: (mean, std) of leg_asymmetry over the library's clean training takes (deg)
-    "l_thigh_x": (1.52, 3.52), "l_thigh_y": (-0.51, 3.90), "l_thigh_z": (-1.87, 9.92), "l_shin_y": (1.09, 2.49),
-    "l_foot_x": (-4.33, 3.50), "l_foot_y": (-0.53, 3.75), "l_foot_z": (-5.65, 4.50)}
-"""Mean and spread (degrees) of :func:`leg_asymmetry` over the 84 clean training takes of the motion
-library (``humanoid_1seg``, each take as evaluation loads it), reproduced by ``python
+LIBRARY_ASYMMETRY = (("l_thigh_x", 1.52, 3.52), ("l_thigh_y", -0.51, 3.90), ("l_thigh_z", -1.87, 9.92),
+                     ("l_shin_y", 1.09, 2.49), ("l_foot_x", -4.33, 3.50), ("l_foot_y", -0.53, 3.75),
+                     ("l_foot_z", -5.65, 4.50))
+"""Per left leg hinge, the mean and spread (degrees) of :func:`leg_asymmetry` over the 84 clean
+training takes of the motion library (``humanoid_1seg``, each take as evaluation loads it), reproduced by ``python
 bench/leg_symmetry.py --fit``. The feet's nonzero means are the Bandai Namco rig's: its retargeted
 feet are turned a few degrees one way on both sides."""
 
@@ -52,27 +52,30 @@ class LegSymmetry:
         suit_offset_deg: spread (degrees) of the constant error the suit adds to each hinge over a
             take: 3.1°, measured on validation's takes at strength 1 (``ArtefactScales``' 2° bias and
             the take mean of its 2° drift, 2.3° over validation's 5.3 s takes on average).
-        clean: per left leg hinge, the mean and spread (degrees) of the clean takes' asymmetry
-            (default :data:`LIBRARY_ASYMMETRY`).
+        clean: ``(hinge, mean, spread)`` per left leg hinge to even: the clean takes' asymmetry
+            (degrees; default :data:`LIBRARY_ASYMMETRY`). Hinges left out are not evened.
     """
 
     suit_offset_deg: float = 3.1
-    clean: dict[str, tuple[float, float]] = field(default_factory=lambda: dict(LIBRARY_ASYMMETRY))
+    clean: tuple[tuple[str, float, float], ...] = LIBRARY_ASYMMETRY
 
     def __post_init__(self) -> None:
         if not (np.isfinite(self.suit_offset_deg) and self.suit_offset_deg > 0):
             raise ValueError(f"LegSymmetry.suit_offset_deg must be a finite number > 0, got {self.suit_offset_deg}")
-        unknown = sorted(set(self.clean) - set(LEG_HINGES))
+        clean = tuple((str(hinge), float(mean), float(std)) for hinge, mean, std in self.clean)
+        object.__setattr__(self, "clean", clean)  # as a sidecar's lists give it back, hashable
+        unknown = sorted({hinge for hinge, _, _ in clean} - set(LEG_HINGES))
         if unknown:
             raise ValueError(f"LegSymmetry.clean: {unknown} are not left leg hinges; expected some of {LEG_HINGES}")
-        for hinge, (mean, std) in self.clean.items():
+        for hinge, mean, std in clean:
             if not (np.isfinite(mean) and np.isfinite(std) and std >= 0):
                 raise ValueError(f"LegSymmetry.clean[{hinge!r}] must be a finite (mean, std >= 0), got {(mean, std)}")
 
-    def shrinkage(self, hinge: str) -> float:
-        """The share ``k`` (0–1) of ``hinge``'s asymmetry beyond the clean mean that is the suit's."""
+    def shrinkage(self, spread_deg: float) -> float:
+        """The share ``k`` (0–1) of a hinge's asymmetry beyond the clean mean that is the suit's,
+        for clean takes whose asymmetry spreads by ``spread_deg``."""
         suit = 2.0 * self.suit_offset_deg ** 2  # the difference of two independent offsets
-        return suit / (suit + self.clean[hinge][1] ** 2)
+        return suit / (suit + spread_deg ** 2)
 
     @property
     def label(self) -> str:
@@ -98,10 +101,9 @@ def leg_asymmetry(motion: Motion, hinges: tuple[str, ...] = LEG_HINGES) -> np.nd
 def leg_corrections(motion: Motion, symmetry: LegSymmetry = LegSymmetry()) -> dict[str, float]:
     """Per left leg hinge of ``symmetry.clean``, the suit's estimated share (rad) of the take's
     asymmetry: ``k · (d − μ)`` (:meth:`LegSymmetry.shrinkage`)."""
-    hinges = tuple(symmetry.clean)
-    asymmetry = leg_asymmetry(motion, hinges)
-    return {hinge: symmetry.shrinkage(hinge) * (d - np.radians(symmetry.clean[hinge][0]))
-            for hinge, d in zip(hinges, asymmetry)}
+    asymmetry = leg_asymmetry(motion, tuple(hinge for hinge, _, _ in symmetry.clean))
+    return {hinge: symmetry.shrinkage(spread) * (d - np.radians(mean))
+            for (hinge, mean, spread), d in zip(symmetry.clean, asymmetry)}
 
 
 def even_legs(motion: Motion, symmetry: LegSymmetry = LegSymmetry()) -> Motion:

@@ -22,6 +22,7 @@ from perception.weights import shared_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.grounding import Grounding
 from reference_motion.leg_gap import LegGap, lateral_foot_gap
+from reference_motion.leg_symmetry import LegSymmetry, even_legs
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
@@ -498,6 +499,22 @@ def test_training_references_can_have_their_legs_parted(walk):
     assert np.median(lateral_foot_gap(walk.model, tracked.qpos)) == pytest.approx(LegGap().min_gap_m, abs=0.003)
     np.testing.assert_allclose(tracked.qpos, prepared(as_made, legs=LegGap(), grounding=Grounding()).qpos)
     assert replace(mix, grounding=None, judge="corrupted").prepares(True)  # the legs alone prepare it
+
+
+def test_training_references_can_have_their_legs_evened(walk):
+    """ArtefactMix.symmetry: a corrupted variant is tracked with its legs evened, then parted, and
+    the track is built once per preparation (the settings are part of the shared track's key)."""
+    mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5,
+                      symmetry=LegSymmetry(), legs=LegGap(), judge="given")
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    env.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    as_made, tracked = env.judging_track.motion, env.current_track.motion
+    np.testing.assert_allclose(tracked.qpos, prepared(as_made, symmetry=LegSymmetry(), legs=LegGap()).qpos)
+    assert tracked.source["leg_corrections_rad"] == even_legs(as_made).source["leg_corrections_rad"]
+    assert replace(mix, legs=None, judge="corrupted").prepares(True)  # the evening alone prepares it
+    other = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, symmetry=LegSymmetry(suit_offset_deg=1.0))).unwrapped
+    other.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    assert not np.allclose(other.current_track.motion.qpos, tracked.qpos)  # another setting: another track
 
 
 def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_clean_hinge_angles(walk):

@@ -3,6 +3,9 @@ the two legs' mean angles and taken out half from each leg, an offset both legs 
 suit's per-hinge offsets on DeepMimic's walk are brought nearer the clean walk, and evaluation tracks
 the evened take before it parts the legs."""
 
+import json
+from dataclasses import asdict
+
 import numpy as np
 import pytest
 
@@ -20,7 +23,7 @@ from reference_motion.transforms import mirror
 def _own_prior(walk, spread_deg):
     """A prior centred on ``walk``'s own asymmetry (so the walk reads as evened already), each
     hinge with the clean spread ``spread_deg``."""
-    return LegSymmetry(clean={h: (float(np.degrees(d)), spread_deg) for h, d in zip(LEG_HINGES, leg_asymmetry(walk))})
+    return LegSymmetry(clean=tuple((h, float(np.degrees(d)), spread_deg) for h, d in zip(LEG_HINGES, leg_asymmetry(walk))))
 
 
 def _offset(walk, offsets):
@@ -41,7 +44,7 @@ def test_a_take_and_its_mirror_image_have_opposite_asymmetries(walk):
 def test_one_legs_offset_is_taken_out_half_from_each_leg(walk):
     # the clean spread √2 × 3.1° equals the suit's for a difference: k = 1/2
     symmetry = _own_prior(walk, np.sqrt(2) * 3.1)
-    assert symmetry.shrinkage("l_shin_y") == pytest.approx(0.5)
+    assert symmetry.shrinkage(np.sqrt(2) * 3.1) == pytest.approx(0.5)
     offset = _offset(walk, {"l_shin_y": 0.04, "l_foot_x": 0.04})  # a y hinge and an x hinge (mirror flips x)
     corrections = leg_corrections(offset, symmetry)
     assert corrections["l_shin_y"] == pytest.approx(0.02) and corrections["l_foot_x"] == pytest.approx(0.02)
@@ -77,10 +80,16 @@ def test_the_suits_offsets_on_the_walk_come_nearer_the_clean_walk(walk):
     assert np.mean(evened) < 0.92 * np.mean(given)
 
 
+def test_the_settings_come_back_from_a_sidecars_lists_and_hash():
+    symmetry = LegSymmetry(suit_offset_deg=2.5)
+    again = LegSymmetry(**json.loads(json.dumps(asdict(symmetry))))
+    assert again == symmetry and hash(again) == hash(symmetry)
+
+
 def test_bad_settings_are_refused_by_name():
     for bad, match in (({"suit_offset_deg": 0.0}, "suit_offset_deg"),
-                       ({"clean": {"l_upper_arm_x": (0.0, 1.0)}}, "not left leg hinges"),
-                       ({"clean": {"l_shin_y": (0.0, float("nan"))}}, r"clean\['l_shin_y'\]")):
+                       ({"clean": (("l_upper_arm_x", 0.0, 1.0),)}, "not left leg hinges"),
+                       ({"clean": (("l_shin_y", 0.0, float("nan")),)}, r"clean\['l_shin_y'\]")):
         with pytest.raises(ValueError, match=match):
             LegSymmetry(**bad)
 

@@ -19,6 +19,7 @@ from envs.config import MimicConfig
 from reference_motion.cli import UsageError
 from reference_motion.grounding import Grounding
 from reference_motion.leg_gap import LegGap
+from reference_motion.leg_symmetry import LegSymmetry
 from reference_motion.humanoid.model import load_model
 from reference_motion.swing_lift import SwingLift
 from reference_motion.transforms import PostureRanges
@@ -236,25 +237,28 @@ def test_a_run_on_denoised_references_records_its_denoiser(tmp_path):
 
 
 def test_a_run_can_track_references_prepared_as_evaluation_prepares_takes(tmp_path):
-    """--part-legs --ground --swing-lift --judge given: every training reference has its legs parted,
+    """--even-legs --part-legs --ground --swing-lift --judge given: every training reference has its legs evened and parted,
     is set on the floor and swing-lifted before the policy tracks it, and judged against the reference as made; the sidecar
     records the preparation, so evaluation can prepare takes the same way."""
     from agents.policy import load_policy
     run = tmp_path / "prepared"
-    main(["--clips", "deepmimic:walk", "--part-legs", "--ground", "--swing-lift", "--judge", "given",
+    main(["--clips", "deepmimic:walk", "--even-legs", "--part-legs", "--ground", "--swing-lift", "--judge", "given",
           "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2", "--n-steps", "128",
           "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1", "--net", "16,16"])
     policy = load_policy(run / "best")
     training = policy.record.training
     assert training.grounding == asdict(Grounding()) and training.lift == asdict(SwingLift())
     assert training.legs == asdict(LegGap())
-    assert policy.preparation_note(None, Grounding(), SwingLift(), legs=LegGap()) is None
-    assert "--part-legs" in policy.preparation_note(None, Grounding(), SwingLift())
+    assert training.leg_symmetry == json.loads(json.dumps(asdict(LegSymmetry())))
+    assert policy.preparation_note(None, Grounding(), SwingLift(), legs=LegGap(), symmetry=LegSymmetry()) is None
+    assert "--part-legs" in policy.preparation_note(None, Grounding(), SwingLift(), symmetry=LegSymmetry())
+    assert "--even-legs" in policy.preparation_note(None, Grounding(), SwingLift(), legs=LegGap())
     mix = env_kwargs(run_args(run), ["deepmimic:walk"], 0.0)["artefacts"]  # clean only, yet prepared
     assert mix.fraction == 0.0 and mix.grounding == Grounding() and mix.lift == SwingLift() and mix.judge == "given"
-    assert mix.legs == LegGap()
+    assert mix.legs == LegGap() and mix.symmetry == LegSymmetry()
     assert mix.prepares(False) and mix.prepares(True)
-    plain = argparse.Namespace(**{**vars(run_args(run)), "part_legs": None, "ground": False, "swing_lift": None})
+    plain = argparse.Namespace(**{**vars(run_args(run)), "even_legs": False, "part_legs": None, "ground": False,
+                                  "swing_lift": None})
     assert env_kwargs(plain, ["deepmimic:walk"], 0.0)["artefacts"] is None
     with pytest.raises(SystemExit, match="--judge given judges against the reference as made.*prepares none"):
         main(["--clips", "deepmimic:walk", "--judge", "given", "--run-dir", str(tmp_path / "x")])
