@@ -6,7 +6,7 @@ An IMU suit reads every hinge with its own constant offset and slow drift
 over a 5 s take each hinge is off by a nearly constant ≈ 3°). The two legs of a walk or a run do the
 same thing half a stride apart, so over a take the mean angle of each left leg hinge is close to its
 right twin's, mirrored: over the library's 84 clean training takes the difference
-(:func:`leg_asymmetry`) has a spread of 2.5–4° for the hinges that bend the legs (against the
+(:func:`leg_asymmetry`) has a spread of 2.5–4.5° for the hinges that bend the legs (against the
 suit's √2 × 3° ≈ 4.4° for the difference of two offsets), and 10° only for the thigh's twist.
 Knowing both spreads, the suit's share of a take's difference is estimated by shrinkage (the
 posterior mean for Gaussian clean differences and offsets): ``k · (d − μ)`` with
@@ -18,7 +18,7 @@ everything else are untouched.
 This reads only the difference between the legs: the offset both legs share is as large, and stays.
 It needs no training. It assumes a take that is symmetric on average (walking, running, turning
 both ways, not limping): a take whose legs differ for real (a limp, a long turn one way) is evened a
-little too (by ``k``, 0.15–0.75 of the difference beyond the library's mean).
+little too (by ``k``, 0.16–0.76 of the difference beyond the library's mean).
 """
 
 from __future__ import annotations
