@@ -6,9 +6,9 @@ Usage: ``python bench/leg_symmetry.py [--fit library:data/library/train] [--clip
 
 ``--fit``: the mean and spread (degrees) of :func:`leg_asymmetry` over the clean takes given, side by
 side with :data:`LIBRARY_ASYMMETRY` (the defaults, fitted on the library's training split). Then, on
-the ``--clips`` corrupted at IMU strength 1 with each seed (legs parted first, as evaluation
-prepares raw takes), each leg hinge's RMS error (degrees) against the clean take, as given and
-evened, side by side.
+the ``--clips`` corrupted at IMU strength 1 with each seed, each leg hinge's RMS error (degrees)
+against the clean take with the legs parted (``--part-legs``), and evened then parted
+(``--even-legs --part-legs``, the order evaluation prepares raw takes in), side by side.
 """
 
 from __future__ import annotations
@@ -52,8 +52,7 @@ def main() -> None:
     given, evened = [], []
     for seed in args.seeds:
         for take, truth in zip(reference_clips(args.clips, MODEL, config, "imu", 1.0, seed), clean):
-            take = part_legs(take)
-            for out, motion in ((given, take), (evened, even_legs(take))):
+            for out, motion in ((given, part_legs(take)), (evened, part_legs(even_legs(take)))):
                 out.append(np.sqrt(np.mean((motion.qpos[:, columns] - truth.qpos[:, columns]) ** 2, axis=0)))
     given, evened = np.degrees(np.mean(given, axis=0)), np.degrees(np.mean(evened, axis=0))
     print(f"leg hinges' RMS error against the clean take, {len(clean)} takes x {len(args.seeds)} seeds (degrees)")

@@ -39,9 +39,12 @@ LIBRARY_ASYMMETRY = (("l_thigh_x", 1.52, 3.52), ("l_thigh_y", -0.51, 3.90), ("l_
                      ("l_shin_y", 1.09, 2.49), ("l_foot_x", -4.33, 3.50), ("l_foot_y", -0.53, 3.75),
                      ("l_foot_z", -5.65, 4.50))
 """Per left leg hinge, the mean and spread (degrees) of :func:`leg_asymmetry` over the 84 clean
-training takes of the motion library (``humanoid_1seg``, each take as evaluation loads it), reproduced by ``python
-bench/leg_symmetry.py --fit``. The feet's nonzero means are the Bandai Namco rig's: its retargeted
-feet are turned a few degrees one way on both sides."""
+training takes of the motion library (``humanoid_1seg``, each take as evaluation loads it),
+reproduced by ``python bench/leg_symmetry.py``. 75 of the 84 are Bandai Namco's, and the feet's nonzero means are that
+rig's: its retargeted feet are turned a few degrees one way on both sides (foot x and z −4.7° and
+−6.0° on its takes, −0.8° and −2.3° on CMU's, +2.0° and +2.5° on DeepMimic's clips), so a take
+from another rig has its feet evened toward Bandai Namco's turn by up to ``k`` (0.61, 0.49) of the
+difference; a prior fitted on that rig's clean takes (``LegSymmetry(clean=...)``) avoids it."""
 
 
 @dataclass(frozen=True)
@@ -51,25 +54,41 @@ class LegSymmetry:
     Attributes:
         suit_offset_deg: spread (degrees) of the constant error the suit adds to each hinge over a
             take: 3.1°, measured on validation's takes at strength 1 (``ArtefactScales``' 2° bias and
-            the take mean of its 2° drift, 2.3° over validation's 5.3 s takes on average).
+            the take mean of its 2° drift, 2.3° over validation's 5.3 s takes on average). A take with
+            smaller offsets (a better suit, a weaker corruption, a take behind the IMU denoiser, a
+            clean take) is evened more than its offsets call for.
         clean: ``(hinge, mean, spread)`` per left leg hinge to even: the clean takes' asymmetry
-            (degrees; default :data:`LIBRARY_ASYMMETRY`). Hinges left out are not evened.
+            (degrees; default :data:`LIBRARY_ASYMMETRY`), as the takes were recorded (a mirrored
+            take, ``source["mirrored"]``, is read against the mirrored mean). Hinges left out are not
+            evened.
     """
 
     suit_offset_deg: float = 3.1
     clean: tuple[tuple[str, float, float], ...] = LIBRARY_ASYMMETRY
 
     def __post_init__(self) -> None:
-        if not (np.isfinite(self.suit_offset_deg) and self.suit_offset_deg > 0):
-            raise ValueError(f"LegSymmetry.suit_offset_deg must be a finite number > 0, got {self.suit_offset_deg}")
-        clean = tuple((str(hinge), float(mean), float(std)) for hinge, mean, std in self.clean)
-        object.__setattr__(self, "clean", clean)  # as a sidecar's lists give it back, hashable
-        unknown = sorted({hinge for hinge, _, _ in clean} - set(LEG_HINGES))
-        if unknown:
-            raise ValueError(f"LegSymmetry.clean: {unknown} are not left leg hinges; expected some of {LEG_HINGES}")
-        for hinge, mean, std in clean:
-            if not (np.isfinite(mean) and np.isfinite(std) and std >= 0):
-                raise ValueError(f"LegSymmetry.clean[{hinge!r}] must be a finite (mean, std >= 0), got {(mean, std)}")
+        try:
+            offset = float(self.suit_offset_deg)
+        except (TypeError, ValueError):
+            offset = float("nan")
+        if not (np.isfinite(offset) and offset > 0):
+            raise ValueError(f"LegSymmetry.suit_offset_deg must be a finite number > 0, got {self.suit_offset_deg!r}")
+        object.__setattr__(self, "suit_offset_deg", offset)
+        clean = []
+        for entry in self.clean:
+            try:
+                hinge, mean, std = entry
+                row = (str(hinge), float(mean), float(std))
+            except (TypeError, ValueError):
+                raise ValueError(f"LegSymmetry.clean: each entry must be (hinge, mean_deg, spread_deg), got {entry!r}")
+            if row[0] not in LEG_HINGES:
+                raise ValueError(f"LegSymmetry.clean: {row[0]!r} is not a left leg hinge; expected one of {LEG_HINGES}")
+            if not (np.isfinite(row[1]) and np.isfinite(row[2]) and row[2] >= 0):
+                raise ValueError(f"LegSymmetry.clean[{row[0]!r}] must be a finite (mean, spread >= 0), got {row[1:]}")
+            if any(row[0] == other for other, _, _ in clean):
+                raise ValueError(f"LegSymmetry.clean: {row[0]!r} is given twice")
+            clean.append(row)
+        object.__setattr__(self, "clean", tuple(clean))  # as a sidecar's lists give it back, hashable
 
     def shrinkage(self, spread_deg: float) -> float:
         """The share ``k`` (0–1) of a hinge's asymmetry beyond the clean mean that is the suit's,
@@ -80,14 +99,20 @@ class LegSymmetry:
     @property
     def label(self) -> str:
         """How results name an actor that tracked evened takes (with the settings where they are
-        not the defaults)."""
-        return "legs evened" + ("" if self == LegSymmetry() else f" ({asdict(self)})")
+        not the defaults; another prior as ``clean=custom``)."""
+        default = LegSymmetry()
+        changed = ([f"suit_offset_deg={self.suit_offset_deg:g}"] if self.suit_offset_deg != default.suit_offset_deg
+                   else []) + (["clean=custom"] if self.clean != default.clean else [])
+        return "legs evened" + (f" ({', '.join(changed)})" if changed else "")
 
 
 def leg_asymmetry(motion: Motion, hinges: tuple[str, ...] = LEG_HINGES) -> np.ndarray:
     """``(len(hinges),)`` each left hinge's take mean minus its right twin's, mirrored (rad): the
     right twin's mean with its sign flipped for hinges about x or z (which the mirror turns the
     other way), so a take and its mirror image have opposite asymmetries."""
+    outside = sorted(set(hinges) - set(LEG_HINGES))
+    if outside:
+        raise ValueError(f"leg_asymmetry: {outside} are not left leg hinges; expected some of {LEG_HINGES}")
     model = load_model(motion.model)
     _, sign = mirror_map(motion.model)
     mean = motion.qpos.mean(axis=0)
@@ -100,24 +125,31 @@ def leg_asymmetry(motion: Motion, hinges: tuple[str, ...] = LEG_HINGES) -> np.nd
 
 def leg_corrections(motion: Motion, symmetry: LegSymmetry = LegSymmetry()) -> dict[str, float]:
     """Per left leg hinge of ``symmetry.clean``, the suit's estimated share (rad) of the take's
-    asymmetry: ``k · (d − μ)`` (:meth:`LegSymmetry.shrinkage`)."""
+    asymmetry: ``k · (d − μ)`` (:meth:`LegSymmetry.shrinkage`), with ``−μ`` for a mirrored take
+    (``source["mirrored"]``), so a take and its mirror image get opposite corrections."""
     asymmetry = leg_asymmetry(motion, tuple(hinge for hinge, _, _ in symmetry.clean))
-    return {hinge: symmetry.shrinkage(spread) * (d - np.radians(mean))
+    side = -1.0 if motion.source.get("mirrored", False) else 1.0
+    return {hinge: symmetry.shrinkage(spread) * (d - side * np.radians(mean))
             for (hinge, mean, spread), d in zip(symmetry.clean, asymmetry)}
 
 
 def even_legs(motion: Motion, symmetry: LegSymmetry = LegSymmetry()) -> Motion:
     """``motion`` with :func:`leg_corrections` taken out, half from each leg (the left hinge moves by
-    minus half, its right twin by half, mirrored), each kept within its hinge's range; its
-    ``source`` records the settings and the corrections (``leg_symmetry``, ``leg_corrections_rad``)."""
+    minus half, its right twin by half, mirrored), and each evened hinge kept within its hinge's
+    range at every frame (as :func:`reference_motion.leg_gap.abducted` keeps the hips): a frame the
+    move takes beyond the range stops at its end, so there the correction made is smaller than
+    recorded, and a frame the take itself has beyond the range is brought to its end. The hinges not
+    evened are as given. Its ``source`` records the settings and the corrections (``leg_symmetry``,
+    ``leg_corrections_rad``)."""
     model = load_model(motion.model)
     _, sign = mirror_map(motion.model)
     corrections = leg_corrections(motion, symmetry)
     qpos = motion.qpos.copy()
     for hinge, correction in corrections.items():
-        left, right = model.qpos_index(hinge), model.qpos_index(mirror_twin(hinge))
-        qpos[:, left] = np.clip(qpos[:, left] - correction / 2, *model.hinge_range(hinge))
-        qpos[:, right] = np.clip(qpos[:, right] + sign[left] * correction / 2, *model.hinge_range(mirror_twin(hinge)))
+        right_move = sign[model.qpos_index(hinge)] * correction / 2
+        for joint, move in ((hinge, -correction / 2), (mirror_twin(hinge), right_move)):
+            column = model.qpos_index(joint)
+            qpos[:, column] = np.clip(qpos[:, column] + move, *model.hinge_range(joint))
     return motion.with_qpos(qpos, source={**motion.source, "leg_symmetry": asdict(symmetry),
                                           "leg_corrections_rad": {h: float(c) for h, c in corrections.items()}})
 
@@ -127,7 +159,8 @@ def add_leg_symmetry_option(parser: argparse.ArgumentParser, what: str) -> None:
     parser.add_argument("--even-legs", action="store_true",
                         help="take out the part of the legs' left-right difference in mean hinge angles that an "
                              "IMU suit's per-hinge offsets most likely added (reference_motion/leg_symmetry.py; "
-                             f"after --denoise, before --part-legs): {what}")
+                             "after --denoise, before --part-legs; set for a raw take of an IMU suit at strength 1, "
+                             f"it evens takes with smaller offsets more than they need): {what}")
 
 
 def leg_symmetry_of(args: argparse.Namespace) -> LegSymmetry | None:

@@ -15,8 +15,8 @@ from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.cli import CliParser
 from reference_motion.humanoid.model import load_model
 from reference_motion.leg_gap import LegGap
-from reference_motion.leg_symmetry import (LEG_HINGES, LegSymmetry, add_leg_symmetry_option, even_legs,
-                                           leg_asymmetry, leg_corrections, leg_symmetry_of)
+from reference_motion.leg_symmetry import (LEG_HINGES, LIBRARY_ASYMMETRY, LegSymmetry, add_leg_symmetry_option,
+                                           even_legs, leg_asymmetry, leg_corrections, leg_symmetry_of)
 from reference_motion.transforms import mirror
 
 
@@ -34,11 +34,20 @@ def _offset(walk, offsets):
     return walk.with_qpos(qpos)
 
 
-def test_a_take_and_its_mirror_image_have_opposite_asymmetries(walk):
+def test_a_take_and_its_mirror_image_have_opposite_asymmetries_and_corrections(walk):
     asymmetry = leg_asymmetry(walk)
     assert asymmetry.shape == (len(LEG_HINGES),)
     np.testing.assert_allclose(leg_asymmetry(mirror(walk)), -asymmetry, atol=1e-12)
     assert np.degrees(np.abs(asymmetry)).max() < 8.0  # a walk: each leg hinge's means within a few degrees
+    # the library's prior has means far from 0 (the feet's x and z −4.3° and −5.7°): a mirrored take
+    # is read against the mirrored mean, so its corrections are the take's, mirrored
+    take = corrupt(walk, ArtefactRecipe(bias=1.0, drift=1.0), 2)
+    corrections, mirrored = leg_corrections(take), leg_corrections(mirror(take))
+    assert max(abs(c) for c in corrections.values()) > np.radians(1.0)
+    for hinge in LEG_HINGES:
+        assert mirrored[hinge] == pytest.approx(-corrections[hinge], abs=1e-12)
+    with pytest.raises(ValueError, match="not left leg hinges"):
+        leg_asymmetry(walk, ("spine_lower_x",))
 
 
 def test_one_legs_offset_is_taken_out_half_from_each_leg(walk):
@@ -87,11 +96,35 @@ def test_the_settings_come_back_from_a_sidecars_lists_and_hash():
 
 
 def test_bad_settings_are_refused_by_name():
-    for bad, match in (({"suit_offset_deg": 0.0}, "suit_offset_deg"),
-                       ({"clean": (("l_upper_arm_x", 0.0, 1.0),)}, "not left leg hinges"),
-                       ({"clean": (("l_shin_y", 0.0, float("nan")),)}, r"clean\['l_shin_y'\]")):
+    for bad, match in (({"suit_offset_deg": 0.0}, "suit_offset_deg"), ({"suit_offset_deg": "x"}, "suit_offset_deg"),
+                       ({"clean": (("l_upper_arm_x", 0.0, 1.0),)}, "'l_upper_arm_x' is not a left leg hinge"),
+                       ({"clean": (("l_shin_y", 0.0, float("nan")),)}, r"clean\['l_shin_y'\]"),
+                       ({"clean": (("l_shin_y", 0.0),)}, r"each entry must be \(hinge, mean_deg, spread_deg\)"),
+                       ({"clean": (("l_shin_y", 0.0, 1.0), ("l_shin_y", 1.0, 1.0))}, "'l_shin_y' is given twice")):
         with pytest.raises(ValueError, match=match):
             LegSymmetry(**bad)
+    assert LegSymmetry(suit_offset_deg=4).label == "legs evened (suit_offset_deg=4)"
+    assert LegSymmetry(clean=LIBRARY_ASYMMETRY[:2]).label == "legs evened (clean=custom)"
+
+
+def test_evened_hinges_stay_within_their_ranges_and_nothing_else_moves(walk):
+    model = load_model(walk.model)
+    low, high = model.hinge_range("l_shin_y")
+    qpos = walk.qpos.copy()
+    column, right = model.qpos_index("l_shin_y"), model.qpos_index("r_shin_y")
+    qpos[0, column] = low - 0.05  # the take itself beyond the range at one frame
+    qpos[1, column] = low + 0.001  # and just inside it at another
+    qpos[:, model.qpos_index("l_upper_arm_x")] = 10.0  # a hinge not evened, far beyond its range
+    take = walk.with_qpos(qpos)
+    symmetry = LegSymmetry(clean=(("l_shin_y", float(np.degrees(leg_asymmetry(take, ("l_shin_y",))[0])) - 4.0, 3.1),))
+    correction = leg_corrections(take, symmetry)["l_shin_y"]
+    assert correction > 0.01  # the left knee is moved down, toward and beyond its low end
+    evened = even_legs(take, symmetry)
+    assert evened.qpos[0, column] == low and evened.qpos[1, column] == low  # both stop at the range's end
+    np.testing.assert_allclose(evened.qpos[2:, column], np.maximum(qpos[2:, column] - correction / 2, low))
+    np.testing.assert_allclose(evened.qpos[:, right], qpos[:, right] + correction / 2)
+    others = np.setdiff1d(np.arange(model.nq), [column, right])
+    np.testing.assert_array_equal(evened.qpos[:, others], qpos[:, others])  # other hinges untouched, even out of range
 
 
 def test_evaluation_tracks_the_evened_take_before_parting_the_legs(walk):
@@ -102,7 +135,6 @@ def test_evaluation_tracks_the_evened_take_before_parting_the_legs(walk):
     np.testing.assert_array_equal(tracked[0].qpos, prepared(take, symmetry=LegSymmetry(), legs=LegGap()).qpos)
     assert tracked_label("models/x", symmetry=LegSymmetry(), legs=LegGap()) == \
         "models/x + legs evened + legs parted to 15 cm"
-    assert LegSymmetry(suit_offset_deg=4.0).label.startswith("legs evened ({'suit_offset_deg': 4.0")
 
 
 def test_the_command_line_option_builds_the_leg_symmetry():
