@@ -261,8 +261,9 @@ class ArtefactMix:
             corrupted variant passes through before the policy observes it, as ``clean.py
             --denoise`` passes a take; ``None`` (default): the corrupted reference as made.
         symmetry: every reference the policy tracks, clean or corrupted, with its legs evened after
-            the denoiser (:func:`reference_motion.leg_symmetry.even_legs`, ``evaluate.py --even-legs``);
-            ``None`` (default): as made.
+            the denoiser (:func:`reference_motion.leg_symmetry.even_legs`, ``evaluate.py --even-legs``),
+            as evaluation evens every take: set for a raw take at strength 1, it evens clean episodes
+            and weaker variants more than their offsets call for; ``None`` (default): as made.
         legs: every reference the policy tracks, clean or corrupted, with its legs parted after the
             denoiser and the evening where its feet pass closer than ``legs.min_gap_m``
             (:func:`reference_motion.leg_gap.part_legs`, ``evaluate.py --part-legs``); ``None``
