@@ -14,6 +14,7 @@ from agents.train_ppo import main as train
 from envs.config import MimicConfig
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
+from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.bvh import load as load_bvh
 from reference_motion.motion import Motion
 
@@ -139,6 +140,27 @@ def test_clean_can_set_the_take_on_the_floor_first(policy_dir, tmp_path, walk):
     assert not np.allclose(Motion.load(tmp_path / "plain.npz").qpos, Motion.load(tmp_path / "grounded.npz").qpos)
     with pytest.raises(SystemExit):
         clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--ground"])
+
+
+def test_evaluate_and_clean_can_even_the_legs_first(policy_dir, tmp_path, walk):
+    """--even-legs: the JSON names the actor that mimics the take with its legs evened and records
+    the settings (that it is judged against the take as given: tests/test_leg_symmetry.py); clean.py
+    prepares the take the same way, and refuses it with diffpd."""
+    from dataclasses import asdict
+
+    from reference_motion.leg_symmetry import LegSymmetry
+    imu = ["--clips", "deepmimic:walk", "--episodes", "2", "--corrupt", "imu", "--seed", "1000"]
+    plain = evaluate.main(["--policy", str(policy_dir), *imu])
+    evened = evaluate.main(["--policy", str(policy_dir), *imu, "--even-legs"])
+    assert plain["leg_symmetry"] is None and evened["leg_symmetry"] == asdict(LegSymmetry())
+    assert evened["policy"] == f"{policy_dir} + legs evened"
+    assert evened["rollouts"] == plain["rollouts"] == 2
+    take = corrupt(walk, ArtefactRecipe.imu(1.0), 1000).save(tmp_path / "imu.npz")
+    args = [str(take), "--policy", str(policy_dir), "--no-adapt", "--search", "off"]
+    cleaned = clean.main(args + ["--out", str(tmp_path / "evened.npz"), "--even-legs"])
+    assert cleaned["leg_symmetry"] == asdict(LegSymmetry())
+    with pytest.raises(SystemExit):
+        clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--even-legs"])
 
 
 def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
