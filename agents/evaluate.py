@@ -32,7 +32,8 @@ from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
 from envs.preparation import prepared
-from perception.imu_denoiser import DEFAULT_DENOISER, IMUDenoiser
+from perception.imu_denoiser import (DEFAULT_DENOISER, IMUDenoiser, SlowCorrections, add_slow_corrections_option,
+                                     slowed)
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
@@ -65,6 +66,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
                         "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
                         "the clip as given")
+    add_slow_corrections_option(p)
     add_leg_symmetry_option(p, "the policy mimics the clip with its legs evened and is judged against the clip as given")
     add_leg_gap_option(p, "the policy mimics the clip with its legs parted and is judged against the clip as given")
     add_grounding_option(p, "the policy mimics the grounded clip and is judged against the clip as given")
@@ -113,12 +115,14 @@ def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, *, sym
     return [prepared(c, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift) for c in clips], clips
 
 
-def tracked_label(label: str, *, symmetry: LegSymmetry | None = None, legs: LegGap | None = None,
-                  grounding: Grounding | None = None, lift: SwingLift | None = None) -> str:
-    """How results name an actor that tracked clips with their legs evened or parted, grounded or
-    swing-lifted (so ``bench/select_policy.py`` tells it from the same actor without them), in the
-    order :func:`prepared` applies them."""
-    return " + ".join([label, *(step.label for step in (symmetry, legs, grounding, lift) if step is not None)])
+def tracked_label(label: str, *, slow: SlowCorrections | None = None, symmetry: LegSymmetry | None = None,
+                  legs: LegGap | None = None, grounding: Grounding | None = None, lift: SwingLift | None = None) -> str:
+    """How results name an actor that tracked clips behind a denoiser's slow corrections, with their
+    legs evened or parted, grounded or swing-lifted (so ``bench/select_policy.py`` tells it from the
+    same actor without them), in the order :func:`prepared` applies them. A denoiser used as it is
+    is not named (its path is a field of the results)."""
+    steps = (slow, symmetry, legs, grounding, lift)
+    return " + ".join([label, *(step.label for step in steps if step is not None)])
 
 
 def artefact_table(runs: list) -> dict[str, dict[str, float]]:
@@ -143,7 +147,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     if args.without and args.corrupt != "imu":
         raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu; "
                          + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
-    denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
+    denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
+    slow = denoiser if isinstance(denoiser, SlowCorrections) else None
     lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
@@ -167,15 +172,15 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), symmetry=symmetry, legs=legs,
-                                      grounding=grounding, lift=lift),
+    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), slow=slow, symmetry=symmetry,
+                                      legs=legs, grounding=grounding, lift=lift),
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
               "leg_symmetry": asdict(symmetry) if symmetry else None, "clips": args.clips, "corrupt": args.corrupt,
               "without": args.without,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),
-              "denoiser": str(args.denoise) if args.denoise else None,
+              "denoiser": str(args.denoise) if args.denoise else None, "denoise_slow_s": args.denoise_slow,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
     changes = [text for text in (f"with their {symmetry.label}" if symmetry else "",
@@ -185,6 +190,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
           + (f" without {', '.join(args.without)}" if args.without else "")
           + (f", denoised by {args.denoise}" if args.denoise else "")
+          + (f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if slow else "")
           + (f", tracking takes {' and '.join(changes)}" if changes else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "

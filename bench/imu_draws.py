@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm | --no-denoise] [--mirror-average] [--ensemble] [--even-legs] [--part-legs [M]] [--ground]
+[--denoise models/imu_denoiser_dm [--denoise-slow [S]] | --no-denoise] [--mirror-average] [--ensemble] [--even-legs] [--part-legs [M]] [--ground]
 [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
@@ -34,6 +34,7 @@ from envs.config import FOOT_MODELS, MimicConfig
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
 from json_report import emit_json
 from paired_draws import paired
+from perception.imu_denoiser import SlowCorrections, add_slow_corrections_option, slowed
 from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
@@ -62,6 +63,7 @@ def main() -> None:
                                 "models/imu_denoiser_dm, kept so the README's earlier commands reproduce; "
                                 "--no-denoise for the takes as given)")
     denoising.add_argument("--no-denoise", action="store_true", help="track the IMU takes as given")
+    add_slow_corrections_option(p)
     add_leg_symmetry_option(p, "every policy mimics the takes with their legs evened and is judged against them as given")
     add_leg_gap_option(p, "every policy mimics the takes with their legs parted and is judged against them as given")
     add_grounding_option(p, "every policy mimics the grounded takes and is judged against them as given")
@@ -78,13 +80,17 @@ def main() -> None:
     if len(feet) > 1:
         p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
     denoiser_path = None if args.no_denoise else args.denoise
+    if args.denoise_slow is not None and denoiser_path is None:
+        p.error(f"--denoise-slow {args.denoise_slow:g} slows the denoiser's corrections: drop --no-denoise")
     for policy in policies:
         note = policy.preparation_note(denoiser_path, grounding, lift, legs=legs, symmetry=symmetry)
         if note:
             print(note)
-    print(f"IMU takes pass through the denoiser {denoiser_path} first (--no-denoise: as given)" if denoiser_path
+    slowly = f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow is not None else ""
+    print(f"IMU takes pass through the denoiser {denoiser_path}{slowly} first (--no-denoise: as given)" if denoiser_path
           else "IMU takes are tracked as given (--no-denoise)", flush=True)
-    net = load_network(denoiser_path, "denoiser") if denoiser_path else None
+    net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
+    slow = net if isinstance(net, SlowCorrections) else None
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
     draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net,
@@ -100,8 +106,8 @@ def main() -> None:
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = tracked_label(actor_label(path, args.mirror_average), symmetry=symmetry, legs=legs, grounding=grounding,
-                              lift=lift)
+        label = tracked_label(actor_label(path, args.mirror_average), slow=slow, symmetry=symmetry, legs=legs,
+                              grounding=grounding, lift=lift)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
@@ -113,6 +119,7 @@ def main() -> None:
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
+               "denoise_slow_s": args.denoise_slow,
                "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
                "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
                "leg_symmetry": asdict(symmetry) if symmetry else None,

@@ -190,8 +190,64 @@ def denoiser_network(**config) -> nn.Module:
     return DenoiserEnsemble(**config) if "members" in config else IMUDenoiser(**config)
 
 
+class SlowCorrections(nn.Module):
+    """An IMU denoiser's corrections kept only where they are slow: its corrections of the hinge
+    angles smoothed by a Gaussian of ``smooth_s`` seconds (the ends held), its correction of the
+    pelvis height dropped. Reads and returns what the denoiser does, ``(B, T, n_hinge + 1)``.
+
+    What it is for: a policy trained on raw IMU takes (``mimic_general_legs``) copes with the suit's
+    noise and jitter, but not with its slow hinge drift, which the take alone cannot show and the
+    denoiser reads (README, round 23); the height is left to ``--ground``.
+    """
+
+    def __init__(self, denoiser: IMUDenoiser | DenoiserEnsemble, smooth_s: float):
+        super().__init__()
+        if not (np.isfinite(smooth_s) and smooth_s > 0):
+            raise ValueError(f"SlowCorrections.smooth_s must be a finite number of seconds > 0, got {smooth_s}")
+        self.denoiser, self.smooth_s = denoiser, float(smooth_s)
+        self.model, self.fps = denoiser.model, denoiser.fps
+        sigma = self.smooth_s * self.fps
+        self.radius = int(4.0 * sigma + 0.5)  # scipy's gaussian_filter1d truncates there too
+        taps = torch.arange(-self.radius, self.radius + 1, dtype=torch.float32)
+        kernel = torch.exp(-0.5 * (taps / sigma) ** 2)
+        self.register_buffer("kernel", kernel / kernel.sum(), persistent=False)
+
+    @property
+    def label(self) -> str:
+        """How results name what a policy tracks behind it."""
+        return f"denoiser's hinge corrections slowed to {self.smooth_s:g} s"
+
+    def forward(self, features: torch.Tensor) -> torch.Tensor:
+        correction = self.denoiser(features)
+        hinges = correction[..., :-1].transpose(1, 2)  # (B, n_hinge, T)
+        n = hinges.shape[1]
+        padded = nn.functional.pad(hinges, (self.radius, self.radius), mode="replicate")
+        slow = nn.functional.conv1d(padded, self.kernel.to(hinges.dtype).expand(n, 1, -1), groups=n)
+        return torch.cat([slow.transpose(1, 2), torch.zeros_like(correction[..., -1:])], dim=-1)
+
+
+def add_slow_corrections_option(parser: argparse.ArgumentParser) -> None:
+    """``--denoise-slow [S]`` (read back by :func:`slowed`)."""
+    parser.add_argument("--denoise-slow", type=float, nargs="?", const=0.5, default=None, metavar="S",
+                        help="with --denoise: keep only the slow part of the denoiser's corrections of the hinge "
+                             "angles (a Gaussian of S seconds, default 0.5) and none of its pelvis height, so a "
+                             "policy trained on raw IMU takes gets their drift read and their noise as it knows it "
+                             "(perception/imu_denoiser.py SlowCorrections)")
+
+
+def slowed(net: IMUDenoiser | DenoiserEnsemble | None, smooth_s: float | None,
+           ) -> IMUDenoiser | DenoiserEnsemble | SlowCorrections | None:
+    """``net`` as :func:`add_slow_corrections_option` asks for it: itself without ``smooth_s``,
+    :class:`SlowCorrections` of it with; a clear error for ``smooth_s`` without a denoiser."""
+    if smooth_s is None:
+        return net
+    if net is None:
+        raise ValueError(f"--denoise-slow {smooth_s:g} slows a denoiser's corrections: give --denoise too")
+    return SlowCorrections(net, smooth_s)
+
+
 @torch.no_grad()
-def denoise(net: IMUDenoiser | DenoiserEnsemble, motion: Motion) -> Motion:
+def denoise(net: IMUDenoiser | DenoiserEnsemble | SlowCorrections, motion: Motion) -> Motion:
     """``motion`` with ``net``'s corrections added to its hinge angles and pelvis height; its
     ``source`` records ``denoised: True``. A clear ``ValueError`` when the motion is for another
     humanoid or at another frame rate than the network."""
