@@ -64,7 +64,7 @@ from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded
 from agents.search import SearchConfig, search
 from envs.config import FOOT_MODELS
 from envs.preparation import prepared
-from perception.imu_denoiser import DEFAULT_DENOISER
+from perception.imu_denoiser import DEFAULT_DENOISER, add_slow_corrections_option, slowed
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
@@ -455,6 +455,7 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/imu_denoiser_soles_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
+        add_slow_corrections_option(p)
         add_leg_symmetry_option(p, "the policy is adapted to the take with its legs evened and re-performs it")
         add_leg_gap_option(p, "the policy is adapted to the take with its legs parted and re-performs it")
         add_grounding_option(p, "the policy is adapted to the grounded take and re-performs it")
@@ -607,7 +608,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
-        given = [flag for flag, on in (("--denoise", args.denoise), ("--even-legs", symmetry), ("--part-legs", legs),
+        given = [flag for flag, on in (("--denoise", args.denoise), ("--denoise-slow", args.denoise_slow),
+                                       ("--even-legs", symmetry), ("--part-legs", legs),
                                        ("--ground", args.ground),
                                        ("--swing-lift", args.swing_lift),
                                        ("--mirror-average", args.mirror_average)) if on]
@@ -623,9 +625,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry)
         if note:
             print(note)
-        denoiser = load_network(args.denoise, "denoiser") if args.denoise else None
+        denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
         performed = prepared(reference, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
-        steps = [step for step, on in ((f"denoised with {args.denoise}", denoiser),
+        slowly = f" (hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow is not None else ""
+        steps = [step for step, on in ((f"denoised with {args.denoise}{slowly}", denoiser),
                                        (symmetry.label if symmetry else "", symmetry), (legs.label if legs else "", legs),
                                        ("set on the floor", grounding), (lift.label if lift else "", lift)) if on]
         if steps:
@@ -664,6 +667,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
+              "denoise_slow_s": args.denoise_slow if args.method == "ppo" else None,
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
               "leg_symmetry": asdict(symmetry) if symmetry else None, **extra}

@@ -287,3 +287,34 @@ def test_features_of_the_mirror_image_are_the_features_mirrored(walk):
     np.testing.assert_array_equal(features[:, perm][:, perm] * sign[perm] * sign, features)
     assert len(out_perm) == len(IMUDenoiser().output_names) and out_perm[-1] == len(out_perm) - 1  # height stays
     assert np.abs(features[:, perm] * sign - features).max() > 0.1  # a turning walk is not its own mirror image
+
+
+def test_slow_corrections_keep_the_slow_part_of_the_hinge_corrections_and_no_height(walk):
+    """SlowCorrections (--denoise-slow): the shipped denoiser's hinge corrections smoothed by a
+    Gaussian of smooth_s (as scipy's gaussian_filter1d with its ends held), the pelvis height as
+    given; a constant correction passes unchanged; bad settings are refused by name."""
+    from scipy.ndimage import gaussian_filter1d
+
+    from perception.imu_denoiser import SlowCorrections, slowed
+    net = load_network(DEFAULT_DENOISER, "denoiser")
+    take = corrupt(walk, ArtefactRecipe.imu(1.0), 7)
+    full = denoise(net, take).qpos - take.qpos
+    slow = denoise(SlowCorrections(net, 0.5), take).qpos - take.qpos
+    np.testing.assert_allclose(slow[:, 7:], gaussian_filter1d(full[:, 7:], 0.5 * take.fps, axis=0, mode="nearest"),
+                               atol=1e-5)
+    assert np.abs(slow[:, :7]).max() == 0.0  # root, height included, as given
+    assert np.abs(np.diff(slow[:, 7:], axis=0)).max() < 0.2 * np.abs(np.diff(full[:, 7:], axis=0)).max()
+
+    class Constant(torch.nn.Module):  # corrects every hinge by 0.1 rad, the height by 0.1 m
+        model, fps = net.model, net.fps
+
+        def forward(self, features):
+            return torch.full((*features.shape[:2], len(load_model(walk.model).hinge_names) + 1), 0.1)
+
+    steady = denoise(SlowCorrections(Constant(), 1.0), take).qpos - take.qpos
+    np.testing.assert_allclose(steady[:, 7:], 0.1, atol=1e-6)
+    assert slowed(net, None) is net and SlowCorrections(net, 0.5).label == "denoiser's hinge corrections slowed to 0.5 s"
+    with pytest.raises(ValueError, match="SlowCorrections.smooth_s"):
+        SlowCorrections(net, 0.0)
+    with pytest.raises(ValueError, match="--denoise-slow 0.5 slows a denoiser's corrections: give --denoise too"):
+        slowed(None, 0.5)
