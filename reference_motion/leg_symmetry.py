@@ -40,11 +40,12 @@ LIBRARY_ASYMMETRY = (("l_thigh_x", 1.52, 3.52), ("l_thigh_y", -0.51, 3.90), ("l_
                      ("l_foot_z", -5.65, 4.50))
 """Per left leg hinge, the mean and spread (degrees) of :func:`leg_asymmetry` over the 84 clean
 training takes of the motion library (``humanoid_1seg``, each take as evaluation loads it),
-reproduced by ``python bench/leg_symmetry.py``. 75 of the 84 are Bandai Namco's, and the feet's nonzero means are that
-rig's: its retargeted feet are turned a few degrees one way on both sides (foot x and z −4.7° and
-−6.0° on its takes, −0.8° and −2.3° on CMU's, +2.0° and +2.5° on DeepMimic's clips), so a take
-from another rig has its feet evened toward Bandai Namco's turn by up to ``k`` (0.61, 0.49) of the
-difference; a prior fitted on that rig's clean takes (``LegSymmetry(clean=...)``) avoids it."""
+reproduced by ``python bench/leg_symmetry.py``. 75 of the 84 are Bandai Namco's, and the feet's
+nonzero means are that rig's: its retargeted feet are turned a few degrees one way on both sides
+(foot x and z −4.7° and −6.0° on its takes, −0.8° and −2.3° on CMU's, +2.0° and +2.5° on
+DeepMimic's clips), so a take from another rig has its feet evened toward Bandai Namco's turn by up
+to ``k`` (0.61, 0.49) of the difference; a prior fitted on that rig's clean takes
+(``LegSymmetry(clean=...)``) avoids it."""
 
 
 @dataclass(frozen=True)
