@@ -197,7 +197,9 @@ class SlowCorrections(nn.Module):
 
     What it is for: a policy trained on raw IMU takes (``mimic_general_legs``) copes with the suit's
     noise and jitter, but not with its slow hinge drift, which the take alone cannot show and the
-    denoiser reads (README, round 23); the height is left to ``--ground``.
+    denoiser reads (README, round 23); the height is left to ``--ground``. On validation's IMU takes
+    the smoothing itself matters little (0 to 2 s: ELR 0.965–0.970 behind it, 0.942 without the
+    denoiser); 0.5 s drops the frame-to-frame corrections that the raw policy does not need.
     """
 
     def __init__(self, denoiser: IMUDenoiser | DenoiserEnsemble, smooth_s: float):
