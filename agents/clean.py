@@ -605,6 +605,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
     args = parser.parse_args(argv)
+    if args.method == "ppo" and args.denoise_slow is not None and not args.denoise:
+        parser.error(f"--denoise-slow {args.denoise_slow:g} slows a denoiser's corrections: give --denoise too")
     lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
@@ -627,7 +629,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             print(note)
         denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
         performed = prepared(reference, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
-        slowly = f" (hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow is not None else ""
+        slowly = f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow else ""
         steps = [step for step, on in ((f"denoised with {args.denoise}{slowly}", denoiser),
                                        (symmetry.label if symmetry else "", symmetry), (legs.label if legs else "", legs),
                                        ("set on the floor", grounding), (lift.label if lift else "", lift)) if on]

@@ -32,8 +32,8 @@ from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
 from envs.preparation import prepared
-from perception.imu_denoiser import (DEFAULT_DENOISER, IMUDenoiser, SlowCorrections, add_slow_corrections_option,
-                                     slowed)
+from perception.imu_denoiser import (DEFAULT_DENOISER, DenoiserEnsemble, IMUDenoiser, SlowCorrections,
+                                     add_slow_corrections_option, slowed)
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
@@ -105,8 +105,9 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     return out
 
 
-def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | None, *, symmetry: LegSymmetry | None = None,
-                       legs: LegGap | None = None, grounding: Grounding | None = None,
+def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | DenoiserEnsemble | SlowCorrections | None, *,
+                       symmetry: LegSymmetry | None = None, legs: LegGap | None = None,
+                       grounding: Grounding | None = None,
                        lift: SwingLift | None = None) -> tuple[list[Motion], list[Motion] | None]:
     """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
     what it tracks: ``None``), or the clips :func:`prepared`, judged against the clips as given."""

@@ -2,8 +2,11 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise models/imu_denoiser_dm [--denoise-slow [S]] | --no-denoise] [--mirror-average] [--ensemble] [--even-legs] [--part-legs [M]] [--ground]
-[--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
+[--denoise DIR [--denoise-slow [S]] | --no-denoise] [--mirror-average] [--ensemble] [--even-legs]
+[--part-legs [M]] [--ground] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
+
+``--denoise-slow`` slows the corrections of the denoiser that ``--denoise`` names, which here defaults to
+``models/imu_denoiser_dm``, not validation's choice: name the denoiser with it.
 
 Validation's IMU rows (``evaluate.py --corrupt imu --seed 9100`` and ``9200``) corrupt each take
 once per seed and roll that one corrupted reference out 20 times, so a take the policy falls on in

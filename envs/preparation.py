@@ -20,10 +20,12 @@ from reference_motion.motion import Motion
 from reference_motion.swing_lift import SwingLift, lift_swing
 
 if TYPE_CHECKING:  # torch only where a denoiser is given
-    from perception.imu_denoiser import IMUDenoiser
+    from perception.imu_denoiser import DenoiserEnsemble, IMUDenoiser, SlowCorrections
+
+    Denoiser = IMUDenoiser | DenoiserEnsemble | SlowCorrections
 
 
-def prepared(take: Motion, denoiser: IMUDenoiser | None = None, *, symmetry: LegSymmetry | None = None,
+def prepared(take: Motion, denoiser: Denoiser | None = None, *, symmetry: LegSymmetry | None = None,
              legs: LegGap | None = None, grounding: Grounding | None = None, lift: SwingLift | None = None) -> Motion:
     """What a policy tracks of ``take``: the take after ``denoiser`` (``--denoise``), then with its
     legs evened (``symmetry``, ``--even-legs``), then parted (``legs``, ``--part-legs``), then set on

@@ -30,6 +30,7 @@ import torch
 from torch import nn
 
 from reference_motion import rotations as rot
+from reference_motion.cli import positive_float
 from reference_motion.humanoid.model import CONTACT_CHANNELS, load_model
 from reference_motion.motion import Motion
 from reference_motion.transforms import mirror_map, mirror_twin
@@ -198,8 +199,9 @@ class SlowCorrections(nn.Module):
     What it is for: a policy trained on raw IMU takes (``mimic_general_legs``) copes with the suit's
     noise and jitter, but not with its slow hinge drift, which the take alone cannot show and the
     denoiser reads (README, round 23); the height is left to ``--ground``. On validation's IMU takes
-    the smoothing itself matters little (0 to 2 s: ELR 0.965–0.970 behind it, 0.942 without the
-    denoiser); 0.5 s drops the frame-to-frame corrections that the raw policy does not need.
+    the smoothing itself matters little (0.25 to 2 s, and the unsmoothed hinge corrections of
+    ``runs/r23/slowden_probe.py``: ELR 0.965–0.970 behind it, 0.942 without the denoiser); 0.5 s
+    drops the frame-to-frame corrections that the raw policy does not need.
     """
 
     def __init__(self, denoiser: IMUDenoiser | DenoiserEnsemble, smooth_s: float):
@@ -210,7 +212,7 @@ class SlowCorrections(nn.Module):
         self.model, self.fps = denoiser.model, denoiser.fps
         sigma = self.smooth_s * self.fps
         self.radius = int(4.0 * sigma + 0.5)  # scipy's gaussian_filter1d truncates there too
-        taps = torch.arange(-self.radius, self.radius + 1, dtype=torch.float32)
+        taps = torch.arange(-self.radius, self.radius + 1, dtype=torch.float64)
         kernel = torch.exp(-0.5 * (taps / sigma) ** 2)
         self.register_buffer("kernel", kernel / kernel.sum(), persistent=False)
 
@@ -224,14 +226,14 @@ class SlowCorrections(nn.Module):
         hinges = correction[..., :-1].transpose(1, 2)  # (B, n_hinge, T)
         n = hinges.shape[1]
         padded = nn.functional.pad(hinges, (self.radius, self.radius), mode="replicate")
-        slow = nn.functional.conv1d(padded, self.kernel.to(hinges.dtype).expand(n, 1, -1), groups=n)
+        slow = nn.functional.conv1d(padded, self.kernel.to(hinges).expand(n, 1, -1), groups=n)
         return torch.cat([slow.transpose(1, 2), torch.zeros_like(correction[..., -1:])], dim=-1)
 
 
 def add_slow_corrections_option(parser: argparse.ArgumentParser) -> None:
     """``--denoise-slow [S]`` (read back by :func:`slowed`)."""
-    parser.add_argument("--denoise-slow", type=float, nargs="?", const=0.5, default=None, metavar="S",
-                        help="with --denoise: keep only the slow part of the denoiser's corrections of the hinge "
+    parser.add_argument("--denoise-slow", type=positive_float, nargs="?", const=0.5, default=None, metavar="S",
+                        help="with --denoise DIR: keep only the slow part of the denoiser's corrections of the hinge "
                              "angles (a Gaussian of S seconds, default 0.5) and none of its pelvis height, so a "
                              "policy trained on raw IMU takes gets their drift read and their noise as it knows it "
                              "(perception/imu_denoiser.py SlowCorrections)")

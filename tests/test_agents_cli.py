@@ -163,6 +163,16 @@ def test_evaluate_and_clean_can_even_the_legs_first(policy_dir, tmp_path, walk):
         clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--even-legs"])
 
 
+def test_slowed_corrections_are_refused_without_a_denoiser_or_a_positive_time(walk, tmp_path):
+    take = str(walk.save(tmp_path / "walk.npz"))
+    with pytest.raises(SystemExit, match="--denoise-slow: expected a positive number"):
+        evaluate.main(["--policy", "models/mimic_walk", "--clips", "deepmimic:walk", "--denoise-slow", "-1"])
+    with pytest.raises(SystemExit, match="--denoise-slow 0.5 slows a denoiser's corrections: give --denoise too"):
+        evaluate.main(["--policy", "models/mimic_walk", "--clips", "deepmimic:walk", "--denoise-slow"])
+    with pytest.raises(SystemExit, match="--denoise-slow 0.5 slows a denoiser's corrections: give --denoise too"):
+        clean.main([take, "--policy", "models/mimic_walk", "--out", str(tmp_path / "c.npz"), "--denoise-slow"])
+
+
 def test_the_symmetric_actor_evaluates_and_cleans(policy_dir, tmp_path):
     """--mirror-average: evaluate.py names the actor and scores it otherwise than the policy as it is;
     clean.py re-performs with it (a different simulation) and records it; with diffpd it is refused.

@@ -313,6 +313,22 @@ def test_slow_corrections_keep_the_slow_part_of_the_hinge_corrections_and_no_hei
 
     steady = denoise(SlowCorrections(Constant(), 1.0), take).qpos - take.qpos
     np.testing.assert_allclose(steady[:, 7:], 0.1, atol=1e-6)
+    class Recorded(torch.nn.Module):  # corrections given in advance: a long batch of two takes
+        model, fps = net.model, net.fps
+
+        def __init__(self, corrections):
+            super().__init__()
+            self.corrections = corrections
+
+        def forward(self, features):
+            return self.corrections
+
+    long = torch.from_numpy(np.random.default_rng(0).standard_normal((2, 500, 5)))
+    smoothed = SlowCorrections(Recorded(long), 0.5)(torch.zeros(2, 500, 1))
+    assert smoothed.dtype == long.dtype and smoothed.shape == long.shape
+    np.testing.assert_allclose(smoothed[..., :-1].numpy(),
+                               gaussian_filter1d(long[..., :-1].numpy(), 0.5 * net.fps, axis=1, mode="nearest"),
+                               atol=1e-12)
     assert slowed(net, None) is net and SlowCorrections(net, 0.5).label == "denoiser's hinge corrections slowed to 0.5 s"
     with pytest.raises(ValueError, match="SlowCorrections.smooth_s"):
         SlowCorrections(net, 0.0)
