@@ -624,7 +624,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
-        note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry)
+        note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry,
+                                       denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
         denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)

@@ -155,7 +155,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args),
             args.without)):
-        note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry)
+        note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry,
+                                       denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
         if args.obs_frame:

@@ -218,12 +218,13 @@ class MimicPolicy:
 
     def preparation_note(self, denoiser: str | Path | None, grounding: Grounding | None = None,
                          lift: SwingLift | None = None, *, legs: LegGap | None = None,
-                         symmetry: LegSymmetry | None = None) -> str | None:
+                         symmetry: LegSymmetry | None = None, denoise_slow_s: float | None = None) -> str | None:
         """A warning when the policy's training references were prepared (``train_ppo.py
         --denoise``, ``--even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``;
         :class:`~agents.sidecar.TrainingRecord`'s ``denoiser``, ``leg_symmetry``, ``legs``, ``grounding``
         and ``lift``) and the takes it is given now are not, or otherwise: through another IMU denoiser
-        or none (``denoiser``: a path or ``None``), with the legs evened otherwise or not, parted
+        or none (``denoiser``: a path or ``None``), its corrections slowed otherwise or not
+        (``denoise_slow_s``), with the legs evened otherwise or not, parted
         otherwise or not, set on the floor with other settings or not, lifted in
         backward swing otherwise or not; else
         ``None``. Settings are compared where the sidecar records them (a field added since keeps
@@ -233,6 +234,12 @@ class MimicPolicy:
         if trained.denoiser and not (denoiser and Path(denoiser).resolve() == recorded_path(trained.denoiser)):
             unlike.append(f"passed through the IMU denoiser {trained.denoiser}; these takes are "
                           f"{f'denoised by {denoiser}' if denoiser else 'not denoised'} (--denoise)")
+        if trained.denoiser and trained.denoise_slow_s != denoise_slow_s:
+            unlike.append(f"behind the denoiser's corrections "
+                          f"{f'slowed to {trained.denoise_slow_s:g} s' if trained.denoise_slow_s else 'unslowed'}; "
+                          f"these takes are behind "
+                          f"{f'corrections slowed to {denoise_slow_s:g} s' if denoise_slow_s else 'unslowed ones'} "
+                          f"(--denoise-slow)")
         if trained.leg_symmetry and not recorded_as(trained.leg_symmetry, symmetry):
             unlike.append(f"with the legs evened; these takes are {'evened otherwise' if symmetry else 'not'} "
                           f"(--even-legs)")

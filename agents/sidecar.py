@@ -136,6 +136,8 @@ class TrainingRecord:
         judge: what the episodes were rewarded against (:attr:`envs.ArtefactMix.judge`).
         denoiser: the IMU denoiser the corrupted references passed through (:attr:`envs.ArtefactMix.denoiser`),
             if any: the policy expects takes denoised the same way (``clean.py --denoise``).
+        denoise_slow_s: with it, the seconds its hinge corrections were slowed to
+            (:attr:`envs.ArtefactMix.denoise_slow_s`, ``train_ppo.py --denoise-slow``), if they were.
         leg_symmetry, legs, grounding, lift: how every training reference had its legs evened and
             parted, was set on the floor and swing-lifted
             (:class:`reference_motion.leg_symmetry.LegSymmetry`, :class:`reference_motion.leg_gap.LegGap`,
@@ -167,6 +169,7 @@ class TrainingRecord:
     strength: tuple[float, float] = (0.5, 1.0)
     judge: str = "corrupted"
     denoiser: str | None = None
+    denoise_slow_s: float | None = None
     leg_symmetry: dict | None = None
     legs: dict | None = None
     grounding: dict | None = None

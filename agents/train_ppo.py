@@ -55,7 +55,7 @@ from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
                          Pushes)
 from envs.observations import OBS_FRAMES
-from perception.imu_denoiser import add_denoise_option
+from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option
 from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
@@ -102,6 +102,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                           "--eval-strength evaluation then judges a rollout against the denoised reference it follows "
                           "(with --judge given against the reference as made, as evaluate.py --denoise judges the "
                           "take as given)")
+    add_slow_corrections_option(g)
     add_leg_symmetry_option(g, "every training reference, clean or corrupted (envs.ArtefactMix.symmetry)")
     add_leg_gap_option(g, "every training reference, clean or corrupted, after --denoise and --even-legs "
                           "(envs.ArtefactMix.legs)")
@@ -275,7 +276,8 @@ def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> Artefac
         return None
     return ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
-                       denoiser=args.denoise, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
+                       denoiser=args.denoise, denoise_slow_s=args.denoise_slow, symmetry=symmetry, legs=legs,
+                       grounding=grounding, lift=lift)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
@@ -650,7 +652,8 @@ class CheckpointAndEvaluate(BaseCallback):
             clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
-            denoiser=repository_relative(args.denoise), leg_symmetry=asdict(symmetry) if symmetry else None,
+            denoiser=repository_relative(args.denoise), denoise_slow_s=args.denoise_slow,
+            leg_symmetry=asdict(symmetry) if symmetry else None,
             legs=asdict(legs) if legs else None,
             grounding=asdict(grounding) if grounding else None, lift=asdict(lift) if lift else None,
             mirror=args.mirror, speeds=list(args.speeds),
@@ -826,6 +829,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     if args.denoise is not None:
         check_denoiser(args)
+    elif args.denoise_slow is not None:
+        raise ValueError(f"--denoise-slow {args.denoise_slow:g} slows a denoiser's corrections: give --denoise too")
     check_preparation(args)
     check_symmetric(args, run_dir)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
@@ -844,6 +849,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes, denoiser=args.denoise,
+                                               denoise_slow_s=args.denoise_slow,
                                                symmetry=leg_symmetry_of(args), legs=leg_gap_of(args),
                                                grounding=grounding_of(args),
                                                lift=swing_lift_of(args),

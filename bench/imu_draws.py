@@ -86,7 +86,8 @@ def main() -> None:
     if args.denoise_slow is not None and denoiser_path is None:
         p.error(f"--denoise-slow {args.denoise_slow:g} slows the denoiser's corrections: drop --no-denoise")
     for policy in policies:
-        note = policy.preparation_note(denoiser_path, grounding, lift, legs=legs, symmetry=symmetry)
+        note = policy.preparation_note(denoiser_path, grounding, lift, legs=legs, symmetry=symmetry,
+                                       denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
     slowly = f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow is not None else ""

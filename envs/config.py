@@ -260,6 +260,10 @@ class ArtefactMix:
         denoiser: directory of an IMU denoiser (:mod:`perception.imu_denoiser`) that every
             corrupted variant passes through before the policy observes it, as ``clean.py
             --denoise`` passes a take; ``None`` (default): the corrupted reference as made.
+        denoise_slow_s: with ``denoiser``, only the slow part of its hinge corrections (a Gaussian of
+            this many seconds) and none of its height correction
+            (:class:`perception.imu_denoiser.SlowCorrections`, ``evaluate.py --denoise-slow``);
+            ``None`` (default): its whole correction.
         symmetry: every reference the policy tracks, clean or corrupted, with its legs evened after
             the denoiser (:func:`reference_motion.leg_symmetry.even_legs`, ``evaluate.py --even-legs``),
             as evaluation evens every take: set for a raw take at strength 1, it evens clean episodes
@@ -283,6 +287,7 @@ class ArtefactMix:
     seed: int | None = None
     judge: str = "corrupted"
     denoiser: str | None = None
+    denoise_slow_s: float | None = None
     symmetry: LegSymmetry | None = None
     legs: LegGap | None = None
     grounding: Grounding | None = None
@@ -305,6 +310,9 @@ class ArtefactMix:
             raise ValueError(f"ArtefactMix.variants_per_clip must be >= 1, got {self.variants_per_clip}")
         if self.judge not in JUDGES:
             raise ValueError(f"ArtefactMix.judge must be one of {JUDGES}, got {self.judge!r}")
+        if self.denoise_slow_s is not None and (self.denoiser is None or not self.denoise_slow_s > 0):
+            raise ValueError(f"ArtefactMix.denoise_slow_s must be a number of seconds > 0 and go with a denoiser, got "
+                             f"{self.denoise_slow_s} with denoiser {self.denoiser!r}")
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,13 @@ def shipped_network(path: str | Path, kind: str):
     return shared_network(str(path), kind)
 
 
+def mix_denoiser(path: str | Path, slow_s: float | None):
+    """The IMU denoiser of an :class:`ArtefactMix` (``denoiser``, ``denoise_slow_s``): the shipped
+    network, or its :class:`perception.imu_denoiser.SlowCorrections` (imported here, for the same reason)."""
+    from perception.imu_denoiser import slowed
+    return slowed(shipped_network(path, "denoiser"), slow_s)
+
+
 JUDGED = -2
 """``MimicEnv.track``'s variant of a clip's judged motion (the env's ``judged_clips``)."""
 
@@ -311,14 +318,15 @@ class MimicEnv(gym.Env):
         given = self._judged[clip] if judged else self.clips[clip]
         mix = None if judged or as_given else self.artefacts
         denoiser = mix.denoiser if mix is not None and corruption is not None else None
+        slow_s = mix.denoise_slow_s if denoiser is not None else None
         symmetry, legs, grounding, lift = ((mix.symmetry, mix.legs, mix.grounding, mix.lift) if mix is not None
                                            else (None, None, None, None))
         content = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
-                   denoiser, symmetry, legs, grounding, lift, self.config.cube_size_m)
+                   denoiser, slow_s, symmetry, legs, grounding, lift, self.config.cube_size_m)
         track = _SHARED_TRACKS.get(content)
         if track is None:
             motion = given if corruption is None else corrupt(given, *corruption)
-            motion = prepared(motion, None if denoiser is None else shipped_network(denoiser, "denoiser"),
+            motion = prepared(motion, None if denoiser is None else mix_denoiser(denoiser, slow_s),
                               symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
             track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                          self.config.cube_size_m)
@@ -707,7 +715,7 @@ def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfi
 
 _SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
 """The reference tracks alive in this process, by content (model, clip content, corruption,
-denoiser, symmetry, legs, grounding, lift, cube size): environments of one process on the same clips with the same
+denoiser and its slowing, symmetry, legs, grounding, lift, cube size): environments of one process on the same clips with the same
 variant seeds (the envs of a ``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once
 and share one copy, read only. A track lives while some environment's LRU cache holds it. Clip
 names are not part of the key (the environment reports its own clip's name)."""

@@ -501,6 +501,24 @@ def test_training_references_can_have_their_legs_parted(walk):
     assert replace(mix, grounding=None, judge="corrupted").prepares(True)  # the legs alone prepare it
 
 
+def test_training_references_can_pass_behind_the_denoisers_slow_corrections(walk):
+    """ArtefactMix.denoise_slow_s: a corrupted variant is tracked behind the denoiser's slowed
+    corrections (perception.imu_denoiser.SlowCorrections), another track than behind its whole ones."""
+    from perception.imu_denoiser import DEFAULT_DENOISER, SlowCorrections
+    from perception.weights import shared_network
+    mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5,
+                      denoiser=str(DEFAULT_DENOISER), denoise_slow_s=0.5, judge="given")
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    env.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    as_made, tracked = env.judging_track.motion, env.current_track.motion
+    slow = SlowCorrections(shared_network(str(DEFAULT_DENOISER), "denoiser"), 0.5)
+    np.testing.assert_allclose(tracked.qpos, prepared(as_made, slow).qpos)
+    np.testing.assert_array_equal(tracked.qpos[:, :7], as_made.qpos[:, :7])  # the height correction dropped
+    whole = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, denoise_slow_s=None)).unwrapped
+    whole.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    assert not np.allclose(whole.current_track.motion.qpos, tracked.qpos)
+
+
 def test_training_references_can_have_their_legs_evened(walk):
     """ArtefactMix.symmetry: a corrupted variant is tracked with its legs evened, then parted, and
     the track is built once per preparation (the settings are part of the shared track's key)."""

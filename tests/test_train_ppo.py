@@ -15,7 +15,7 @@ from agents.train_ppo import (build_parser, changed_settings, deferred_signals, 
                               posture_ranges, recorded_progress, run_args, stance_extra, training_motions,
                               warped_clips)
 from agents.warm_start import FIRST_LAYERS, widen_hidden, widen_inputs, widen_statistics
-from envs.config import MimicConfig
+from envs.config import ArtefactMix, MimicConfig
 from reference_motion.cli import UsageError
 from reference_motion.grounding import Grounding
 from reference_motion.leg_gap import LegGap
@@ -607,3 +607,25 @@ def test_stance_copies_walk_wider_and_sway_with_the_steps():
     for bad in (["0.3", "0.1"], ["nan", "0.1"], ["-0.5", "0.1"]):
         with pytest.raises(ValueError, match="--stance-extra"):
             stance_extra(build_parser().parse_args(["--run-dir", "unused", "--stance-extra", *bad]))
+
+
+def test_a_run_can_track_references_behind_the_denoisers_slow_corrections(tmp_path):
+    """--denoise --denoise-slow: the corrupted references pass through the denoiser's slowed
+    corrections (ArtefactMix.denoise_slow_s), the sidecar records it, evaluation without it draws a
+    note, and --denoise-slow without --denoise is refused before any work."""
+    from agents.policy import load_policy
+    from perception.imu_denoiser import DEFAULT_DENOISER
+    run = tmp_path / "slow"
+    main(["--clips", "deepmimic:walk", "--corrupted-fraction", "1", "--denoise", str(DEFAULT_DENOISER),
+          "--denoise-slow", "0.5", "--total-steps", "256", "--run-dir", str(run), "--no-progress", "--n-envs", "2",
+          "--n-steps", "128", "--batch-size", "64", "--eval-every", "256", "--eval-episodes", "1", "--net", "16,16"])
+    policy = load_policy(run / "best")
+    assert policy.record.training.denoise_slow_s == 0.5
+    assert policy.preparation_note(DEFAULT_DENOISER, denoise_slow_s=0.5) is None
+    assert "--denoise-slow" in policy.preparation_note(DEFAULT_DENOISER)
+    mix = env_kwargs(run_args(run), ["deepmimic:walk"], 1.0)["artefacts"]
+    assert mix.denoise_slow_s == 0.5 and mix.denoiser == str(DEFAULT_DENOISER)
+    with pytest.raises(SystemExit, match="--denoise-slow 0.5 slows a denoiser's corrections: give --denoise too"):
+        main(["--clips", "deepmimic:walk", "--denoise-slow", "--run-dir", str(tmp_path / "x")])
+    with pytest.raises(ValueError, match="ArtefactMix.denoise_slow_s must be .* go with a denoiser"):
+        ArtefactMix(denoise_slow_s=0.5)
