@@ -64,7 +64,8 @@ from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded
 from agents.search import SearchConfig, search
 from envs.config import FOOT_MODELS
 from envs.preparation import prepared
-from perception.imu_denoiser import DEFAULT_DENOISER, add_slow_corrections_option, slowed
+from perception.imu_denoiser import (DEFAULT_DENOISER, SlowCorrections, add_slow_corrections_option, check_slowing,
+                                     slowed)
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
@@ -605,8 +606,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
     args = parser.parse_args(argv)
-    if args.method == "ppo" and args.denoise_slow is not None and not args.denoise:
-        parser.error(f"--denoise-slow {args.denoise_slow:g} slows a denoiser's corrections: give --denoise too")
+    if args.method == "ppo":  # with diffpd --denoise-slow is refused below, as every preparation is
+        check_slowing(args.denoise, args.denoise_slow)
     lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     adaptation, extra = None, {}
     if args.method == "diffpd":
@@ -630,7 +631,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             print(note)
         denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
         performed = prepared(reference, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
-        slowly = f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow else ""
+        slowly = f" ({denoiser.label})" if isinstance(denoiser, SlowCorrections) else ""
         steps = [step for step, on in ((f"denoised with {args.denoise}{slowly}", denoiser),
                                        (symmetry.label if symmetry else "", symmetry), (legs.label if legs else "", legs),
                                        ("set on the floor", grounding), (lift.label if lift else "", lift)) if on]
@@ -670,7 +671,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
-              "denoise_slow_s": args.denoise_slow if args.method == "ppo" else None,
+              "denoise_slow_s": args.denoise_slow,
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
               "leg_symmetry": asdict(symmetry) if symmetry else None, **extra}

@@ -116,12 +116,14 @@ def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | DenoiserEnse
     return [prepared(c, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift) for c in clips], clips
 
 
-def tracked_label(label: str, *, slow: SlowCorrections | None = None, symmetry: LegSymmetry | None = None,
+def tracked_label(label: str, *, denoiser: object = None, symmetry: LegSymmetry | None = None,
                   legs: LegGap | None = None, grounding: Grounding | None = None, lift: SwingLift | None = None) -> str:
-    """How results name an actor that tracked clips behind a denoiser's slow corrections, with their
-    legs evened or parted, grounded or swing-lifted (so ``bench/select_policy.py`` tells it from the
-    same actor without them), in the order :func:`prepared` applies them. A denoiser used as it is
-    is not named (its path is a field of the results)."""
+    """How results name an actor that tracked clips behind a denoiser's slow corrections
+    (``denoiser``, a :class:`SlowCorrections`), with their legs evened or parted, grounded or
+    swing-lifted (so ``bench/select_policy.py`` tells it from the same actor without them), in the
+    order :func:`prepared` applies them. A denoiser used as it is is not named (its path is a field
+    of the results)."""
+    slow = denoiser if isinstance(denoiser, SlowCorrections) else None
     steps = (slow, symmetry, legs, grounding, lift)
     return " + ".join([label, *(step.label for step in steps if step is not None)])
 
@@ -149,7 +151,6 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu; "
                          + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
     denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
-    slow = denoiser if isinstance(denoiser, SlowCorrections) else None
     lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
@@ -174,8 +175,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), slow=slow, symmetry=symmetry,
-                                      legs=legs, grounding=grounding, lift=lift),
+    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), denoiser=denoiser,
+                                      symmetry=symmetry, legs=legs, grounding=grounding, lift=lift),
               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
               "leg_symmetry": asdict(symmetry) if symmetry else None, "clips": args.clips, "corrupt": args.corrupt,
@@ -192,7 +193,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
           + (f", corrupted '{args.corrupt}' strength {args.strength} seed {args.seed}+" if args.corrupt else "")
           + (f" without {', '.join(args.without)}" if args.without else "")
           + (f", denoised by {args.denoise}" if args.denoise else "")
-          + (f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if slow else "")
+          + (f" ({denoiser.label})" if isinstance(denoiser, SlowCorrections) else "")
           + (f", tracking takes {' and '.join(changes)}" if changes else ""))
     print(f"  ELR  {summary['ELR_mean']:.3f} ± {summary['ELR_std']:.3f}    SR90 {summary['SR90']:.3f}")
     print(f"  RDE  {summary['RDE_mean']:.5f} ± {summary['RDE_std']:.5f} m²    MRR {summary['MRR_mean']:.3f} ± "

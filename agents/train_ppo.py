@@ -55,7 +55,7 @@ from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
                          Pushes)
 from envs.observations import OBS_FRAMES
-from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option
+from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option, check_slowing
 from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
@@ -829,8 +829,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         raise ValueError(f"--gait-ablation is an ablation of {GAIT_ENV_ID}; this run trains {args.env_id}")
     if args.denoise is not None:
         check_denoiser(args)
-    elif args.denoise_slow is not None:
-        raise ValueError(f"--denoise-slow {args.denoise_slow:g} slows a denoiser's corrections: give --denoise too")
+    check_slowing(args.denoise, args.denoise_slow)
     check_preparation(args)
     check_symmetric(args, run_dir)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load

@@ -90,11 +90,10 @@ def main() -> None:
                                        denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
-    slowly = f" (its hinge corrections slowed to {args.denoise_slow:g} s)" if args.denoise_slow is not None else ""
+    net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
+    slowly = f" ({net.label})" if isinstance(net, SlowCorrections) else ""
     print(f"IMU takes pass through the denoiser {denoiser_path}{slowly} first (--no-denoise: as given)" if denoiser_path
           else "IMU takes are tracked as given (--no-denoise)", flush=True)
-    net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
-    slow = net if isinstance(net, SlowCorrections) else None
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
     draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net,
@@ -110,7 +109,7 @@ def main() -> None:
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = tracked_label(actor_label(path, args.mirror_average), slow=slow, symmetry=symmetry, legs=legs,
+        label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, symmetry=symmetry, legs=legs,
                               grounding=grounding, lift=lift)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)

@@ -239,15 +239,20 @@ def add_slow_corrections_option(parser: argparse.ArgumentParser) -> None:
                              "(perception/imu_denoiser.py SlowCorrections)")
 
 
+def check_slowing(denoiser: object, smooth_s: float | None) -> None:
+    """Refuse ``--denoise-slow`` (``smooth_s``) without a denoiser (``denoiser``: its path, or the
+    network; ``None`` without), before any work."""
+    if smooth_s is not None and denoiser is None:
+        raise ValueError(f"--denoise-slow {smooth_s:g} slows a denoiser's corrections: give --denoise too")
+
+
 def slowed(net: IMUDenoiser | DenoiserEnsemble | None, smooth_s: float | None,
            ) -> IMUDenoiser | DenoiserEnsemble | SlowCorrections | None:
     """``net`` as :func:`add_slow_corrections_option` asks for it: itself without ``smooth_s``,
-    :class:`SlowCorrections` of it with; a clear error for ``smooth_s`` without a denoiser."""
-    if smooth_s is None:
-        return net
-    if net is None:
-        raise ValueError(f"--denoise-slow {smooth_s:g} slows a denoiser's corrections: give --denoise too")
-    return SlowCorrections(net, smooth_s)
+    :class:`SlowCorrections` of it with; :func:`check_slowing`'s error for ``smooth_s`` without a
+    denoiser."""
+    check_slowing(net, smooth_s)
+    return net if smooth_s is None else SlowCorrections(net, smooth_s)
 
 
 @torch.no_grad()

@@ -330,6 +330,10 @@ def test_slow_corrections_keep_the_slow_part_of_the_hinge_corrections_and_no_hei
                                gaussian_filter1d(long[..., :-1].numpy(), 0.5 * net.fps, axis=1, mode="nearest"),
                                atol=1e-12)
     assert slowed(net, None) is net and SlowCorrections(net, 0.5).label == "denoiser's hinge corrections slowed to 0.5 s"
+    from agents.evaluate import tracked_label
+    assert tracked_label("models/x", denoiser=SlowCorrections(net, 0.5)) == \
+        "models/x + denoiser's hinge corrections slowed to 0.5 s"
+    assert tracked_label("models/x", denoiser=net) == "models/x"  # a denoiser used as it is is not named
     with pytest.raises(ValueError, match="SlowCorrections.smooth_s"):
         SlowCorrections(net, 0.0)
     with pytest.raises(ValueError, match="--denoise-slow 0.5 slows a denoiser's corrections: give --denoise too"):
