@@ -121,6 +121,11 @@ def build_parser(prog: str = "python -m perception") -> CliParser:
     g.add_argument("--postures", type=non_negative_int, default=d.postures, metavar="N",
                    help="also train on N copies of every take carried with a random posture "
                         "(DenoiserTrainConfig.postures)")
+    g.add_argument("--stances", type=non_negative_int, default=d.stances, metavar="N",
+                   help="also train on N copies of every take walked with the feet further apart "
+                        "(DenoiserTrainConfig.stances)")
+    g.add_argument("--stance-extra", type=float, nargs=2, default=list(d.stance_extra_m), metavar=("LOW", "HIGH"),
+                   help="range of the stance copies' extra width, m (DenoiserTrainConfig.stance_extra_m)")
     g.add_argument("--seed", type=int, default=d.seed)
     g.add_argument("--no-progress", action="store_true")
     g = sub.add_parser("ensemble-denoisers", help="ship shipped IMU denoisers as one that averages their corrections",
@@ -319,7 +324,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
                                      sole_weight=args.sole_weight, height_weight=args.height_weight,
                                      strength=tuple(args.strength),
                                      clean_fraction=args.clean_fraction,
-                                     speeds=tuple(args.speeds), postures=args.postures, seed=args.seed)
+                                     speeds=tuple(args.speeds), postures=args.postures, stances=args.stances,
+                                     stance_extra_m=tuple(args.stance_extra), seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val root of the loss {np.sqrt(best):.4f}")
     if args.command == "ensemble-denoisers":

@@ -1,7 +1,8 @@
 """Training the :class:`~perception.imu_denoiser.IMUDenoiser` on clean takes it corrupts itself.
 
 Every training batch cuts random windows out of the training takes (mirrored too, played at each of
-``speeds``, and with ``postures`` also carried in random postures), corrupts each
+``speeds``, with ``postures`` also carried in random postures, and with ``stances`` also walked with
+the feet further apart), corrupts each
 with every IMU artefact kind (:func:`reference_motion.artefacts.corrupt`) at a strength drawn from
 ``DenoiserTrainConfig.strength``, a fresh seed each time, or leaves it clean
 (``clean_fraction``), and regresses what :func:`~perception.imu_denoiser.denoise` must add back:
@@ -31,7 +32,7 @@ from perception.training import fit
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
 from reference_motion.humanoid.model import load_model
-from reference_motion.library import augmented, expand_clips, load_motion, posture_copies
+from reference_motion.library import STANCE_EXTRA_M, augmented, expand_clips, load_motion, posture_copies, stance_copies
 from reference_motion.motion import Motion
 
 DENOISER_TRAIN_CLIPS = ("library:data/library/train", "deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0",
@@ -43,6 +44,8 @@ VALIDATION_STRENGTHS = (0.0, 0.5, 1.0)
 """Artefact strengths each validation take is scored at (0 = clean)."""
 POSTURE_STREAM = 3
 """Stream of ``DenoiserTrainConfig.seed``'s random numbers that draws the posture copies."""
+STANCE_STREAM = 4
+"""Stream of ``DenoiserTrainConfig.seed``'s random numbers that draws the stance copies' widths."""
 VALIDATION_SEED = 77_000
 """Artefact seed of the first validation take (take i, strength j: seed + 10·i + j)."""
 
@@ -99,7 +102,16 @@ class DenoiserTrainConfig:
             changes (−3° to 6° of abduction per hip) roll the ankles back so the soles stay level,
             where an IMU suit's hip adduction offset (8° inwards per hip at strength 1) tilts the
             soles with the legs. 0: none.
-        seed: seeds windows, strengths, artefact seeds, the initial weights and the posture copies.
+        stances: copies of every training take (mirrored ones too) walked with the feet further
+            apart, each by its own distance drawn from ``stance_extra_m``, the body swaying as the
+            wider steps need (:func:`reference_motion.library.stance_copies`). An IMU suit's hip
+            adduction offset narrows the feet's gap by about 0.22 m at strength 1; a denoiser that
+            has only seen the training styles' stances (median gap 0.14 m) reads a wide stance as
+            less offset than it is and returns it too narrow (README, round 24). 0: none.
+        stance_extra_m: (low, high) m, the range of the stance copies' extra width; the policies'
+            default (:data:`reference_motion.library.STANCE_EXTRA_M`).
+        seed: seeds windows, strengths, artefact seeds, the initial weights and the posture and
+            stance copies.
     """
 
     window: int = 240
@@ -119,6 +131,8 @@ class DenoiserTrainConfig:
     mirror: bool = True
     speeds: tuple[float, ...] = (1.0,)
     postures: int = 0
+    stances: int = 0
+    stance_extra_m: tuple[float, float] = STANCE_EXTRA_M
     seed: int = 0
 
     def __post_init__(self) -> None:
@@ -139,6 +153,12 @@ class DenoiserTrainConfig:
             raise ValueError(f"DenoiserTrainConfig.speeds must be one or more speeds > 0, got {self.speeds}")
         if self.postures < 0:
             raise ValueError(f"DenoiserTrainConfig.postures must be >= 0, got {self.postures}")
+        if self.stances < 0:
+            raise ValueError(f"DenoiserTrainConfig.stances must be >= 0, got {self.stances}")
+        low, high = self.stance_extra_m
+        if not (np.isfinite(low) and np.isfinite(high) and low <= high):
+            raise ValueError(f"DenoiserTrainConfig.stance_extra_m must be (low, high) with low <= high (m), "
+                             f"got {self.stance_extra_m}")
         if not 0 <= self.clean_fraction <= 1:
             raise ValueError(f"DenoiserTrainConfig.clean_fraction must be in [0, 1], got {self.clean_fraction}")
 
@@ -201,7 +221,8 @@ class DenoiserTask:
             raise ValueError("the IMU denoiser needs at least one training and one validation clip")
         takes = augmented([load_motion(s, model) for s in self.train_sources], mirrored=config.mirror,
                           speeds=config.speeds)
-        self.train = takes + posture_copies(takes, config.postures, [config.seed, POSTURE_STREAM])
+        self.train = (takes + posture_copies(takes, config.postures, [config.seed, POSTURE_STREAM])
+                      + stance_copies(takes, config.stances, [config.seed, STANCE_STREAM], config.stance_extra_m))
         self.lengths = np.array([m.n_frames for m in self.train])
         if self.lengths.max() < config.min_window:
             raise ValueError(f"no training clip has {config.min_window} frames; lower DenoiserTrainConfig.min_window")

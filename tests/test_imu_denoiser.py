@@ -17,6 +17,7 @@ from perception.weights import load_network
 from reference_motion import rotations as rot
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
+from reference_motion.leg_gap import lateral_foot_gap
 from reference_motion.library import load_motion
 from reference_motion.transforms import mirror, resample
 
@@ -98,6 +99,25 @@ def test_posture_copies_join_the_training_takes_seeded():
     assert np.abs(other.train[3].qpos - task.train[3].qpos).max() > 0.01
     with pytest.raises(ValueError, match="postures must be >= 0"):
         DenoiserTrainConfig(postures=-1)
+
+
+def test_stance_copies_join_the_training_takes_seeded_within_their_range():
+    """``stances=1``: every take (the mirrored copy too) once more, walked with the feet apart by a
+    width drawn from ``stance_extra_m`` with the seed: the feet's median gap grows by about that much."""
+    config = DenoiserTrainConfig(stances=1, stance_extra_m=(0.15, 0.3), seed=5)
+    task = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
+    assert len(task.train) == 4 and task.train[2].name.startswith("deepmimic:walk (stance +")
+    extras = [m.source["extra_stance_m"] for m in task.train[2:]]
+    assert all(0.15 <= e <= 0.3 for e in extras) and extras[0] != extras[1]
+    for take, copy, extra in zip(task.train[:2], task.train[2:], extras):
+        grown = np.median(lateral_foot_gap("humanoid_1seg", copy.qpos)) - np.median(lateral_foot_gap("humanoid_1seg", take.qpos))
+        assert abs(grown - extra) < 0.05, (grown, extra)
+    again = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
+    np.testing.assert_array_equal(again.train[3].qpos, task.train[3].qpos)
+    with pytest.raises(ValueError, match="stances must be >= 0"):
+        DenoiserTrainConfig(stances=-1)
+    with pytest.raises(ValueError, match="stance_extra_m must be"):
+        DenoiserTrainConfig(stance_extra_m=(0.3, 0.1))
     with pytest.raises(ValueError, match="dilations must be positive"):
         DenoiserTrainConfig(dilations=(1, 0))
     with pytest.raises(ValueError, match="sole_weight must be >= 0"):
@@ -202,15 +222,16 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
                      "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
-                     "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2",
+                     "--stances", "1", "--stance-extra", "0.1", "0.2", "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2",
                      "--height-weight", "3", "--no-progress"])
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32 and tuple(net.config["dilations"]) == (1, 4)
     assert [conv.dilation[0] for conv in net.convs] == [1, 4]
     config = json.loads((out / "sidecar.json").read_text())["config"]
     given = (config["hidden"], config["strength"], config["clean_fraction"], config["postures"], config["dilations"],
-             config["window"], config["sole_weight"], config["speeds"], config["height_weight"])
-    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0, [1.0, 1.2], 3.0)
+             config["window"], config["sole_weight"], config["speeds"], config["height_weight"], config["stances"],
+             config["stance_extra_m"])
+    assert given == (32, [0.5, 1.0], 0.1, 1, [1, 4], 120, 2.0, [1.0, 1.2], 3.0, 1, [0.1, 0.2])
     with pytest.raises(ValueError, match="holds a 'denoiser' network, expected 'vgrf'"):
         load_network(out, "vgrf")
     with pytest.raises(ValueError, match="deepmimic:walk are in both"):
