@@ -64,8 +64,8 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
 from reference_motion.grounding import add_grounding_option, grounding_of
 from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
 from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
-from reference_motion.library import (STANCE_EXTRA_M, augmented, expand_clips, load_motion, posture_copies,
-                                      stance_copies)
+from reference_motion.library import (STANCE_EXTRA_M, augmented, check_stance_extra, expand_clips, load_motion,
+                                      posture_copies, stance_copies)
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
@@ -503,16 +503,8 @@ def posture_ranges(args: argparse.Namespace) -> PostureRanges:
 
 
 def stance_extra(args: argparse.Namespace) -> tuple[float, float]:
-    """``--stance-extra LOW HIGH`` (m), checked: finite, ``LOW <= HIGH``, and no closer than feet
-    together (``LOW > -0.3``)."""
-    low, high = args.stance_extra
-    if not (math.isfinite(low) and math.isfinite(high) and -MAX_NARROWING_M < low <= high):
-        raise ValueError(f"--stance-extra {low:g} {high:g}: expected finite metres, {-MAX_NARROWING_M:g} < LOW <= HIGH")
-    return float(low), float(high)
-
-
-MAX_NARROWING_M = 0.3
-"""The most :func:`stance_extra` lets a stance narrow (m): a walk's feet are rarely 0.3 m apart."""
+    """``--stance-extra LOW HIGH`` (m), checked (:func:`reference_motion.library.check_stance_extra`)."""
+    return check_stance_extra(args.stance_extra, "--stance-extra")
 
 
 def glob_speeds(text: str) -> str:

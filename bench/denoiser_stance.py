@@ -59,6 +59,8 @@ def main() -> None:
     p.add_argument("--first-seed", type=int, default=1_030_000, help="artefact seed of the first take's first draw")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
+    if not 1 <= args.draws <= 10:
+        p.error(f"--draws {args.draws}: expected 1 to 10 (take i's draws use seeds first_seed + 10·i + 0…9)")
     nets = {d: load_network(d, "denoiser") for d in args.denoisers}
     model = load_model(MODEL)
     legs = [model.qpos_index(h) for h in LEG_HINGES] + [model.qpos_index("r" + h[1:]) for h in LEG_HINGES]
@@ -81,7 +83,7 @@ def main() -> None:
                "denoisers": {d: {"gap_error_m": mean_and_error(gap[d]), "leg_hinge_rms_deg": float(np.mean(leg_rms[d])),
                                  "hinge_rms_deg": float(np.mean(all_rms[d]))} for d in nets}}
         rows.append(row)
-        print(f"stance +{extra:.2f} m: the raw take's gap {row['raw_gap_error_m']['mean']:+.3f} m off", flush=True)
+        print(f"stance {extra:+.2f} m: the raw take's gap {row['raw_gap_error_m']['mean']:+.3f} m off", flush=True)
         for d, r in row["denoisers"].items():
             print(f"  {d:<48} gap {r['gap_error_m']['mean']:+.3f} ± {r['gap_error_m']['standard_error']:.3f} m off, "
                   f"leg hinges {r['leg_hinge_rms_deg']:.2f}°, all hinges {r['hinge_rms_deg']:.2f}° RMS", flush=True)

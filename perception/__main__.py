@@ -49,7 +49,7 @@ from reference_motion.bvh_export import write_bvh
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, output_dir, output_file, positive_float,
                                   positive_int)
-from reference_motion.library import load_motion
+from reference_motion.library import check_stance_extra, load_motion
 from reference_motion.motion import Motion, read_npz
 
 JSON_OUT = output_file(".json")
@@ -325,7 +325,8 @@ def main(argv: list[str] | None = None, prog: str = "python -m perception") -> d
                                      strength=tuple(args.strength),
                                      clean_fraction=args.clean_fraction,
                                      speeds=tuple(args.speeds), postures=args.postures, stances=args.stances,
-                                     stance_extra_m=tuple(args.stance_extra), seed=args.seed)
+                                     stance_extra_m=check_stance_extra(args.stance_extra, "--stance-extra"),
+                                     seed=args.seed)
         trainer = partial(train_denoiser, args.clips, args.val_clips)
         return _train_and_ship(args, trainer, config, lambda best: f"val root of the loss {np.sqrt(best):.4f}")
     if args.command == "ensemble-denoisers":

@@ -32,7 +32,8 @@ from perception.training import fit
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
 from reference_motion.humanoid.model import load_model
-from reference_motion.library import STANCE_EXTRA_M, augmented, expand_clips, load_motion, posture_copies, stance_copies
+from reference_motion.library import (STANCE_EXTRA_M, augmented, check_stance_extra, expand_clips, load_motion,
+                                      posture_copies, stance_copies)
 from reference_motion.motion import Motion
 
 DENOISER_TRAIN_CLIPS = ("library:data/library/train", "deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0",
@@ -155,10 +156,7 @@ class DenoiserTrainConfig:
             raise ValueError(f"DenoiserTrainConfig.postures must be >= 0, got {self.postures}")
         if self.stances < 0:
             raise ValueError(f"DenoiserTrainConfig.stances must be >= 0, got {self.stances}")
-        low, high = self.stance_extra_m
-        if not (np.isfinite(low) and np.isfinite(high) and low <= high):
-            raise ValueError(f"DenoiserTrainConfig.stance_extra_m must be (low, high) with low <= high (m), "
-                             f"got {self.stance_extra_m}")
+        check_stance_extra(self.stance_extra_m, "DenoiserTrainConfig.stance_extra_m")
         if not 0 <= self.clean_fraction <= 1:
             raise ValueError(f"DenoiserTrainConfig.clean_fraction must be in [0, 1], got {self.clean_fraction}")
 

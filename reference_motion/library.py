@@ -147,6 +147,21 @@ def posture_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[
 STANCE_EXTRA_M = (0.0, 0.35)
 """How much further apart :func:`stance_copies` walks by default (m, low and high): up to about the
 widest stance of the training takes (chimpira's sideways walks) against a normal walk's."""
+MAX_NARROWING_M = 0.3
+"""The most :func:`check_stance_extra` lets a stance narrow (m): a walk's feet are rarely 0.3 m apart."""
+
+
+def check_stance_extra(extra_m: Sequence[float], what: str) -> tuple[float, float]:
+    """``extra_m`` (m, low and high) as a float pair, checked: two finite numbers, ``low <= high``,
+    and no closer than feet together (``low > -MAX_NARROWING_M``); a ``ValueError`` naming ``what``
+    (the option or field that gave it) otherwise."""
+    values = tuple(extra_m)
+    if len(values) != 2:
+        raise ValueError(f"{what} must be two numbers (low, high) in metres, got {extra_m!r}")
+    low, high = (float(v) for v in values)
+    if not (np.isfinite(low) and np.isfinite(high) and -MAX_NARROWING_M < low <= high):
+        raise ValueError(f"{what} {low:g} {high:g}: expected finite metres, {-MAX_NARROWING_M:g} < LOW <= HIGH")
+    return low, high
 
 
 def stance_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[int],
@@ -155,9 +170,7 @@ def stance_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[i
     apart by its own distance drawn uniformly from ``extra_m`` (m, low and high) with
     ``numpy.random.default_rng(seed)``, the body swaying as the wider steps need
     (:func:`~reference_motion.stance.wider_stance`): the same copies for the same seed."""
-    low, high = extra_m
-    if not (np.isfinite(low) and np.isfinite(high) and low <= high):
-        raise ValueError(f"extra_m must be (low, high) with low <= high (m), got {extra_m}")
+    low, high = check_stance_extra(extra_m, "extra_m")
     rng = np.random.default_rng(seed)
     return [wider_stance(m, round(float(rng.uniform(low, high)), 3)) for m in motions for _ in range(copies)]
 

@@ -99,6 +99,10 @@ def test_posture_copies_join_the_training_takes_seeded():
     assert np.abs(other.train[3].qpos - task.train[3].qpos).max() > 0.01
     with pytest.raises(ValueError, match="postures must be >= 0"):
         DenoiserTrainConfig(postures=-1)
+    with pytest.raises(ValueError, match="dilations must be positive"):
+        DenoiserTrainConfig(dilations=(1, 0))
+    with pytest.raises(ValueError, match="sole_weight must be >= 0"):
+        DenoiserTrainConfig(sole_weight=-1.0)
 
 
 def test_stance_copies_join_the_training_takes_seeded_within_their_range():
@@ -110,18 +114,22 @@ def test_stance_copies_join_the_training_takes_seeded_within_their_range():
     extras = [m.source["extra_stance_m"] for m in task.train[2:]]
     assert all(0.15 <= e <= 0.3 for e in extras) and extras[0] != extras[1]
     for take, copy, extra in zip(task.train[:2], task.train[2:], extras):
-        grown = np.median(lateral_foot_gap("humanoid_1seg", copy.qpos)) - np.median(lateral_foot_gap("humanoid_1seg", take.qpos))
+        gaps = [np.median(lateral_foot_gap("humanoid_1seg", m.qpos)) for m in (copy, take)]
+        grown = gaps[0] - gaps[1]
         assert abs(grown - extra) < 0.05, (grown, extra)
     again = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
     np.testing.assert_array_equal(again.train[3].qpos, task.train[3].qpos)
+    other = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], replace(config, seed=6))
+    assert other.train[2].source["extra_stance_m"] != extras[0]
+    postured = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], replace(config, postures=1))
+    assert [m.source["extra_stance_m"] for m in postured.train[4:]] == extras  # a stream of its own
     with pytest.raises(ValueError, match="stances must be >= 0"):
         DenoiserTrainConfig(stances=-1)
-    with pytest.raises(ValueError, match="stance_extra_m must be"):
-        DenoiserTrainConfig(stance_extra_m=(0.3, 0.1))
-    with pytest.raises(ValueError, match="dilations must be positive"):
-        DenoiserTrainConfig(dilations=(1, 0))
-    with pytest.raises(ValueError, match="sole_weight must be >= 0"):
-        DenoiserTrainConfig(sole_weight=-1.0)
+    for bad in ((0.3, 0.1), (float("nan"), 0.2), (-0.5, 0.1), (0.1,)):
+        with pytest.raises(ValueError, match="DenoiserTrainConfig.stance_extra_m"):
+            DenoiserTrainConfig(stance_extra_m=bad)
+    with pytest.raises(SystemExit, match="--stance-extra nan 0.2: expected finite metres"):  # the CLI names the flag
+        perception_main(["train-denoiser", "--run-dir", "unused", "--stance-extra", "nan", "0.2"])
 
 
 def test_speeds_join_the_training_takes_played_faster_and_slower():
@@ -222,7 +230,8 @@ def test_cli_ships_a_network_that_loads_and_refuses_overlapping_splits(tmp_path)
     perception_main(["train-denoiser", "--clips", "deepmimic:walk", "--val-clips", "deepmimic:run", "--run-dir",
                      str(tmp_path / "run"), "--out", str(out), "--epochs", "1", "--windows-per-epoch", "32",
                      "--hidden", "32", "--strength", "0.5", "1.0", "--clean-fraction", "0.1", "--postures", "1",
-                     "--stances", "1", "--stance-extra", "0.1", "0.2", "--speeds", "1", "1.2", "--dilations", "1", "4", "--window", "120", "--sole-weight", "2",
+                     "--stances", "1", "--stance-extra", "0.1", "0.2", "--speeds", "1", "1.2", "--dilations", "1", "4",
+                     "--window", "120", "--sole-weight", "2",
                      "--height-weight", "3", "--no-progress"])
     net = load_network(out, "denoiser")
     assert isinstance(net, IMUDenoiser) and net.config["hidden"] == 32 and tuple(net.config["dilations"]) == (1, 4)
