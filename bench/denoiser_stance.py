@@ -20,13 +20,14 @@ import argparse
 import numpy as np
 
 from agents.evaluate import reference_clips
+from agents.gait_metrics import joint_angle_rmse_deg
 from envs.config import MimicConfig
 from json_report import emit_json
 from perception.imu_denoiser import denoise
 from perception.weights import load_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
-from reference_motion.leg_gap import lateral_foot_gap
+from reference_motion.leg_gap import median_foot_gap
 from reference_motion.leg_symmetry import LEG_HINGES
 from reference_motion.motion import Motion
 from reference_motion.stance import wider_stance
@@ -36,12 +37,12 @@ MODEL = "humanoid_1seg"
 
 def median_gap(motion: Motion) -> float:
     """The feet's median sideways gap (m) over ``motion``."""
-    return float(np.median(lateral_foot_gap(motion.model, motion.qpos)))
+    return median_foot_gap(motion.model, motion.qpos)
 
 
 def hinge_rms_deg(motion: Motion, truth: Motion, columns: list[int] | slice) -> float:
     """RMS difference (degrees) of ``motion``'s qpos ``columns`` (hinge angles) from ``truth``'s."""
-    return float(np.degrees(np.sqrt(np.mean((motion.qpos[:, columns] - truth.qpos[:, columns]) ** 2))))
+    return joint_angle_rmse_deg(motion.qpos[:, columns], truth.qpos[:, columns])
 
 
 def mean_and_error(values: list[float]) -> dict[str, float]:

@@ -96,6 +96,12 @@ def lateral_foot_gap(model_name: str, qpos: np.ndarray) -> np.ndarray:
     return np.sum((left - right) * left_axis, axis=1)
 
 
+def median_foot_gap(model_name: str, qpos: np.ndarray) -> float:
+    """The median over the frames of ``qpos (T, nq)`` of :func:`lateral_foot_gap` (m): how far apart a
+    take walks its feet, whatever its single frames do."""
+    return float(np.median(lateral_foot_gap(model_name, qpos)))
+
+
 def abducted(motion: Motion, angle_rad: float) -> np.ndarray:
     """``motion``'s ``qpos (T, nq)`` with both hips abducted by ``angle_rad`` (negative: adducted),
     each kept within its hinge's range (as given where ``angle_rad`` is 0)."""
@@ -117,7 +123,7 @@ def leg_abduction(motion: Motion, gap: LegGap = LegGap()) -> float:
     within ``[0, gap.max_abduction_rad]``. Of the angles tried, the one whose gap came closest to
     ``gap.min_gap_m`` is returned (0 if none came closer than the take as given)."""
     def lack_at(angle: float) -> float:
-        return gap.min_gap_m - float(np.median(lateral_foot_gap(motion.model, abducted(motion, angle))))
+        return gap.min_gap_m - median_foot_gap(motion.model, abducted(motion, angle))
 
     lacks = {0.0: lack_at(0.0)}
     if lacks[0.0] <= 0:

@@ -17,7 +17,7 @@ from perception.weights import load_network
 from reference_motion import rotations as rot
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.humanoid.model import load_model
-from reference_motion.leg_gap import lateral_foot_gap
+from reference_motion.leg_gap import median_foot_gap
 from reference_motion.library import load_motion
 from reference_motion.stance import wider_stance
 from reference_motion.transforms import mirror, resample
@@ -115,8 +115,7 @@ def test_stance_copies_join_the_training_takes_seeded_within_their_range():
     extras = [m.source["extra_stance_m"] for m in task.train[2:]]
     assert all(0.15 <= e <= 0.3 for e in extras) and extras[0] != extras[1]
     for take, copy, extra in zip(task.train[:2], task.train[2:], extras):
-        gaps = [np.median(lateral_foot_gap("humanoid_1seg", m.qpos)) for m in (copy, take)]
-        grown = gaps[0] - gaps[1]
+        grown = median_foot_gap("humanoid_1seg", copy.qpos) - median_foot_gap("humanoid_1seg", take.qpos)
         assert abs(grown - extra) < 0.05, (grown, extra)
     again = DenoiserTask(["deepmimic:walk"], ["deepmimic:run"], config)
     np.testing.assert_array_equal(again.train[3].qpos, task.train[3].qpos)
@@ -275,8 +274,7 @@ def test_stance_trained_denoiser_gives_a_wide_stance_back():
     nets = [load_network(name, "denoiser") for name in (DEFAULT_DENOISER, "models/imu_denoiser_stances_quint_mirror")]
 
     def gap_error(motion):
-        return float(np.median(lateral_foot_gap("humanoid_1seg", motion.qpos))
-                     - np.median(lateral_foot_gap("humanoid_1seg", wide.qpos)))
+        return median_foot_gap("humanoid_1seg", motion.qpos) - median_foot_gap("humanoid_1seg", wide.qpos)
 
     errors = np.array([[gap_error(m) for m in (given, *(denoise(net, given) for net in nets))]
                        for given in (corrupt(wide, ArtefactRecipe.imu(1.0), seed) for seed in range(3))]).mean(0)

@@ -12,11 +12,11 @@ from reference_motion.cli import CliParser, UsageError
 from reference_motion.grounding import Grounding
 from reference_motion.humanoid.model import load_model
 from reference_motion.leg_gap import (LegGap, abducted, add_leg_gap_option, lateral_foot_gap, leg_abduction,
-                                      leg_gap_of, part_legs)
+                                      leg_gap_of, median_foot_gap, part_legs)
 
 
 def _median_gap(motion):
-    return float(np.median(lateral_foot_gap(motion.model, motion.qpos)))
+    return median_foot_gap(motion.model, motion.qpos)
 
 
 def _turned(qpos, yaw):
