@@ -1,5 +1,5 @@
 #!/bin/bash
-# usage: score22.sh NAME SEED [--part-legs]
+# usage: bench/rounds/r22/score.sh NAME SEED [--part-legs]
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r22
 export MUJOCO_GL=egl OMP_NUM_THREADS=1
 N=$1; S=$2; shift 2

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Round 25: WSQ scored as registered in README round 24. Waits for the resumed run to end.
+# Round 25: WSQ scored as registered in docs/results.md, "Round 24". Waits for the resumed run to end.
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r25
 while pgrep -f "run-dir runs/r24/ppo_stances" > /dev/null; do sleep 15; done
 W=$(ls runs/r24/ppo_stances/checkpoints/step_*.zip | sort -V | tail -1)
