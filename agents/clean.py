@@ -5,6 +5,10 @@ Usage::
     python agents/clean.py --policy models/mimic_imu deepmimic:walker/turn_left1 --out out/clean.npz \\
         [--corrupt imu --strength 1 --seed 7] [--bvh out/clean.bvh] [--video out/clean.mp4] [--no-adapt]
     python agents/clean.py --method diffpd --policy models/diffpd deepmimic:run --out out/clean.npz [...]
+    python agents/clean.py TAKE.bvh --preset imu --out out/clean.npz    # the validated way for an IMU-suit take
+
+``--preset imu`` / ``--preset optical`` stand for the policy and preparation flags validation chose
+for an IMU-suit take and for a marker take (:data:`PRESETS`); flags given as well win.
 
 ``--method diffpd`` tracks the clip with the trained differentiable PD cycle instead
 (:mod:`agents.diffpd_clean`: no adaptation, no retries; the same outputs and report).
@@ -74,13 +78,13 @@ from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_
                                   non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
                                   positive_int, require_frames)
 from reference_motion.grounding import add_grounding_option, grounding_of
-from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
+from reference_motion.leg_gap import LegGap, add_leg_gap_option, leg_gap_of
 from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
-from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import SwingLift, add_swing_lift_options, swing_lift_of
 from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3
@@ -423,6 +427,67 @@ def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndar
     return marked
 
 
+MODELS = Path(__file__).resolve().parents[1] / "models"
+"""The shipped policies and networks (``models/``)."""
+
+
+@dataclass(frozen=True)
+class CleanPreset:
+    """A validated way to clean one kind of take (``--preset``): the policy and the take's
+    preparation that validation chose for it (README, the main job's table), as the command-line
+    values they stand for. Any of them given on the command line wins; a switch a preset turns on
+    stays on (give the flags yourself to leave one out).
+
+    Attributes:
+        policy: the policy directory (``--policy``).
+        denoise: the IMU denoiser (``--denoise``); ``None``: none.
+        denoise_slow: seconds of ``--denoise-slow``; ``None``: the denoiser's whole correction.
+        even_legs: ``--even-legs``.
+        part_legs: the feet's gap (m) of ``--part-legs``; ``None``: not parted.
+        ground: ``--ground``.
+        swing_lift: the knee angle (deg) of ``--swing-lift``; ``None``: no lift.
+        mirror_average: ``--mirror-average``.
+        no_adapt: ``--no-adapt`` (zero-shot: the presets' actors were chosen zero-shot).
+    """
+
+    policy: Path
+    denoise: Path | None = None
+    denoise_slow: float | None = None
+    even_legs: bool = False
+    part_legs: float | None = None
+    ground: bool = True
+    swing_lift: float | None = SwingLift.knee_deg
+    mirror_average: bool = True
+    no_adapt: bool = True
+
+
+PRESETS: dict[str, CleanPreset] = {
+    # an IMU-suit take: the row "the same IMU takes with an IMU denoiser in front" (WLST, round 24)
+    "imu": CleanPreset(policy=MODELS / "mimic_general_slow", denoise=DEFAULT_DENOISER, denoise_slow=0.5,
+                       even_legs=True, part_legs=LegGap.min_gap_m),
+    # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")
+    "optical": CleanPreset(policy=MODELS / "mimic_general_stance_avg"),
+}
+"""``--preset NAME``: :class:`CleanPreset` of each kind of take."""
+
+
+def parse_clean_args(parser: CliParser, argv: list[str] | None) -> argparse.Namespace:
+    """``argv`` (default: ``sys.argv[1:]``) parsed by ``parser`` (:func:`build_parser`), the values of
+    its ``--preset`` (:data:`PRESETS`) filling what the command line leaves out; a bad combination
+    is the parser's error (no ``--policy`` and no preset; a preset with ``--method diffpd``)."""
+    first = CliParser(prog=parser.prog, add_help=False)
+    first.add_argument("--preset", choices=sorted(PRESETS))
+    known, _ = first.parse_known_args(argv)
+    if known.preset is not None:
+        parser.set_defaults(**asdict(PRESETS[known.preset]))
+    args = parser.parse_args(argv)
+    if args.policy is None:
+        parser.error("the following arguments are required: --policy (or --preset)")
+    if args.preset is not None and args.method != "ppo":
+        parser.error(f"--preset {args.preset} cleans with a PPO policy; it goes with --method ppo")
+    return args
+
+
 def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     """The command line of ``agents/clean.py``; ``method=False`` leaves out ``--method`` and
     ``--touch-up`` (for a command that re-performs with a PPO policy only and reports the simulation
@@ -432,13 +497,20 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, or a .npz / .bvh / .amc / .txt file")
     add_mocap_options(p)
     if method:
+        p.add_argument("--preset", choices=sorted(PRESETS),
+                       help="clean with the policy and preparation validation chose for this kind of take: imu, an "
+                            "IMU-suit take (models/mimic_general_slow behind the IMU denoiser's slow corrections, legs "
+                            "evened and parted, grounded, swing-lifted, mirror-averaged, zero-shot); optical, a marker "
+                            "take (models/mimic_general_stance_avg, grounded, swing-lifted, mirror-averaged, zero-shot). "
+                            "Flags given as well win")
         p.add_argument("--method", choices=METHODS, default="ppo",
                        help="ppo: a mimic policy re-performs the clip (--policy: its directory); diffpd: the "
                             "differentiable PD cycle tracks it (--policy: a diff-PD model directory, e.g. "
                             "models/diffpd; agents/diffpd_clean.py)")
-    p.add_argument("--policy", required=True,
+    p.add_argument("--policy", required=not method,
                    help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json), or a policy set "
-                        "(policy_set.json: a policy per motion class); with --method diffpd a diff-PD model directory (diffpd.pt)")
+                        "(policy_set.json: a policy per motion class); with --method diffpd a diff-PD model directory "
+                        "(diffpd.pt)" + ("; or given by --preset" if method else ""))
     p.add_argument("--out", type=output_file(".npz"), required=True, help="cleaned motion (.npz)")
     p.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned motion as BVH")
     p.add_argument("--video", type=output_file(*VIDEO_SUFFIXES),
@@ -605,7 +677,7 @@ def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespa
 def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     """Run the command line ``argv`` (default: ``sys.argv[1:]``); returns the before/after metrics."""
     parser = build_parser(prog)
-    args = parser.parse_args(argv)
+    args = parse_clean_args(parser, argv)
     if args.method == "ppo":  # with diffpd --denoise-slow is refused below, as every preparation is
         check_slowing(args.denoise, args.denoise_slow)
     lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
@@ -666,7 +738,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     if args.video:
         marked = [None, reanchor_marks(cleaned)]  # the result framed in red after each re-anchor
         print(f"wrote {render([reference, cleaned], args.video, marked=marked, progress=True)}")
-    result = {"source": args.source, "policy": str(args.policy), "cleaned_by": source["cleaned_by"],
+    result = {"source": args.source, "policy": str(args.policy), "preset": args.preset,
+              "cleaned_by": source["cleaned_by"],
               "input": before, "cleaned": after, "simulated_fraction": source["simulated_fraction"],
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,

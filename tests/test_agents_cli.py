@@ -16,6 +16,7 @@ from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
 from reference_motion.bvh import load as load_bvh
+from reference_motion.cli import UsageError
 from reference_motion.motion import Motion
 
 
@@ -102,6 +103,46 @@ def test_clean_can_denoise_an_imu_take_first(policy_dir, tmp_path):
     assert not np.allclose(Motion.load(tmp_path / "plain.npz").qpos, Motion.load(tmp_path / "denoised.npz").qpos)
     with pytest.raises(SystemExit):
         clean.main(args + ["--out", str(tmp_path / "d.npz"), "--method", "diffpd", "--denoise"])
+
+
+def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
+    """--preset fills --policy and the preparation flags (clean.PRESETS); what the command line
+    gives wins; no policy and no preset, or a preset with diffpd, is the parser's error."""
+    def parsed(*argv):
+        return clean.parse_clean_args(clean.build_parser(), ["deepmimic:walk", "--out", "c.npz", *argv])
+
+    imu = parsed("--preset", "imu")
+    assert imu.policy == clean.MODELS / "mimic_general_slow" and imu.denoise == DEFAULT_DENOISER
+    assert (imu.denoise_slow, imu.even_legs, imu.part_legs, imu.ground) == (0.5, True, 0.15, True)
+    assert (imu.swing_lift, imu.mirror_average, imu.no_adapt) == (15.0, True, True)
+    optical = parsed("--preset", "optical")
+    assert optical.policy == clean.MODELS / "mimic_general_stance_avg" and optical.denoise is None
+    assert (optical.even_legs, optical.part_legs, optical.ground, optical.mirror_average) == (False, None, True, True)
+    mine = parsed("--preset", "imu", "--policy", "models/mimic_walk", "--denoise-slow", "1.0", "--part-legs", "0.2")
+    assert (mine.policy, mine.denoise_slow, mine.part_legs) == ("models/mimic_walk", 1.0, 0.2)
+    assert mine.denoise == DEFAULT_DENOISER and mine.even_legs  # the rest of the preset still holds
+    plain = parsed("--policy", "models/mimic_walk")
+    assert (plain.preset, plain.denoise, plain.ground, plain.mirror_average, plain.no_adapt) == (None, None, False, False, False)
+    with pytest.raises(UsageError, match="required: --policy \\(or --preset\\)"):
+        parsed()
+    with pytest.raises(UsageError, match="--preset imu cleans with a PPO policy; it goes with --method ppo"):
+        parsed("--preset", "imu", "--method", "diffpd")
+    with pytest.raises(UsageError, match="invalid choice: 'marker'"):
+        parsed("--preset", "marker")
+
+
+def test_the_imu_preset_cleans_as_its_flags_do(tmp_path):
+    """clean.py --preset imu performs an IMU take exactly as the flags it stands for do, with the
+    shipped policy validation chose for IMU takes, and records the preset."""
+    take = ["deepmimic:walker/turn_left0", "--corrupt", "imu", "--seed", "3", "--search", "off"]
+    preset = clean.main(take + ["--preset", "imu", "--out", str(tmp_path / "preset.npz")])
+    flags = clean.main(take + ["--policy", "models/mimic_general_slow", "--denoise", "--denoise-slow", "--even-legs",
+                               "--part-legs", "--ground", "--swing-lift", "--mirror-average", "--no-adapt",
+                               "--out", str(tmp_path / "flags.npz")])
+    np.testing.assert_array_equal(Motion.load(tmp_path / "preset.npz").qpos, Motion.load(tmp_path / "flags.npz").qpos)
+    assert preset["preset"] == "imu" and flags["preset"] is None and preset["adaptation"] is None
+    assert preset["denoiser"] == str(DEFAULT_DENOISER) and preset["denoise_slow_s"] == 0.5 and preset["mirror_average"]
+    assert preset["simulated_fraction"] == 1.0 and not preset["reanchors"]
 
 
 def test_clean_can_lift_the_backward_steps_first(policy_dir, tmp_path, walk):
