@@ -16,7 +16,8 @@ policy = load_policy(sys.argv[1])
 takes = sys.argv[3:]
 clips = reference_clips([f"library:data/library#{t}" for t in takes], "humanoid_1seg", MimicConfig(), None, 1.0, 0)
 tracked, judged = tracked_and_judged(clips, None, symmetry=LegSymmetry(), legs=LegGap(), grounding=Grounding(), lift=SwingLift())
-summary, runs = evaluate_tracking(policy, tracked, judged, episodes=int(sys.argv[2]) * len(takes), mirror_average=True)
+mirror = not sys.argv[2].endswith("p")
+summary, runs = evaluate_tracking(policy, tracked, judged, episodes=int(sys.argv[2].rstrip("p")) * len(takes), mirror_average=mirror)
 out = collections.defaultdict(list)
 for r in runs:
     sim, ref = r.simulated.qpos[:, :3], r.reference.qpos[:, :3]
