@@ -8,7 +8,8 @@ Usage::
     python agents/clean.py TAKE.bvh --preset imu --out out/clean.npz    # the validated way for an IMU-suit take
 
 ``--preset imu`` / ``--preset optical`` stand for the policy and preparation flags validation chose
-for an IMU-suit take and for a marker take (:data:`PRESETS`); flags given as well win.
+for an IMU-suit take and for a marker take (:data:`PRESETS`); a value given as well wins, what a
+preset turns on cannot be turned off.
 
 ``--method diffpd`` tracks the clip with the trained differentiable PD cycle instead
 (:mod:`agents.diffpd_clean`: no adaptation, no retries; the same outputs and report).
@@ -66,6 +67,7 @@ from agents.policy import MimicPolicy
 from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
+from agents.sidecar import repository_relative
 from envs.config import FOOT_MODELS
 from envs.preparation import prepared
 from perception.imu_denoiser import (DEFAULT_DENOISER, SlowCorrections, add_slow_corrections_option, check_slowing,
@@ -435,15 +437,17 @@ MODELS = Path(__file__).resolve().parents[1] / "models"
 class CleanPreset:
     """A validated way to clean one kind of take (``--preset``): the policy and the take's
     preparation that validation chose for it (README, the main job's table), as the command-line
-    values they stand for. Any of them given on the command line wins; a switch a preset turns on
-    stays on (give the flags yourself to leave one out).
+    values they stand for. A value given on the command line wins over the preset's; what a preset
+    turns on (a denoiser, its slowing, evening, parting, grounding, the lift, the mirror average,
+    ``--no-adapt``) cannot be turned off: give the flags yourself instead of the preset.
 
     Attributes:
         policy: the policy directory (``--policy``).
         denoise: the IMU denoiser (``--denoise``); ``None``: none.
         denoise_slow: seconds of ``--denoise-slow``; ``None``: the denoiser's whole correction.
         even_legs: ``--even-legs``.
-        part_legs: the feet's gap (m) of ``--part-legs``; ``None``: not parted.
+        part_legs: ``--part-legs``'s smallest median sideways gap of the feet (m), below which
+            the legs are parted; ``None``: not parted.
         ground: ``--ground``.
         swing_lift: the knee angle (deg) of ``--swing-lift``; ``None``: no lift.
         mirror_average: ``--mirror-average``.
@@ -489,8 +493,9 @@ def parse_clean_args(parser: CliParser, argv: list[str] | None) -> argparse.Name
 
 
 def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
-    """The command line of ``agents/clean.py``; ``method=False`` leaves out ``--method`` and
-    ``--touch-up`` (for a command that re-performs with a PPO policy only and reports the simulation
+    """The command line of ``agents/clean.py`` (parse it with :func:`parse_clean_args`, which applies
+    ``--preset`` and requires ``--policy`` when no preset gives it); ``method=False`` leaves out
+    ``--preset``, ``--method`` and ``--touch-up`` (for a command that re-performs with a PPO policy only and reports the simulation
     itself, such as ``agents/reconstruct_gait.py``)."""
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
@@ -502,7 +507,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "IMU-suit take (models/mimic_general_slow behind the IMU denoiser's slow corrections, legs "
                             "evened and parted, grounded, swing-lifted, mirror-averaged, zero-shot); optical, a marker "
                             "take (models/mimic_general_stance_avg, grounded, swing-lifted, mirror-averaged, zero-shot). "
-                            "Flags given as well win")
+                            "A value given as well wins; what the preset turns on cannot be turned off (give the flags "
+                            "instead)")
         p.add_argument("--method", choices=METHODS, default="ppo",
                        help="ppo: a mimic policy re-performs the clip (--policy: its directory); diffpd: the "
                             "differentiable PD cycle tracks it (--policy: a diff-PD model directory, e.g. "
@@ -738,7 +744,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     if args.video:
         marked = [None, reanchor_marks(cleaned)]  # the result framed in red after each re-anchor
         print(f"wrote {render([reference, cleaned], args.video, marked=marked, progress=True)}")
-    result = {"source": args.source, "policy": str(args.policy), "preset": args.preset,
+    result = {"source": args.source, "policy": repository_relative(args.policy), "preset": args.preset,
               "cleaned_by": source["cleaned_by"],
               "input": before, "cleaned": after, "simulated_fraction": source["simulated_fraction"],
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],

@@ -2,6 +2,7 @@
 
 import json
 import shutil
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -118,6 +119,9 @@ def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
     optical = parsed("--preset", "optical")
     assert optical.policy == clean.MODELS / "mimic_general_stance_avg" and optical.denoise is None
     assert (optical.even_legs, optical.part_legs, optical.ground, optical.mirror_average) == (False, None, True, True)
+    assert (optical.denoise_slow, optical.swing_lift, optical.no_adapt) == (None, 15.0, True)
+    options = {action.dest for action in clean.build_parser()._actions}
+    assert all(set(asdict(preset)) <= options for preset in clean.PRESETS.values())  # every field is a flag
     mine = parsed("--preset", "imu", "--policy", "models/mimic_walk", "--denoise-slow", "1.0", "--part-legs", "0.2")
     assert (mine.policy, mine.denoise_slow, mine.part_legs) == ("models/mimic_walk", 1.0, 0.2)
     assert mine.denoise == DEFAULT_DENOISER and mine.even_legs  # the rest of the preset still holds
@@ -141,6 +145,7 @@ def test_the_imu_preset_cleans_as_its_flags_do(tmp_path):
                                "--out", str(tmp_path / "flags.npz")])
     np.testing.assert_array_equal(Motion.load(tmp_path / "preset.npz").qpos, Motion.load(tmp_path / "flags.npz").qpos)
     assert preset["preset"] == "imu" and flags["preset"] is None and preset["adaptation"] is None
+    assert preset["policy"] == flags["policy"] == "models/mimic_general_slow"  # recorded from the repository root
     assert preset["denoiser"] == str(DEFAULT_DENOISER) and preset["denoise_slow_s"] == 0.5 and preset["mirror_average"]
     assert preset["simulated_fraction"] == 1.0 and not preset["reanchors"]
 
@@ -148,7 +153,6 @@ def test_the_imu_preset_cleans_as_its_flags_do(tmp_path):
 def test_clean_can_lift_the_backward_steps_first(policy_dir, tmp_path, walk):
     """--swing-lift: the policy re-performs the take with its backward steps' knees lifted in swing;
     the input metrics are the take as given; with diffpd it is refused."""
-    from dataclasses import asdict
 
     from reference_motion.swing_lift import SwingLift
     from reference_motion.transforms import reversed_in_time
@@ -167,7 +171,6 @@ def test_clean_can_lift_the_backward_steps_first(policy_dir, tmp_path, walk):
 def test_clean_can_set_the_take_on_the_floor_first(policy_dir, tmp_path, walk):
     """--ground: the policy re-performs the take set on the floor; the input metrics are the take as
     given (floating 5 cm); the JSON records the grounding; with diffpd it is refused."""
-    from dataclasses import asdict
 
     from reference_motion.grounding import Grounding
     qpos = walk.qpos.copy()
@@ -187,7 +190,6 @@ def test_evaluate_and_clean_can_even_the_legs_first(policy_dir, tmp_path, walk):
     """--even-legs: the JSON names the actor that mimics the take with its legs evened and records
     the settings (that it is judged against the take as given: tests/test_leg_symmetry.py); clean.py
     prepares the take the same way, and refuses it with diffpd."""
-    from dataclasses import asdict
 
     from reference_motion.leg_symmetry import LegSymmetry
     imu = ["--clips", "deepmimic:walk", "--episodes", "2", "--corrupt", "imu", "--seed", "1000"]
@@ -316,7 +318,6 @@ def test_sidecars_record_the_default_denoiser_from_the_repository_and_compare_it
 
 
 def test_recorded_settings_are_compared_where_the_sidecar_has_them():
-    from dataclasses import asdict
     from agents.policy import recorded_as
     from reference_motion.grounding import Grounding
     recorded = json.loads(json.dumps(asdict(Grounding())))
