@@ -495,8 +495,8 @@ def parse_clean_args(parser: CliParser, argv: list[str] | None) -> argparse.Name
 def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     """The command line of ``agents/clean.py`` (parse it with :func:`parse_clean_args`, which applies
     ``--preset`` and requires ``--policy`` when no preset gives it); ``method=False`` leaves out
-    ``--preset``, ``--method`` and ``--touch-up`` (for a command that re-performs with a PPO policy only and reports the simulation
-    itself, such as ``agents/reconstruct_gait.py``)."""
+    ``--preset``, ``--method`` and ``--touch-up`` (for a command that re-performs with a PPO policy
+    only and reports the simulation itself, such as ``agents/reconstruct_gait.py``)."""
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
                   formatter_class=argparse.ArgumentDefaultsHelpFormatter)
     p.add_argument("source", help="deepmimic:NAME, library:DIR#TAKE, or a .npz / .bvh / .amc / .txt file")
@@ -515,8 +515,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                             "models/diffpd; agents/diffpd_clean.py)")
     p.add_argument("--policy", required=not method,
                    help="policy directory (model.zip, model_vecnormalize.pkl, sidecar.json), or a policy set "
-                        "(policy_set.json: a policy per motion class); with --method diffpd a diff-PD model directory "
-                        "(diffpd.pt)" + ("; or given by --preset" if method else ""))
+                        "(policy_set.json: a policy per motion class); with --method diffpd a diff-PD model "
+                        "directory (diffpd.pt)" + ("; or given by --preset" if method else ""))
     p.add_argument("--out", type=output_file(".npz"), required=True, help="cleaned motion (.npz)")
     p.add_argument("--bvh", type=output_file(".bvh"), help="also write the cleaned motion as BVH")
     p.add_argument("--video", type=output_file(*VIDEO_SUFFIXES),
