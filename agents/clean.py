@@ -68,7 +68,7 @@ from agents.policy_set import route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import repository_relative
-from envs.config import FOOT_MODELS
+from envs.config import FOOT_MODELS, MODELS_DIR
 from envs.preparation import prepared
 from perception.imu_denoiser import (DEFAULT_DENOISER, SlowCorrections, add_slow_corrections_option, check_slowing,
                                      slowed)
@@ -429,10 +429,6 @@ def reanchor_marks(cleaned: Motion, seconds: float = REANCHOR_MARK_S) -> np.ndar
     return marked
 
 
-MODELS = Path(__file__).resolve().parents[1] / "models"
-"""The shipped policies and networks (``models/``)."""
-
-
 @dataclass(frozen=True)
 class CleanPreset:
     """A validated way to clean one kind of take (``--preset``): the policy and the take's
@@ -467,10 +463,10 @@ class CleanPreset:
 
 PRESETS: dict[str, CleanPreset] = {
     # an IMU-suit take: the row "the same IMU takes with an IMU denoiser in front" (WLST, round 24)
-    "imu": CleanPreset(policy=MODELS / "mimic_general_slow", denoise=DEFAULT_DENOISER, denoise_slow=0.5,
+    "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_slow", denoise=DEFAULT_DENOISER, denoise_slow=0.5,
                        even_legs=True, part_legs=LegGap.min_gap_m),
     # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")
-    "optical": CleanPreset(policy=MODELS / "mimic_general_stance_avg"),
+    "optical": CleanPreset(policy=MODELS_DIR / "mimic_general_stance_avg"),
 }
 """``--preset NAME``: :class:`CleanPreset` of each kind of take."""
 

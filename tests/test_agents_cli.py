@@ -12,7 +12,7 @@ from agents import clean, evaluate, evaluation
 from agents.evaluation import evaluate_tracking, rollout, zero_policy
 from agents.policy import PolicyError, load_policy
 from agents.train_ppo import main as train
-from envs.config import MimicConfig
+from envs.config import MODELS_DIR, MimicConfig
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
@@ -113,11 +113,11 @@ def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
         return clean.parse_clean_args(clean.build_parser(), ["deepmimic:walk", "--out", "c.npz", *argv])
 
     imu = parsed("--preset", "imu")
-    assert imu.policy == clean.MODELS / "mimic_general_slow" and imu.denoise == DEFAULT_DENOISER
+    assert imu.policy == MODELS_DIR / "mimic_general_slow" and imu.denoise == DEFAULT_DENOISER
     assert (imu.denoise_slow, imu.even_legs, imu.part_legs, imu.ground) == (0.5, True, 0.15, True)
     assert (imu.swing_lift, imu.mirror_average, imu.no_adapt) == (15.0, True, True)
     optical = parsed("--preset", "optical")
-    assert optical.policy == clean.MODELS / "mimic_general_stance_avg" and optical.denoise is None
+    assert optical.policy == MODELS_DIR / "mimic_general_stance_avg" and optical.denoise is None
     assert (optical.even_legs, optical.part_legs, optical.ground, optical.mirror_average) == (False, None, True, True)
     assert (optical.denoise_slow, optical.swing_lift, optical.no_adapt) == (None, 15.0, True)
     options = {action.dest for action in clean.build_parser()._actions}
