@@ -89,12 +89,14 @@ from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs,
 from agents.warm_start import widen_by_window, widen_hidden, window_slice
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
-from perception.imu_denoiser import add_denoise_option
+from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option, check_slowing
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
                                   positive_float, positive_int, resumable_run)
 from reference_motion.grounding import add_grounding_option, grounding_of
+from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
+from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
 from reference_motion.library import STANCE_EXTRA_M, expand_clips
 from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
@@ -562,11 +564,12 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
 
 def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
     """The IMU-corruption mix of the distillation's episodes and how every reference the student
-    tracks is prepared (``--denoise``, unless the teacher reads the denoised take, ``--ground``,
-    ``--swing-lift``); a prepared take's episode is judged against the take as given, as
-    ``evaluate.py`` judges it. ``None`` without corruption or preparation; a clear ``ValueError``
-    for options that cannot act."""
-    grounding, lift = grounding_of(args), swing_lift_of(args)
+    tracks is prepared (``--denoise`` with ``--denoise-slow``, unless the teacher reads the denoised
+    take, ``--even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``, in ``train_ppo.py``'s order);
+    a prepared take's episode is judged against the take as given, as ``evaluate.py`` judges it.
+    ``None`` without corruption or preparation; a clear ``ValueError`` for options that cannot act."""
+    check_slowing(args.denoise, args.denoise_slow)
+    symmetry, legs, grounding, lift = leg_symmetry_of(args), leg_gap_of(args), grounding_of(args), swing_lift_of(args)
     if args.teacher_reads == "denoised" and not args.denoise:
         raise ValueError("--teacher-reads denoised: the teacher reads the take after the IMU denoiser --denoise "
                          "names; give --denoise [DIR]")
@@ -574,20 +577,23 @@ def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
         if args.teacher_reads != "track" or args.denoise:
             raise ValueError(f"--teacher-reads {args.teacher_reads} and --denoise act on corrupted episodes; "
                              "give --corrupted-fraction > 0")
-        if grounding is None and lift is None:
+        if all(step is None for step in (symmetry, legs, grounding, lift)):
             return None
     student_denoiser = None if args.teacher_reads == "denoised" else args.denoise
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
                       variants_per_clip=args.variants_per_clip, seed=seed, denoiser=student_denoiser,
+                      denoise_slow_s=args.denoise_slow if student_denoiser else None, symmetry=symmetry, legs=legs,
                       grounding=grounding, lift=lift)
     return replace(mix, judge="given") if mix.prepares(args.corrupted_fraction > 0) else mix
 
 
 def teacher_mix(args: argparse.Namespace, mix: ArtefactMix | None) -> ArtefactMix | None:
     """With ``--teacher-reads denoised``, the student's ``mix`` with its corrupted variants passed
-    through ``--denoise`` (the same artefact seed, so the same corruptions): what the teachers
-    read; otherwise ``None`` (they read the student's env)."""
-    return replace(mix, denoiser=args.denoise) if args.teacher_reads == "denoised" and mix is not None else None
+    through ``--denoise`` (with ``--denoise-slow``; the same artefact seed, so the same corruptions): what
+    the teachers read; otherwise ``None`` (they read the student's env)."""
+    if args.teacher_reads != "denoised" or mix is None:
+        return None
+    return replace(mix, denoiser=args.denoise, denoise_slow_s=args.denoise_slow)
 
 
 def teacher_weight(text: str) -> tuple[str, float]:
@@ -639,6 +645,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "plain actor, not their symmetric one: a teacher of the side of a take a policy performs "
                         "(its mirror image teaching the other side) would otherwise average the failing side back in")
     add_denoise_option(p, "every corrupted reference, before the student observes it, as evaluate.py --denoise does")
+    add_slow_corrections_option(p)
+    add_leg_symmetry_option(p, "every reference the student tracks, clean or corrupted (envs.ArtefactMix.symmetry)")
+    add_leg_gap_option(p, "every reference the student tracks, clean or corrupted, after --denoise and --even-legs "
+                          "(envs.ArtefactMix.legs)")
     add_grounding_option(p, "every reference the student tracks is set on the floor (after --denoise, unless the "
                             "teacher reads the denoised take)")
     add_swing_lift_options(p, "every reference the student tracks is lifted last")

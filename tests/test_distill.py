@@ -17,11 +17,17 @@ from agents.distill import (DistillConfig, Labels, Teachers, center_values, chec
                             fit_report, label_rows, load_teachers, main, mean_actions_and_values,
                             new_student, rmse_text, split_holdout, student_task, symmetric_teacher, teacher_observation,
                             teacher_weight)
+from agents.distill import artefact_mix as distill_artefact_mix
+from agents.distill import build_parser as build_distill_parser
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
+from agents.train_ppo import artefact_mix as ppo_artefact_mix
+from agents.train_ppo import build_parser as build_ppo_parser
 from envs import ArtefactMix
 from envs.reference import ReferenceTrack
+from reference_motion.leg_gap import LegGap
+from reference_motion.leg_symmetry import LegSymmetry
 from reference_motion.library import load_motion
 
 MODELS = Path(__file__).parents[1] / "models"
@@ -370,11 +376,13 @@ def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised
     state; without --denoise it is refused, and the student's sidecar records no denoiser."""
     args = argparse.Namespace(teacher_reads="denoised", denoise=str(MODELS / "imu_denoiser_soles"),
                               corrupted_fraction=1.0, strength=(1.0, 1.0), variants_per_clip=2, ground=False,
-                              swing_lift=None, swing_from=None)
+                              swing_lift=None, swing_from=None, denoise_slow=None, even_legs=False, part_legs=None)
     from agents.distill import artefact_mix, teacher_mix
     mix = artefact_mix(args, 5)
     readers = teacher_mix(args, mix)
     assert mix.denoiser is None and readers.denoiser == args.denoise and readers.seed == mix.seed == 5
+    slow = teacher_mix(argparse.Namespace(**{**vars(args), "denoise_slow": 0.5}), mix)
+    assert slow.denoiser == args.denoise and slow.denoise_slow_s == 0.5 and mix.denoise_slow_s is None
     policy = load_policy(MODELS / "mimic_walk")
     env, teacher_env = (policy.make_env(["deepmimic:walk"], artefacts=m) for m in (mix, readers))
     obs, info = env.reset(seed=0, options={"corrupted": True})
@@ -401,3 +409,23 @@ def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised
     assert student.record.training.denoiser is None  # the student tracked the takes as given
     record = student.record.extra["distillation"]
     assert record["teacher_reads"] == "denoised" and record["teacher_denoiser"].endswith("imu_denoiser_soles")
+
+
+def test_the_student_tracks_references_prepared_as_train_ppo_prepares_them(tmp_path):
+    """--denoise-slow, --even-legs and --part-legs reach the distillation's ArtefactMix as train_ppo.py's
+    do (a student of a policy trained on prepared takes sees them prepared alike); on clean episodes
+    alone the legs' preparation still makes a mix; --denoise-slow without --denoise is refused."""
+    flags = ["--corrupted-fraction", "0.75", "--strength", "0.75", "1.5", "--variants-per-clip", "3",
+             "--denoise", str(MODELS / "imu_denoiser_soles"), "--denoise-slow", "0.5", "--even-legs", "--part-legs",
+             "--ground", "--swing-lift"]
+    ours = distill_artefact_mix(build_distill_parser().parse_args(["--out", str(tmp_path / "a"), *flags]), 7)
+    theirs = ppo_artefact_mix(build_ppo_parser().parse_args(["--clips", "deepmimic:walk", "--run-dir", str(tmp_path / "run"), *flags]), 0.75)
+    assert ours.denoise_slow_s == 0.5 and ours.symmetry == LegSymmetry() and ours.legs == LegGap(min_gap_m=0.15)
+    for field in ("denoiser", "denoise_slow_s", "symmetry", "legs", "grounding", "lift", "fraction", "strength"):
+        assert getattr(ours, field) == getattr(theirs, field), field
+    assert ours.judge == "given"  # judged against the take as given, as evaluate.py judges a prepared take
+    legs_only = distill_artefact_mix(build_distill_parser().parse_args(
+        ["--out", str(tmp_path / "b"), "--corrupted-fraction", "0", "--part-legs", "0.2"]), 7)
+    assert legs_only.legs == LegGap(min_gap_m=0.2) and legs_only.symmetry is None and legs_only.denoiser is None
+    with pytest.raises(ValueError, match="--denoise-slow 0.5 slows a denoiser's corrections"):
+        distill_artefact_mix(build_distill_parser().parse_args(["--out", str(tmp_path / "c"), "--denoise-slow"]), 7)
