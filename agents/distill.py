@@ -272,17 +272,21 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
 
 
 def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
-    """Raise :class:`PolicyError` unless every teacher acts with ``env``'s actions and observes its
-    observation, or the part of it before the student's reference window (:func:`teacher_observation`
-    gives a teacher the first values): a teacher with a window of its own would read the student's
-    as if it were its own."""
+    """Raise :class:`PolicyError` unless every teacher acts with ``env``'s actions and observes either
+    the part of its observation before the student's reference window, with no window of its own, or
+    (a teacher whose window is the student's, as a default teacher's is for its own student) the whole
+    observation (:func:`teacher_observation` gives a teacher the first values): a teacher with another
+    window would read the student's as if it were its own."""
     window = window_slice(env.unwrapped.obs_slices)
-    own = env.observation_space.shape[0] if window is None else window.start
+    whole = env.observation_space.shape[0]
+    before = whole if window is None else window.start
+    steps = env.unwrapped.config.window_steps
     for teacher in teachers.policies:
-        if teacher.model.observation_space.shape[0] != own or (
-                window is not None and teacher.record.env.mimic_config().window_steps):
-            raise PolicyError(f"{teacher.path}: observes {teacher.model.observation_space.shape[0]} values; a teacher "
-                              f"reads the student's observation before its reference window ({own} values)")
+        inputs, own_steps = teacher.model.observation_space.shape[0], teacher.record.env.mimic_config().window_steps
+        if not ((inputs == before and not own_steps) or (inputs == whole and own_steps == steps)):
+            raise PolicyError(f"{teacher.path}: observes {inputs} values; a teacher reads the student's observation "
+                              f"before its reference window ({before} values) or, with the student's window "
+                              f"{list(steps)}, all of it ({whole} values)")
         if teacher.model.action_space.shape != env.action_space.shape:
             raise PolicyError(f"{teacher.path}: acts with {teacher.model.action_space.shape[0]} values; the student's "
                               f"environment takes {env.action_space.shape[0]}")

@@ -362,8 +362,11 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     resumed = load_policy(out / "student")
     assert len(resumed.record.extra["distillation"]["rounds"]) == 2
     np.testing.assert_array_equal(resumed.normalizer.obs_rms.mean, saved.normalizer.obs_rms.mean)
-    with pytest.raises(PolicyError, match="a teacher reads the student's observation before its reference window"):
-        check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), env)
+    check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), env)  # its window is the student's: all of it
+    other_window = student_task(default, replace(config, lookbehind=(1,))).make(teachers.motions, artefacts=None)
+    with pytest.raises(PolicyError, match=r"before its reference window \(\d+ values\) or, with the student's window "
+                                          r"\[2, -1\], all of it"):
+        check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), other_window)
     other_actions = load_policy(MODELS / "mimic_walk")
     other_actions.model.action_space = gym.spaces.Box(-1.0, 1.0, (3,), np.float32)
     with pytest.raises(PolicyError, match="acts with 3 values; the student's environment takes"):

@@ -12,6 +12,6 @@ MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/distill.py --teacher ben
   --mirror --warp '*walk-back*=1.25,1.5' --corrupted-fraction 0.75 --strength 0.75 1.5 --variants-per-clip 2 \
   --denoise models/imu_denoiser_soles_quint_mirror --denoise-slow 0.5 --even-legs --part-legs --ground --swing-lift \
   --mirror-average --plain-teachers active masculinity mimic_general_taught \
-  --net 512,512 --from-default --lookahead 1 2 4 8 --lookbehind 1 2 4 8 --rounds 4 \
+  --net 512,512 --from-default --rounds 4 \
   --teacher-weight active=20 masculinity=20 mimic_general_taught=20 --no-progress --out runs/r26/distill_wt \
   > runs/r26/distill_wt.log 2>&1
