@@ -374,13 +374,14 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
         if terminated or truncated:
             episode += 1
             obs, info = env.reset()
-    obs_all, seen_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(teacher_rows, np.float32), np.asarray(who)
+    obs_all, who_all = np.asarray(obs_rows, np.float32), np.asarray(who)
     actions = np.zeros((len(obs_all), env.action_space.shape[0]), np.float32)
     values = np.zeros(len(obs_all), np.float32)
-    for i, teacher in enumerate(teachers.policies):
-        rows = who_all == i
-        if rows.any():
-            actions[rows], values[rows] = mean_actions_and_values(teacher, seen_all[rows])
+    for i, teacher in enumerate(teachers.policies):  # teachers may read different lengths (check_teacher_layouts)
+        rows = np.flatnonzero(who_all == i)
+        if len(rows):
+            seen = np.asarray([teacher_rows[row] for row in rows], np.float32)
+            actions[rows], values[rows] = mean_actions_and_values(teacher, seen)
     labels = Labels(obs_all, actions, values, who_all, np.asarray(episode_of))
     if maps is None:
         return labels

@@ -363,6 +363,15 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     assert len(resumed.record.extra["distillation"]["rounds"]) == 2
     np.testing.assert_array_equal(resumed.normalizer.obs_rms.mean, saved.normalizer.obs_rms.mean)
     check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), env)  # its window is the student's: all of it
+    mixed = Teachers([default, saved], {walk.name: 0, "walk copy": 1}, 1, [walk, replace(walk, name="walk copy")])
+    mixed_env = student_task(saved, DistillConfig()).make(mixed.motions, artefacts=None)
+    check_teacher_layouts(mixed, mixed_env)
+    both = collect(mixed_env, saved, mixed, 400, 0.17, np.random.default_rng(1), first_episode=0, progress=False)
+    for i, reads in ((0, size), (1, size + 198)):  # each teacher labels from what it reads: the leading values, or all
+        rows = both.teacher == i
+        assert rows.sum() >= 20
+        np.testing.assert_allclose(both.actions[rows],
+                                   mean_actions_and_values(mixed.policies[i], both.obs[rows, :reads])[0], atol=1e-5)
     other_window = student_task(default, replace(config, lookbehind=(1,))).make(teachers.motions, artefacts=None)
     with pytest.raises(PolicyError, match=r"before its reference window \(\d+ values\) or, with the student's window "
                                           r"\[2, -1\], all of it"):
