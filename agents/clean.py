@@ -462,7 +462,7 @@ class CleanPreset:
 
 
 PRESETS: dict[str, CleanPreset] = {
-    # an IMU-suit take: the row "the same IMU takes with an IMU denoiser in front" (WLST, round 24)
+    # an IMU-suit take: the row "the same IMU takes with an IMU denoiser in front" (WW, round 26)
     "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_wide", denoise=DEFAULT_DENOISER, denoise_slow=0.5,
                        even_legs=True, part_legs=LegGap.min_gap_m),
     # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")

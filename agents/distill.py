@@ -35,7 +35,8 @@ out; its action RMSE per motion class (the clip's teacher) is what the log repor
 
 A privileged teacher (``--teacher-reads clean``): in a corrupted episode the teacher reads the clean
 take the corruption was made from, at the state the episode is in, while the student reads the
-corrupted take as evaluation prepares it (``--denoise --ground --swing-lift``). The student learns
+corrupted take as evaluation prepares it (``--denoise [--denoise-slow] --even-legs --part-legs --ground
+--swing-lift``, each optional). The student learns
 to act on a corrupted take as its teacher acts on the clean one; where the take cannot show an
 artefact (the stance skate, README "Round 14"), the least-squares fit is the teacher's mean over
 what it could hide. With ``--mirror-average`` the labels are the teachers' symmetric actors' and
@@ -44,7 +45,7 @@ named in ``--plain-teachers`` labels as its plain actor (a policy set that route
 to a policy that performs it and the other side to that policy's mirror image, README "Round 19").
 
 A teacher behind the denoiser (``--teacher-reads denoised --denoise DIR``): in a corrupted episode the
-teacher reads the same corrupted variant after the IMU denoiser (and ``--ground``, ``--swing-lift``),
+teacher reads the same corrupted variant after the IMU denoiser (and the student's other preparation),
 while the student reads it as the suit gives it, with a window of the take around now
 (``--lookahead``, ``--lookbehind``): the student learns to act on the raw take as its teacher does
 behind the denoiser, as far as its window shows what the denoiser sees (README "Round 20").
@@ -284,9 +285,10 @@ def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
     for teacher in teachers.policies:
         inputs, own_steps = teacher.model.observation_space.shape[0], teacher.record.env.mimic_config().window_steps
         if not ((inputs == before and not own_steps) or (inputs == whole and own_steps == steps)):
-            raise PolicyError(f"{teacher.path}: observes {inputs} values; a teacher reads the student's observation "
-                              f"before its reference window ({before} values) or, with the student's window "
-                              f"{list(steps)}, all of it ({whole} values)")
+            either = "" if window is None else f" or, with the student's window {list(steps)}, all of it ({whole} values)"
+            raise PolicyError(f"{teacher.path}: observes {inputs} values with reference window {list(own_steps)}; a "
+                              f"teacher reads the student's observation before its reference window, with no window "
+                              f"of its own ({before} values){either}")
         if teacher.model.action_space.shape != env.action_space.shape:
             raise PolicyError(f"{teacher.path}: acts with {teacher.model.action_space.shape[0]} values; the student's "
                               f"environment takes {env.action_space.shape[0]}")
@@ -578,17 +580,16 @@ def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
     if args.teacher_reads == "denoised" and not args.denoise:
         raise ValueError("--teacher-reads denoised: the teacher reads the take after the IMU denoiser --denoise "
                          "names; give --denoise [DIR]")
-    if args.corrupted_fraction <= 0:
-        if args.teacher_reads != "track" or args.denoise:
-            raise ValueError(f"--teacher-reads {args.teacher_reads} and --denoise act on corrupted episodes; "
-                             "give --corrupted-fraction > 0")
-        if all(step is None for step in (symmetry, legs, grounding, lift)):
-            return None
+    if args.corrupted_fraction <= 0 and (args.teacher_reads != "track" or args.denoise):
+        raise ValueError(f"--teacher-reads {args.teacher_reads} and --denoise act on corrupted episodes; "
+                         "give --corrupted-fraction > 0")
     student_denoiser = None if args.teacher_reads == "denoised" else args.denoise
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
                       variants_per_clip=args.variants_per_clip, seed=seed, denoiser=student_denoiser,
                       denoise_slow_s=args.denoise_slow if student_denoiser else None, symmetry=symmetry, legs=legs,
                       grounding=grounding, lift=lift)
+    if args.corrupted_fraction <= 0 and not mix.prepares(False):
+        return None
     return replace(mix, judge="given") if mix.prepares(args.corrupted_fraction > 0) else mix
 
 
@@ -652,10 +653,10 @@ def build_parser(prog: str | None = None) -> CliParser:
     add_denoise_option(p, "every corrupted reference, before the student observes it, as evaluate.py --denoise does")
     add_slow_corrections_option(p)
     add_leg_symmetry_option(p, "every reference the student tracks, clean or corrupted (envs.ArtefactMix.symmetry)")
-    add_leg_gap_option(p, "every reference the student tracks, clean or corrupted, after --denoise and --even-legs "
-                          "(envs.ArtefactMix.legs)")
-    add_grounding_option(p, "every reference the student tracks is set on the floor (after --denoise, unless the "
-                            "teacher reads the denoised take)")
+    add_leg_gap_option(p, "every reference the student tracks, clean or corrupted, after --even-legs (and after "
+                          "--denoise unless the teacher reads the denoised take) (envs.ArtefactMix.legs)")
+    add_grounding_option(p, "every reference the student tracks is set on the floor (after --even-legs, --part-legs "
+                            "and --denoise, unless the teacher reads the denoised take)")
     add_swing_lift_options(p, "every reference the student tracks is lifted last")
     defaults = DistillConfig()
     p.add_argument("--net", default=defaults.net, help="the student's hidden layer sizes")
@@ -758,6 +759,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         training = TrainingRecord(clips=clips, corrupted_fraction=args.corrupted_fraction,
                                   strength=tuple(args.strength), judge=mix.judge if mix else ArtefactMix().judge,
                                   denoiser=repository_relative(mix.denoiser if mix else None),
+                                  denoise_slow_s=mix.denoise_slow_s if mix else None,
+                                  leg_symmetry=asdict(mix.symmetry) if mix and mix.symmetry else None,
+                                  legs=asdict(mix.legs) if mix and mix.legs else None,
                                   grounding=asdict(mix.grounding) if mix and mix.grounding else None,
                                   lift=asdict(mix.lift) if mix and mix.lift else None, mirror=args.mirror, warps=warps,
                                   postures=args.postures, posture_seed=config.seed,

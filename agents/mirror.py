@@ -120,7 +120,8 @@ class MirrorMaps:
     def leading(self, size: int) -> MirrorMaps:
         """The maps of the observation's first ``size`` values (the same action map): those of a
         policy observing the layout without what follows, as a teacher reads a student's
-        observation without its reference window (``agents/distill.py --lookahead``). A clear
+        observation without its reference window (``agents/distill.py --lookahead``); ``size`` equal
+        to the whole observation gives these maps (a teacher whose window is the student's). A clear
         ``ValueError`` where the mirror moves a value across ``size``."""
         perm = self.obs_perm[:size]
         if len(perm) != size or (size and perm.max() >= size):

@@ -3,7 +3,7 @@ walk played backwards (two teachers), and the command end to end with a resume."
 
 import argparse
 import json
-from dataclasses import replace
+from dataclasses import asdict, replace
 from pathlib import Path
 
 import gymnasium as gym
@@ -351,9 +351,10 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
               "--out", str(out)]
     main(["--teacher", str(MODELS / "mimic_walk"), "--clips", "deepmimic:walk", "--corrupted-fraction", "0.5",
           "--teacher-reads", "clean", "--mirror-average", "--from-default", "--lookahead", "2", "--lookbehind", "1",
-          "4", "--rounds", "1", *common])
+          "4", "--part-legs", "--rounds", "1", *common])
     saved = load_policy(out / "student")
     assert saved.record.env.mimic_config().window_steps == (2, -1, -4)
+    assert saved.record.training.legs == asdict(LegGap()) and saved.record.training.leg_symmetry is None  # as tracked
     assert saved.normalizer.obs_rms.mean.shape == (size + 198,)
     student_env = saved.make_env(["deepmimic:walk"], artefacts=None)
     saved.check_env(student_env)
@@ -367,14 +368,14 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     mixed_env = student_task(saved, DistillConfig()).make(mixed.motions, artefacts=None)
     check_teacher_layouts(mixed, mixed_env)
     both = collect(mixed_env, saved, mixed, 400, 0.17, np.random.default_rng(1), first_episode=0, progress=False)
-    for i, reads in ((0, size), (1, size + 198)):  # each teacher labels from what it reads: the leading values, or all
+    for i, reads in ((0, size), (1, mixed_env.observation_space.shape[0])):  # the leading values, or all of them
         rows = both.teacher == i
         assert rows.sum() >= 20
         np.testing.assert_allclose(both.actions[rows],
                                    mean_actions_and_values(mixed.policies[i], both.obs[rows, :reads])[0], atol=1e-5)
     other_window = student_task(default, replace(config, lookbehind=(1,))).make(teachers.motions, artefacts=None)
-    with pytest.raises(PolicyError, match=r"before its reference window \(\d+ values\) or, with the student's window "
-                                          r"\[2, -1\], all of it"):
+    with pytest.raises(PolicyError, match=r"observes \d+ values with reference window \[2, -1, -4\]; a teacher reads "
+                                          r".* or, with the student's window \[2, -1\], all of it"):
         check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), other_window)
     other_actions = load_policy(MODELS / "mimic_walk")
     other_actions.model.action_space = gym.spaces.Box(-1.0, 1.0, (3,), np.float32)
