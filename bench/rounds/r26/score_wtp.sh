@@ -1,5 +1,5 @@
 #!/bin/bash
-# Round 26: WTP scored as registered (amended 15:20 UTC): its newest checkpoint at 15:50 UTC is the candidate;
+# Round 26: WTP scored as registered (amended 15:19 UTC): its newest checkpoint at 15:50 UTC is the candidate;
 # the run is stopped with a checkpoint; validation IMU draws 1260000+ for WTP (WW's are scored alike) behind the
 # denoiser's slow corrections, and WTP's validation clean.
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r26
