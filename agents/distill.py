@@ -285,7 +285,8 @@ def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
     for teacher in teachers.policies:
         inputs, own_steps = teacher.model.observation_space.shape[0], teacher.record.env.mimic_config().window_steps
         if not ((inputs == before and not own_steps) or (inputs == whole and own_steps == steps)):
-            either = "" if window is None else f" or, with the student's window {list(steps)}, all of it ({whole} values)"
+            either = ("" if window is None
+                      else f" or, with the student's window {list(steps)}, all of it ({whole} values)")
             raise PolicyError(f"{teacher.path}: observes {inputs} values with reference window {list(own_steps)}; a "
                               f"teacher reads the student's observation before its reference window, with no window "
                               f"of its own ({before} values){either}")

@@ -13,12 +13,10 @@ import torch
 from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
 import agents.distill
-from agents.distill import (DistillConfig, Labels, Teachers, center_values, check_teacher_layouts, collect, fit,
-                            fit_report, label_rows, load_teachers, main, mean_actions_and_values,
-                            new_student, rmse_text, split_holdout, student_task, symmetric_teacher, teacher_observation,
-                            teacher_weight)
-from agents.distill import artefact_mix as distill_artefact_mix
-from agents.distill import build_parser as build_distill_parser
+from agents.distill import (DistillConfig, Labels, Teachers, artefact_mix, build_parser, center_values,
+                            check_teacher_layouts, collect, fit, fit_report, label_rows, load_teachers, main,
+                            mean_actions_and_values, new_student, rmse_text, split_holdout, student_task,
+                            symmetric_teacher, teacher_mix, teacher_observation, teacher_weight)
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
@@ -354,7 +352,8 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
           "4", "--part-legs", "--rounds", "1", *common])
     saved = load_policy(out / "student")
     assert saved.record.env.mimic_config().window_steps == (2, -1, -4)
-    assert saved.record.training.legs == asdict(LegGap()) and saved.record.training.leg_symmetry is None  # as tracked
+    assert saved.record.training.legs == asdict(LegGap())  # the preparation it tracked, recorded
+    assert saved.record.training.leg_symmetry is None
     assert saved.normalizer.obs_rms.mean.shape == (size + 198,)
     student_env = saved.make_env(["deepmimic:walk"], artefacts=None)
     saved.check_env(student_env)
@@ -390,7 +389,6 @@ def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised
     args = argparse.Namespace(teacher_reads="denoised", denoise=str(MODELS / "imu_denoiser_soles"),
                               corrupted_fraction=1.0, strength=(1.0, 1.0), variants_per_clip=2, ground=False,
                               swing_lift=None, swing_from=None, denoise_slow=None, even_legs=False, part_legs=None)
-    from agents.distill import artefact_mix, teacher_mix
     mix = artefact_mix(args, 5)
     readers = teacher_mix(args, mix)
     assert mix.denoiser is None and readers.denoiser == args.denoise and readers.seed == mix.seed == 5
@@ -431,14 +429,15 @@ def test_the_student_tracks_references_prepared_as_train_ppo_prepares_them(tmp_p
     flags = ["--corrupted-fraction", "0.75", "--strength", "0.75", "1.5", "--variants-per-clip", "3",
              "--denoise", str(MODELS / "imu_denoiser_soles"), "--denoise-slow", "0.5", "--even-legs", "--part-legs",
              "--ground", "--swing-lift"]
-    ours = distill_artefact_mix(build_distill_parser().parse_args(["--out", str(tmp_path / "a"), *flags]), 7)
-    theirs = ppo_artefact_mix(build_ppo_parser().parse_args(["--clips", "deepmimic:walk", "--run-dir", str(tmp_path / "run"), *flags]), 0.75)
+    ours = artefact_mix(build_parser().parse_args(["--out", str(tmp_path / "a"), *flags]), 7)
+    theirs = ppo_artefact_mix(build_ppo_parser().parse_args(["--clips", "deepmimic:walk", "--run-dir",
+                                                              str(tmp_path / "run"), *flags]), 0.75)
     assert ours.denoise_slow_s == 0.5 and ours.symmetry == LegSymmetry() and ours.legs == LegGap(min_gap_m=0.15)
     for field in ("denoiser", "denoise_slow_s", "symmetry", "legs", "grounding", "lift", "fraction", "strength"):
         assert getattr(ours, field) == getattr(theirs, field), field
     assert ours.judge == "given"  # judged against the take as given, as evaluate.py judges a prepared take
-    legs_only = distill_artefact_mix(build_distill_parser().parse_args(
+    legs_only = artefact_mix(build_parser().parse_args(
         ["--out", str(tmp_path / "b"), "--corrupted-fraction", "0", "--part-legs", "0.2"]), 7)
     assert legs_only.legs == LegGap(min_gap_m=0.2) and legs_only.symmetry is None and legs_only.denoiser is None
     with pytest.raises(ValueError, match="--denoise-slow 0.5 slows a denoiser's corrections"):
-        distill_artefact_mix(build_distill_parser().parse_args(["--out", str(tmp_path / "c"), "--denoise-slow"]), 7)
+        artefact_mix(build_parser().parse_args(["--out", str(tmp_path / "c"), "--denoise-slow"]), 7)
