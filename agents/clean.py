@@ -69,7 +69,7 @@ from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded
 from agents.search import SearchConfig, search
 from agents.sidecar import repository_relative
 from envs.config import FOOT_MODELS, MODELS_DIR
-from envs.preparation import prepared
+from envs.preparation import prepared, preparation_of, preparation_record
 from perception.imu_denoiser import (DEFAULT_DENOISER, SlowCorrections, add_slow_corrections_option, check_slowing,
                                      slowed)
 from perception.weights import load_network
@@ -79,14 +79,14 @@ from reference_motion.bvh_export import write_bvh
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, or_none, output_dir, output_file, positive_float,
                                   positive_int, require_frames)
-from reference_motion.grounding import add_grounding_option, grounding_of
-from reference_motion.leg_gap import LegGap, add_leg_gap_option, leg_gap_of
-from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
+from reference_motion.grounding import add_grounding_option
+from reference_motion.leg_gap import LegGap, add_leg_gap_option
+from reference_motion.leg_symmetry import add_leg_symmetry_option
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.render import SUPPORTED as VIDEO_SUFFIXES, render
-from reference_motion.swing_lift import SwingLift, add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import SwingLift, add_swing_lift_options
 from reference_motion.touch_up import TouchUpReport, touch_up
 
 MIN_FRAMES = 3
@@ -682,7 +682,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     args = parse_clean_args(parser, argv)
     if args.method == "ppo":  # with diffpd --denoise-slow is refused below, as every preparation is
         check_slowing(args.denoise, args.denoise_slow)
-    lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
+    steps = preparation_of(args)
+    lift, grounding, legs, symmetry = steps["lift"], steps["grounding"], steps["legs"], steps["symmetry"]
     adaptation, extra = None, {}
     if args.method == "diffpd":
         given = [flag for flag, on in (("--denoise", args.denoise), ("--denoise-slow", args.denoise_slow),
@@ -699,20 +700,19 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
-        note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry,
-                                       denoise_slow_s=args.denoise_slow)
+        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
         denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
-        performed = prepared(reference, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
+        performed = prepared(reference, denoiser, **steps)
         slowly = f" ({denoiser.label})" if isinstance(denoiser, SlowCorrections) else ""
-        steps = [step for step, on in ((f"denoised with {args.denoise}{slowly}", denoiser),
+        applied = [step for step, on in ((f"denoised with {args.denoise}{slowly}", denoiser),
                                        (symmetry.label if symmetry else "", symmetry), (legs.label if legs else "", legs),
                                        ("set on the floor", grounding), (lift.label if lift else "", lift)) if on]
-        if steps:
+        if applied:
             hinges = np.degrees(np.abs(performed.hinges - reference.hinges)).mean()
             height = 100 * np.abs(performed.root_pos[:, 2] - reference.root_pos[:, 2]).mean()
-            print(f"{', '.join(steps)}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
+            print(f"{', '.join(applied)}: hinges moved {hinges:.2f}° on average, pelvis height {height:.1f} cm")
         adaptation = adapt_to_clip(policy, performed, args)
         performer = adaptation.policy if adaptation else policy
         if args.mirror_average:
@@ -747,9 +747,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
               "denoise_slow_s": args.denoise_slow,
-              "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
-              "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
-              "leg_symmetry": asdict(symmetry) if symmetry else None, **extra}
+              "mirror_average": args.mirror_average, **preparation_record(steps), **extra}
     if args.json:
         write_json(args.json, result)
     return result

@@ -90,17 +90,18 @@ from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs,
 from agents.warm_start import widen_by_window, widen_hidden, window_slice
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
+from envs.preparation import preparation_of, preparation_record
 from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option, check_slowing
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.cli import (CliParser, fraction, non_negative_float, non_negative_int, one_line_errors, output_dir,
                                   positive_float, positive_int, resumable_run)
-from reference_motion.grounding import add_grounding_option, grounding_of
-from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
-from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
+from reference_motion.grounding import add_grounding_option
+from reference_motion.leg_gap import add_leg_gap_option
+from reference_motion.leg_symmetry import add_leg_symmetry_option
 from reference_motion.library import STANCE_EXTRA_M, expand_clips
 from reference_motion.motion import Motion
-from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import add_swing_lift_options
 
 
 STUDENT_WINDOW_RESETS = 1024
@@ -577,7 +578,7 @@ def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
     a prepared take's episode is judged against the take as given, as ``evaluate.py`` judges it.
     ``None`` without corruption or preparation; a clear ``ValueError`` for options that cannot act."""
     check_slowing(args.denoise, args.denoise_slow)
-    symmetry, legs, grounding, lift = leg_symmetry_of(args), leg_gap_of(args), grounding_of(args), swing_lift_of(args)
+    steps = preparation_of(args)
     if args.teacher_reads == "denoised" and not args.denoise:
         raise ValueError("--teacher-reads denoised: the teacher reads the take after the IMU denoiser --denoise "
                          "names; give --denoise [DIR]")
@@ -587,8 +588,7 @@ def artefact_mix(args: argparse.Namespace, seed: int) -> ArtefactMix | None:
     student_denoiser = None if args.teacher_reads == "denoised" else args.denoise
     mix = ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=args.corrupted_fraction,
                       variants_per_clip=args.variants_per_clip, seed=seed, denoiser=student_denoiser,
-                      denoise_slow_s=args.denoise_slow if student_denoiser else None, symmetry=symmetry, legs=legs,
-                      grounding=grounding, lift=lift)
+                      denoise_slow_s=args.denoise_slow if student_denoiser else None, **steps)
     if args.corrupted_fraction <= 0 and not mix.prepares(False):
         return None
     return replace(mix, judge="given") if mix.prepares(args.corrupted_fraction > 0) else mix
@@ -761,10 +761,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                   strength=tuple(args.strength), judge=mix.judge if mix else ArtefactMix().judge,
                                   denoiser=repository_relative(mix.denoiser if mix else None),
                                   denoise_slow_s=mix.denoise_slow_s if mix else None,
-                                  leg_symmetry=asdict(mix.symmetry) if mix and mix.symmetry else None,
-                                  legs=asdict(mix.legs) if mix and mix.legs else None,
-                                  grounding=asdict(mix.grounding) if mix and mix.grounding else None,
-                                  lift=asdict(mix.lift) if mix and mix.lift else None, mirror=args.mirror, warps=warps,
+                                  **preparation_record(mix.steps if mix else preparation_of(args), lift_key="lift"),
+                                  mirror=args.mirror, warps=warps,
                                   postures=args.postures, posture_seed=config.seed,
                                   posture_ranges=asdict(ranges) if args.postures else None,
                                   stances=args.stances,

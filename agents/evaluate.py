@@ -17,7 +17,6 @@ from __future__ import annotations
 import argparse
 import sys
 from collections.abc import Sequence
-from dataclasses import asdict
 from pathlib import Path
 
 if __package__ in (None, ""):  # `python agents/evaluate.py`: make the repository importable
@@ -31,7 +30,7 @@ from agents.mirror import actor_label
 from agents.policy_set import route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
-from envs.preparation import prepared
+from envs.preparation import PreparationSteps, prepared, preparation_of, preparation_record, prepares_any
 from perception.imu_denoiser import (DEFAULT_DENOISER, DenoiserEnsemble, IMUDenoiser, SlowCorrections,
                                      add_slow_corrections_option, slowed)
 from perception.weights import load_network
@@ -39,14 +38,14 @@ from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import (CliParser, add_mocap_options, mocap_options, non_negative_float, non_negative_int,
                                   one_line_errors, output_file, positive_float, positive_int, require_frames)
-from reference_motion.grounding import Grounding, add_grounding_option, grounding_of
-from reference_motion.leg_gap import LegGap, add_leg_gap_option, leg_gap_of
-from reference_motion.leg_symmetry import LegSymmetry, add_leg_symmetry_option, leg_symmetry_of
+from reference_motion.grounding import Grounding, add_grounding_option
+from reference_motion.leg_gap import LegGap, add_leg_gap_option
+from reference_motion.leg_symmetry import LegSymmetry, add_leg_symmetry_option
 from reference_motion.library import expand_clips, load_motion
 from reference_motion.motion import Motion
 from reference_motion.quality import ARTEFACT_METRICS, motion_quality
 from reference_motion.rigs import MocapOptions
-from reference_motion.swing_lift import SwingLift, add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import SwingLift, add_swing_lift_options
 
 def build_parser(prog: str | None = None) -> CliParser:
     p = CliParser(prog=prog, description=__doc__.split("\n\n")[0],
@@ -111,9 +110,10 @@ def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | DenoiserEnse
                        lift: SwingLift | None = None) -> tuple[list[Motion], list[Motion] | None]:
     """What a policy tracks and what it is judged against: ``clips`` themselves (judged against
     what it tracks: ``None``), or the clips :func:`prepared`, judged against the clips as given."""
-    if denoiser is None and all(step is None for step in (symmetry, legs, grounding, lift)):
+    steps = PreparationSteps(symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
+    if denoiser is None and not prepares_any(steps):
         return clips, None
-    return [prepared(c, denoiser, symmetry=symmetry, legs=legs, grounding=grounding, lift=lift) for c in clips], clips
+    return [prepared(c, denoiser, **steps) for c in clips], clips
 
 
 def tracked_label(label: str, *, denoiser: object = None, symmetry: LegSymmetry | None = None,
@@ -151,13 +151,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         raise ValueError(f"--without {' '.join(args.without)}: it switches kinds off in --corrupt imu; "
                          + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
     denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
-    lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
+    steps = preparation_of(args)
     runs, frames, rates, gains = [], set(), set(), set()
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args),
             args.without)):
-        note = policy.preparation_note(args.denoise, grounding, lift, legs=legs, symmetry=symmetry,
-                                       denoise_slow_s=args.denoise_slow)
+        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
         if args.obs_frame:
@@ -170,22 +169,20 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        tracked, judged = tracked_and_judged(clips, denoiser, symmetry=symmetry, legs=legs, grounding=grounding,
-                                             lift=lift)
+        tracked, judged = tracked_and_judged(clips, denoiser, **steps)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
     result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), denoiser=denoiser,
-                                      symmetry=symmetry, legs=legs, grounding=grounding, lift=lift),
-              "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
-              "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
-              "leg_symmetry": asdict(symmetry) if symmetry else None, "clips": args.clips, "corrupt": args.corrupt,
+                                      **steps),
+              "mirror_average": args.mirror_average, **preparation_record(steps), "clips": args.clips, "corrupt": args.corrupt,
               "without": args.without,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),
               "denoiser": str(args.denoise) if args.denoise else None, "denoise_slow_s": args.denoise_slow,
               "strength": args.strength if args.corrupt else None, "seed": args.seed if args.corrupt else None,
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
+    symmetry, legs, grounding, lift = steps["symmetry"], steps["legs"], steps["grounding"], steps["lift"]
     changes = [text for text in (f"with their {symmetry.label}" if symmetry else "",
                                  f"with their {legs.label}" if legs else "", "set on the floor" if grounding else "",
                                  f"with a {lift.label}" if lift else "") if text]

@@ -55,20 +55,21 @@ from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
                          Pushes)
 from envs.observations import OBS_FRAMES
+from envs.preparation import preparation_of, preparation_record, prepares_any
 from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option, check_slowing
 from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
                                   non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
-from reference_motion.grounding import add_grounding_option, grounding_of
-from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
-from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
+from reference_motion.grounding import add_grounding_option
+from reference_motion.leg_gap import add_leg_gap_option
+from reference_motion.leg_symmetry import add_leg_symmetry_option
 from reference_motion.library import (STANCE_EXTRA_M, augmented, check_stance_extra, expand_clips, load_motion,
                                       posture_copies, stance_copies)
 from reference_motion.motion import Motion
 from reference_motion.rigs import MocapOptions
-from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import add_swing_lift_options
 from reference_motion.transforms import PostureRanges, reversed_in_time
 
 CHECKPOINT = re.compile(r"step_(\d+)\.zip$")
@@ -271,13 +272,12 @@ def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> Artefac
     ``--judge``, ``--denoise``) in ``corrupted_fraction`` of the episodes, and how every reference is
     prepared before the policy tracks it (``--even-legs``, ``--part-legs``, ``--ground``, ``--swing-lift``);
     ``None`` when there is neither."""
-    symmetry, legs, grounding, lift = leg_symmetry_of(args), leg_gap_of(args), grounding_of(args), swing_lift_of(args)
-    if corrupted_fraction <= 0 and all(step is None for step in (symmetry, legs, grounding, lift)):
+    steps = preparation_of(args)
+    if corrupted_fraction <= 0 and not prepares_any(steps):
         return None
     return ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
-                       denoiser=args.denoise, denoise_slow_s=args.denoise_slow, symmetry=symmetry, legs=legs,
-                       grounding=grounding, lift=lift)
+                       denoiser=args.denoise, denoise_slow_s=args.denoise_slow, **steps)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
@@ -638,16 +638,14 @@ class CheckpointAndEvaluate(BaseCallback):
         args = self.args
         ppo = PPOSettings(**{f.name: getattr(args, f.name) for f in fields(PPOSettings)})
         push, varied = pushes(args), dynamics(args)
-        symmetry, legs, grounding, lift = leg_symmetry_of(args), leg_gap_of(args), grounding_of(args), swing_lift_of(args)
+        steps = preparation_of(args)
         clips = training_clips(args)
         training = TrainingRecord(
             clips=clips,
             eval_clips=evaluation_clips(args),
             corrupted_fraction=args.corrupted_fraction, strength=tuple(args.strength), judge=args.judge,
             denoiser=repository_relative(args.denoise), denoise_slow_s=args.denoise_slow,
-            leg_symmetry=asdict(symmetry) if symmetry else None,
-            legs=asdict(legs) if legs else None,
-            grounding=asdict(grounding) if grounding else None, lift=asdict(lift) if lift else None,
+            **preparation_record(steps, lift_key="lift"),
             mirror=args.mirror, speeds=list(args.speeds),
             reversed_clips=reversed_clips(clips, args.reverse),
             warps=warped_clips(clips, args.warp),
@@ -840,10 +838,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes, denoiser=args.denoise,
-                                               denoise_slow_s=args.denoise_slow,
-                                               symmetry=leg_symmetry_of(args), legs=leg_gap_of(args),
-                                               grounding=grounding_of(args),
-                                               lift=swing_lift_of(args),
+                                               denoise_slow_s=args.denoise_slow, **preparation_of(args),
                                                judge="given" if args.judge in ("given", "clean_pose")
                                                else "corrupted")
     eval_env = gym.make(args.env_id, **eval_kwargs)

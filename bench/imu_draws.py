@@ -23,7 +23,6 @@ draws) and on how many draws it scores above, equal to and below it.
 from __future__ import annotations
 
 import argparse
-from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -34,16 +33,17 @@ from agents.evaluation import evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
+from envs.preparation import preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
 from json_report import emit_json
 from paired_draws import paired
 from perception.imu_denoiser import SlowCorrections, add_slow_corrections_option, slowed
 from perception.weights import load_network
-from reference_motion.grounding import add_grounding_option, grounding_of
-from reference_motion.leg_gap import add_leg_gap_option, leg_gap_of
-from reference_motion.leg_symmetry import add_leg_symmetry_option, leg_symmetry_of
+from reference_motion.grounding import add_grounding_option
+from reference_motion.leg_gap import add_leg_gap_option
+from reference_motion.leg_symmetry import add_leg_symmetry_option
 from reference_motion.library import expand_clips
-from reference_motion.swing_lift import add_swing_lift_options, swing_lift_of
+from reference_motion.swing_lift import add_swing_lift_options
 
 
 def main() -> None:
@@ -73,7 +73,7 @@ def main() -> None:
     add_swing_lift_options(p, "every policy mimics the lifted takes and is judged against them as given")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
-    lift, grounding, legs, symmetry = swing_lift_of(args), grounding_of(args), leg_gap_of(args), leg_symmetry_of(args)
+    steps = preparation_of(args)
     n_clips = len(expand_clips(args.clips))
     stride = n_clips if args.stride is None else args.stride
     if stride < n_clips:
@@ -86,8 +86,7 @@ def main() -> None:
     if args.denoise_slow is not None and denoiser_path is None:
         p.error(f"--denoise-slow {args.denoise_slow:g} slows the denoiser's corrections: drop --no-denoise")
     for policy in policies:
-        note = policy.preparation_note(denoiser_path, grounding, lift, legs=legs, symmetry=symmetry,
-                                       denoise_slow_s=args.denoise_slow)
+        note = policy.preparation_note(denoiser_path, **steps, denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
     net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
@@ -96,8 +95,7 @@ def main() -> None:
           else "IMU takes are tracked as given (--no-denoise)", flush=True)
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
-    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net,
-                                symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
+    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net, **steps)
              for seed in seeds]
     if args.ensemble:
         mean = MeanAction(policies)
@@ -109,8 +107,7 @@ def main() -> None:
         elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
                                           mirror_average=args.mirror_average)[0]["ELR_mean"]
                         for tracked, judged in draws])
-        label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, symmetry=symmetry, legs=legs,
-                              grounding=grounding, lift=lift)
+        label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
@@ -123,9 +120,7 @@ def main() -> None:
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
-               "mirror_average": args.mirror_average, "swing_lift": asdict(lift) if lift else None,
-               "grounding": asdict(grounding) if grounding else None, "legs": asdict(legs) if legs else None,
-               "leg_symmetry": asdict(symmetry) if symmetry else None,
+               "mirror_average": args.mirror_average, **preparation_record(steps),
                "rows": rows}, args.json)
 
 

@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from envs.observations import OBS_FRAMES
+from envs.preparation import PreparationSteps, prepares_any
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.grounding import Grounding
 from reference_motion.leg_gap import LegGap
@@ -293,12 +294,17 @@ class ArtefactMix:
     grounding: Grounding | None = None
     lift: SwingLift | None = None
 
+    @property
+    def steps(self) -> PreparationSteps:
+        """``symmetry``, ``legs``, ``grounding`` and ``lift``: the preparation after the denoiser, as
+        keyword arguments of :func:`envs.preparation.prepared`."""
+        return PreparationSteps(symmetry=self.symmetry, legs=self.legs, grounding=self.grounding, lift=self.lift)
+
     def prepares(self, corrupted: bool) -> bool:
         """Whether the reference of a corrupted (or clean) episode is prepared before the policy
         tracks it (denoised, its legs evened or parted, grounded or lifted), so that ``judge`` may
         compare with another one."""
-        return ((corrupted and self.denoiser is not None)
-                or any(step is not None for step in (self.symmetry, self.legs, self.grounding, self.lift)))
+        return (corrupted and self.denoiser is not None) or prepares_any(self.steps)
 
     def __post_init__(self) -> None:
         lo, hi = self.strength

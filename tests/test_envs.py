@@ -14,19 +14,20 @@ import envs
 from envs import ArtefactMix
 from envs.bodies import read_body_state
 from envs.config import MimicConfig, Pushes
-from envs.preparation import prepared
+from envs.preparation import prepared, preparation_of, preparation_record, prepares_any
 from envs.reference import pd_targets
 from reference_motion import rotations as rot
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
 from reference_motion.artefacts import ArtefactRecipe, corrupt
-from reference_motion.grounding import Grounding
-from reference_motion.leg_gap import LegGap, lateral_foot_gap
-from reference_motion.leg_symmetry import LegSymmetry, even_legs
+from reference_motion.cli import CliParser
+from reference_motion.grounding import Grounding, add_grounding_option
+from reference_motion.leg_gap import LegGap, add_leg_gap_option, lateral_foot_gap
+from reference_motion.leg_symmetry import LegSymmetry, add_leg_symmetry_option, even_legs
 from reference_motion.humanoid.model import load_model
 from reference_motion.library import load_motion
 from reference_motion.motion import Motion
-from reference_motion.swing_lift import SwingLift
+from reference_motion.swing_lift import SwingLift, add_swing_lift_options
 
 WALK = ["deepmimic:walk"]
 
@@ -485,6 +486,23 @@ def test_training_references_can_be_prepared_as_evaluation_prepares_takes(walk):
     same.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
     assert same.judging_track is same.current_track  # "corrupted": judged against what it tracks
     assert ArtefactMix(lift=SwingLift()).prepares(False) and not ArtefactMix(denoiser="d").prepares(False)
+
+
+def test_the_command_line_asks_for_the_preparation_steps_that_a_mix_and_a_record_carry():
+    """preparation_of reads --even-legs, --part-legs, --ground and --swing-lift into the keyword
+    arguments of prepared() and ArtefactMix; preparation_record writes them as the --json outputs do."""
+    parser = CliParser()
+    for add in (add_leg_symmetry_option, add_leg_gap_option, add_grounding_option, add_swing_lift_options):
+        add(parser, "for a test")
+    none = preparation_of(parser.parse_args([]))
+    assert none == {"symmetry": None, "legs": None, "grounding": None, "lift": None} and not prepares_any(none)
+    assert preparation_record(none) == {"leg_symmetry": None, "legs": None, "grounding": None, "swing_lift": None}
+    some = preparation_of(parser.parse_args(["--part-legs", "0.2", "--swing-lift"]))
+    assert some == {"symmetry": None, "legs": LegGap(min_gap_m=0.2), "grounding": None, "lift": SwingLift()}
+    assert prepares_any(some) and ArtefactMix(**some).steps == some and ArtefactMix(**some).prepares(False)
+    record = preparation_record(some, lift_key="lift")
+    assert record["legs"]["min_gap_m"] == 0.2 and record["lift"]["knee_deg"] == SwingLift.knee_deg
+    assert record["leg_symmetry"] is None and record["grounding"] is None and "swing_lift" not in record
 
 
 def test_training_references_can_have_their_legs_parted(walk):
