@@ -85,9 +85,10 @@ from agents.mirror import MirrorMaps
 from agents.policy import MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
+from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions_and_values
 from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
                               reposed_copies, stance_extra, warped_clips)
-from agents.warm_start import widen_by_window, widen_hidden, window_slice
+from agents.warm_start import widen_by_window, widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
 from envs.preparation import preparation_of, preparation_record
@@ -107,11 +108,6 @@ from reference_motion.swing_lift import add_swing_lift_options
 STUDENT_WINDOW_RESETS = 1024
 """Resets of the student's one environment whose observations give its reference window's inputs
 their statistics (frozen, as the rest of the student's are: ~1,000 start states over the clips)."""
-
-ANSWER_CHUNK = 16_384
-"""Observations a policy answers at a time in :func:`mean_actions_and_values` (a chunk of raw
-float32 observations with a ±16-step reference window, ~900 values, is ~60 MB; normalised, and
-mirrored for a symmetric actor, a few times that at once)."""
 
 TEACHER_READS = ("track", "clean", "denoised")
 """What a corrupted episode's teacher observes (``--teacher-reads``, :func:`teacher_observation`)."""
@@ -273,29 +269,6 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     return Teachers(policies, of_clip, default, [m for _, clips in groups for m in clips])
 
 
-def check_teacher_layouts(teachers: Teachers, env: gym.Env) -> None:
-    """Raise :class:`PolicyError` unless every teacher acts with ``env``'s actions and observes either
-    the part of its observation before the student's reference window, with no window of its own, or
-    (a teacher whose window is the student's, as a default teacher's is for its own student) the whole
-    observation (:func:`teacher_observation` gives a teacher the first values): a teacher with another
-    window would read the student's as if it were its own."""
-    window = window_slice(env.unwrapped.obs_slices)
-    whole = env.observation_space.shape[0]
-    before = whole if window is None else window.start
-    steps = env.unwrapped.config.window_steps
-    for teacher in teachers.policies:
-        inputs, own_steps = teacher.model.observation_space.shape[0], teacher.record.env.mimic_config().window_steps
-        if not ((inputs == before and not own_steps) or (inputs == whole and own_steps == steps)):
-            either = ("" if window is None
-                      else f" or, with the student's window {list(steps)}, all of it ({whole} values)")
-            raise PolicyError(f"{teacher.path}: observes {inputs} values with reference window {list(own_steps)}; a "
-                              f"teacher reads the student's observation before its reference window, with no window "
-                              f"of its own ({before} values){either}")
-        if teacher.model.action_space.shape != env.action_space.shape:
-            raise PolicyError(f"{teacher.path}: acts with {teacher.model.action_space.shape[0]} values; the student's "
-                              f"environment takes {env.action_space.shape[0]}")
-
-
 def symmetric_teacher(teacher: MimicPolicy, maps: MirrorMaps) -> MimicPolicy:
     """``teacher`` acting as its symmetric actor in the student's env (whose mirror maps are
     ``maps``), where it reads the first values of that env's observation (:func:`teacher_observation`):
@@ -303,29 +276,6 @@ def symmetric_teacher(teacher: MimicPolicy, maps: MirrorMaps) -> MimicPolicy:
     checked that the teacher fits the env)."""
     inputs = teacher.model.observation_space.shape[0]
     return teacher if teacher.symmetric_network else replace(teacher, mirror=maps.leading(inputs))
-
-
-def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """``(N, A)`` mean actions (rad offsets) and ``(N,)`` values of ``policy`` for raw observations
-    ``obs (N, D)`` (normalised by the policy's own statistics). A policy acting as its symmetric actor
-    (:attr:`MimicPolicy.mirror`) answers with that actor's action (:mod:`agents.mirror`) and the mean
-    of its values on the observation and its mirror image."""
-    def network(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        x = torch.as_tensor(policy.normalizer.normalize_obs(raw), dtype=torch.float32)
-        with torch.no_grad():
-            return (policy.model.policy.get_distribution(x).distribution.mean.numpy(),
-                    policy.model.policy.predict_values(x)[:, 0].numpy())
-
-    def answer(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        mean, value = network(raw)
-        if policy.mirror is None:
-            return mean, value
-        mean_mirrored, value_mirrored = network(policy.mirror.observation(raw))
-        return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
-
-    # a chunk at a time: a normalised (float64) and a mirrored copy of millions of labels would be several times theirs
-    answers = [answer(obs[start:start + ANSWER_CHUNK]) for start in range(0, max(len(obs), 1), ANSWER_CHUNK)]
-    return np.concatenate([a for a, _ in answers]), np.concatenate([v for _, v in answers])
 
 
 def teacher_observation(env: gym.Env, obs: np.ndarray, info: dict, reads: str,
@@ -717,7 +667,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                             else "it exempts teachers from --mirror-average, which is not given"))
     mix = artefact_mix(args, config.seed)
     env = student_task(default, config).make(teachers.motions, artefacts=mix)
-    check_teacher_layouts(teachers, env)
+    check_teacher_layouts(teachers.policies, env)
     readers = teacher_mix(args, mix)
     teacher_env = None if readers is None else default.record.env.make(teachers.motions, artefacts=readers)
     maps = MirrorMaps.of(env) if args.mirror_average else None

@@ -43,6 +43,7 @@ from stable_baselines3.common.vec_env import DummyVecEnv, SubprocVecEnv, VecNorm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate
+from agents.kickstart import Kickstart, KickstartConfig, Teaching
 from agents.lr_schedule import kl_following
 from agents.policy import CHECKPOINTS_DIR, SIDECAR_FILE, MimicPolicy, load_policy, set_action_variance
 from agents.sidecar import GAIT_ENV_ID, EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
@@ -256,6 +257,15 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="train the mirror-symmetric actor (agents/symmetric_policy.py: the mean of the actor's action "
                         "and, mapped back, its action on the mirrored observation) with --init-from's weights; the "
                         "source's observation statistics are made mirror symmetric and frozen")
+    g.add_argument("--kickstart", default=None, metavar="SET",
+                   help="after each PPO update, pull the policy's mean action towards a teacher's on the last "
+                        "rollout's states of the takes a policy set routes to a policy of its own (agents/kickstart.py; "
+                        "the set's default and backward policies teach nothing); the teachers read the run's "
+                        "observation (or the part before its reference window) and act with its actions")
+    g.add_argument("--kickstart-epochs", type=positive_int, default=KickstartConfig.epochs,
+                   help="passes over those states after each update")
+    g.add_argument("--kickstart-lr", type=positive_float, default=KickstartConfig.lr,
+                   help="Adam's learning rate of those passes (PPO's --lr is separate)")
     g.add_argument("--checkpoint-every", type=positive_int, default=100_000, help="steps between checkpoints")
     g.add_argument("--eval-every", type=positive_int, default=200_000, help="steps between evaluations")
     g.add_argument("--eval-episodes", type=positive_int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
@@ -278,6 +288,12 @@ def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> Artefac
     return ArtefactMix(recipe=ArtefactRecipe.imu(), strength=tuple(args.strength), fraction=corrupted_fraction,
                        variants_per_clip=args.variants_per_clip, seed=variant_seed(args), judge=args.judge,
                        denoiser=args.denoise, denoise_slow_s=args.denoise_slow, **steps)
+
+
+def kickstart_config(args: argparse.Namespace) -> KickstartConfig:
+    """The supervised step between PPO updates that ``--kickstart``, ``--kickstart-epochs`` and
+    ``--kickstart-lr`` ask for."""
+    return KickstartConfig(policy_set=str(args.kickstart), epochs=args.kickstart_epochs, lr=args.kickstart_lr)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
@@ -656,6 +672,7 @@ class CheckpointAndEvaluate(BaseCallback):
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
             symmetric=isinstance(self.model.policy, SymmetricActorCriticPolicy),
+            kickstart=asdict(kickstart_config(args)) if args.kickstart else None,
             commands=[shlex.join(["python", *c]) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
         gait = asdict(gait_config(args)) if args.env_id == GAIT_ENV_ID else None
@@ -844,6 +861,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
     maps = MirrorMaps.of(eval_env) if args.symmetric else None  # refuses a layout it does not know, before the run
+    teachers = ([Kickstart(Teaching.load(args.kickstart, eval_env), kickstart_config(args), args.seed)]
+                if args.kickstart else [])  # a teacher that cannot read the run's observation: before the run
     # the run is recorded only now that every clip has loaded: bad input leaves no run behind
     run_dir.mkdir(parents=True, exist_ok=True)
     command = ["agents/train_ppo.py", *argv]
@@ -892,7 +911,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
         model.learn(remaining, callback=CallbackList([callback, UpdateThreads(collect_threads, update_threads),
-                                                      *kl_following(args.target_kl)]),
+                                                      *kl_following(args.target_kl), *teachers]),
                     reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume

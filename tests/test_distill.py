@@ -13,13 +13,14 @@ import torch
 from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
 
 import agents.distill
-from agents.distill import (DistillConfig, Labels, Teachers, artefact_mix, build_parser, center_values,
-                            check_teacher_layouts, collect, fit, fit_report, label_rows, load_teachers, main,
-                            mean_actions_and_values, new_student, rmse_text, split_holdout, student_task,
-                            symmetric_teacher, teacher_mix, teacher_observation, teacher_weight)
+import agents.teachers
+from agents.distill import (DistillConfig, Labels, Teachers, artefact_mix, build_parser, center_values, collect, fit,
+                            fit_report, label_rows, load_teachers, main, new_student, rmse_text, split_holdout,
+                            student_task, symmetric_teacher, teacher_mix, teacher_observation, teacher_weight)
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
+from agents.teachers import check_teacher_layouts, mean_actions_and_values
 from agents.train_ppo import artefact_mix as ppo_artefact_mix
 from agents.train_ppo import build_parser as build_ppo_parser
 from envs import ArtefactMix
@@ -138,7 +139,8 @@ def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answe
     rows = np.arange(0, 40, 3)
     centred_whole = new_student(env, default, DistillConfig(net="16,16"))
     center_values(centred_whole, labels, rows)
-    monkeypatch.setattr(agents.distill, "ANSWER_CHUNK", 7)
+    monkeypatch.setattr(agents.distill, "ANSWER_CHUNK", 7)  # the critic's centring
+    monkeypatch.setattr(agents.teachers, "ANSWER_CHUNK", 7)  # the policies' answers
     for policy, (actions, values) in zip((default, symmetric), whole):
         chunked = mean_actions_and_values(policy, obs)
         np.testing.assert_allclose(chunked[0], actions, atol=1e-6)
@@ -362,10 +364,10 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     resumed = load_policy(out / "student")
     assert len(resumed.record.extra["distillation"]["rounds"]) == 2
     np.testing.assert_array_equal(resumed.normalizer.obs_rms.mean, saved.normalizer.obs_rms.mean)
-    check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), env)  # its window is the student's: all of it
+    check_teacher_layouts([saved], env)  # its window is the student's: all of it
     mixed = Teachers([default, saved], {walk.name: 0, "walk copy": 1}, 1, [walk, replace(walk, name="walk copy")])
     mixed_env = student_task(saved, DistillConfig()).make(mixed.motions, artefacts=None)
-    check_teacher_layouts(mixed, mixed_env)
+    check_teacher_layouts(mixed.policies, mixed_env)
     both = collect(mixed_env, saved, mixed, 400, 0.17, np.random.default_rng(1), first_episode=0, progress=False)
     for i, reads in ((0, size), (1, mixed_env.observation_space.shape[0])):  # the leading values, or all of them
         rows = both.teacher == i
@@ -375,11 +377,11 @@ def test_a_student_that_also_sees_a_window_of_the_take_starts_as_its_teacher_and
     other_window = student_task(default, replace(config, lookbehind=(1,))).make(teachers.motions, artefacts=None)
     with pytest.raises(PolicyError, match=r"observes \d+ values with reference window \[2, -1, -4\]; a teacher reads "
                                           r".* or, with the student's window \[2, -1\], all of it"):
-        check_teacher_layouts(Teachers([saved], {walk.name: 0}, 0, [walk]), other_window)
+        check_teacher_layouts([saved], other_window)
     other_actions = load_policy(MODELS / "mimic_walk")
     other_actions.model.action_space = gym.spaces.Box(-1.0, 1.0, (3,), np.float32)
     with pytest.raises(PolicyError, match="acts with 3 values; the student's environment takes"):
-        check_teacher_layouts(Teachers([other_actions], {walk.name: 0}, 0, [walk]), env)
+        check_teacher_layouts([other_actions], env)
 
 
 def test_a_teacher_behind_the_denoiser_reads_the_same_corrupted_variant_denoised(tmp_path):

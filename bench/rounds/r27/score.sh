@@ -10,9 +10,11 @@ N=$1; P=$2; S=$3
 QT=models/imu_denoiser_soles_quint_mirror
 FLAGS="--even-legs --part-legs"
 WW=models/mimic_general_wide
-[ -f bench/results/round24_draws_${S}_WW.json ] && echo "WW's draws $S exist: reused" || bash bench/rounds/r24/score_slow.sh WW $WW $S $QT $FLAGS &
-bash bench/rounds/r24/score_slow.sh $N $P $S $QT $FLAGS
-[ -f bench/results/round24_val_clean_$N.json ] || bash bench/rounds/r24/clean_slow.sh $N $P $QT $FLAGS
+# a result file is reused only if it is of this policy (a NAME of an earlier round may name another checkpoint)
+of() { [ -f "$1" ] && grep -qF "\"$2 (mirror-averaged)" "$1"; }
+of bench/results/round24_draws_${S}_WW.json $WW && echo "WW's draws $S exist: reused" || bash bench/rounds/r24/score_slow.sh WW $WW $S $QT $FLAGS &
+of bench/results/round24_draws_${S}_$N.json $P && echo "$N's draws $S exist: reused" || bash bench/rounds/r24/score_slow.sh $N $P $S $QT $FLAGS
+of bench/results/round24_val_clean_$N.json $P && echo "$N's validation clean exists: reused" || bash bench/rounds/r24/clean_slow.sh $N $P $QT $FLAGS
 wait
 cd bench && ../.venv/bin/python select_policy.py \
   --baseline "$WW (mirror-averaged) + denoiser's hinge corrections slowed to 0.5 s + legs evened + legs parted to 15 cm + grounded + swing lift 15 deg above 3 cm" \
