@@ -101,7 +101,8 @@ class Kickstart(BaseCallback):
     """Gathers, while PPO collects a rollout, the states of taught takes (normalised as PPO saw them,
     and raw for the teachers); after the update that follows, fits the policy's mean action to the
     teachers' on them (:func:`kickstart_loss`). ``logger`` records ``kickstart/states`` and
-    ``kickstart/loss`` (before the passes) per rollout."""
+    ``kickstart/loss`` (before the passes) per rollout. Its Adam starts afresh with every ``learn``
+    (a resumed run included): its moments are not in the checkpoint."""
 
     def __init__(self, teaching: Teaching, config: KickstartConfig, seed: int = 0):
         super().__init__()
