@@ -9,7 +9,7 @@ trains every other take). Unlike a DAgger student (``agents/distill.py``), the n
 weights and its PPO objective on every take, so what PPO made it robust to is not re-fitted away.
 
 For a rollout's states of taught takes (their clip's name, or the clip it was copied from, matches a
-glob of the set), with ``s`` the observation normalised as PPO saw it, ``a_T`` the teacher's mean action
+glob of the set; by default only in clean episodes, :attr:`KickstartConfig.corrupted`), with ``s`` the observation normalised as PPO saw it, ``a_T`` the teacher's mean action
 on the raw observation (its first values, as :func:`agents.teachers.check_teacher_layouts` allows) and
 ``μ(s)`` the policy's mean action, :attr:`KickstartConfig.epochs` passes of minibatch Adam minimise
 ``mean ||μ(s) − a_T||²`` (rad²).
@@ -40,12 +40,16 @@ class KickstartConfig:
         epochs: passes over the last rollout's taught states after each PPO update (``--kickstart-epochs``).
         lr: Adam's learning rate of those passes (``--kickstart-lr``; PPO's is separate).
         batch_size: states per minibatch.
+        corrupted: whether the teachers also teach the taught takes' IMU-corrupted episodes
+            (``--kickstart-corrupted``). Off by default: a teacher trained on clean takes chases a
+            corrupted reference's artefacts, and the policy would learn to chase them too.
     """
 
     policy_set: str
     epochs: int = 2
     lr: float = 5e-5
     batch_size: int = 512
+    corrupted: bool = False
 
     def __post_init__(self) -> None:
         if self.epochs < 1 or self.batch_size < 1 or not self.lr > 0:
@@ -126,7 +130,7 @@ class Kickstart(BaseCallback):
         acted = self.locals["obs_tensor"].cpu().numpy()  # what the policy acted on, normalised
         for i, info in enumerate(self.locals["infos"]):  # on a done step the info is still the acted episode's
             teacher = self.teaching.teacher_of(info["clip"])
-            if teacher is not None:
+            if teacher is not None and (self.config.corrupted or not info["corrupted"]):
                 self._normalised.append(acted[i])
                 self._raw.append(self._acted_raw[i])
                 self._who.append(teacher)

@@ -266,6 +266,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="passes over those states after each update")
     g.add_argument("--kickstart-lr", type=positive_float, default=KickstartConfig.lr,
                    help="Adam's learning rate of those passes (PPO's --lr is separate)")
+    g.add_argument("--kickstart-corrupted", action="store_true",
+                   help="the teachers also teach the taught takes' IMU-corrupted episodes (default: clean ones only)")
     g.add_argument("--checkpoint-every", type=positive_int, default=100_000, help="steps between checkpoints")
     g.add_argument("--eval-every", type=positive_int, default=200_000, help="steps between evaluations")
     g.add_argument("--eval-episodes", type=positive_int, default=5, help="rollouts per evaluation clip (ADAPT: 20)")
@@ -291,9 +293,10 @@ def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> Artefac
 
 
 def kickstart_config(args: argparse.Namespace) -> KickstartConfig:
-    """The supervised step between PPO updates that ``--kickstart``, ``--kickstart-epochs`` and
-    ``--kickstart-lr`` ask for."""
-    return KickstartConfig(policy_set=str(args.kickstart), epochs=args.kickstart_epochs, lr=args.kickstart_lr)
+    """The supervised step between PPO updates that ``--kickstart``, ``--kickstart-epochs``,
+    ``--kickstart-lr`` and ``--kickstart-corrupted`` ask for."""
+    return KickstartConfig(policy_set=str(args.kickstart), epochs=args.kickstart_epochs, lr=args.kickstart_lr,
+                           corrupted=args.kickstart_corrupted)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:

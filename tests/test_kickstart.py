@@ -13,6 +13,7 @@ from agents.kickstart import Kickstart, KickstartConfig, Teaching, kickstart_los
 from agents.policy import load_policy
 from agents.policy_set import PolicySet
 from agents.teachers import mean_actions_and_values
+from envs import ArtefactMix
 from agents.train_ppo import main as train_main
 from reference_motion.library import load_motion
 
@@ -69,6 +70,20 @@ def test_a_rollout_gathers_the_taught_states_with_the_teachers_actions_and_a_fit
     assert before > 0.05 and after < 0.5 * before
 
 
+@pytest.mark.parametrize("corrupted", [False, True])
+def test_corrupted_episodes_are_taught_only_when_asked_for(tmp_path, corrupted):
+    walker = load_policy(MODELS / "mimic_walk")
+    every_one_corrupted = ArtefactMix(strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=0)
+    venv = VecNormalize(DummyVecEnv([lambda: walker.make_env(["deepmimic:run"], artefacts=every_one_corrupted)]),
+                        norm_reward=False, training=False)
+    venv.obs_rms = walker.normalizer.obs_rms
+    model = PPO.load(MODELS / "mimic_walk" / "model.zip", env=venv, n_steps=32, n_epochs=1, batch_size=32)
+    kick = Kickstart(Teaching.load(teaching_set(tmp_path), venv.envs[0]),
+                     KickstartConfig("set", corrupted=corrupted))
+    model.learn(32, callback=kick)
+    assert len(kick.labels()[0]) == (32 if corrupted else 0)
+
+
 def test_train_ppo_kickstarts_and_records_it(tmp_path):
     run = tmp_path / "run"
     train_main(["--clips", "deepmimic:walk", "deepmimic:run", "--init-from", str(MODELS / "mimic_walk"),
@@ -77,7 +92,7 @@ def test_train_ppo_kickstarts_and_records_it(tmp_path):
                 "--eval-every", "100000", "--checkpoint-every", "128"])
     policy = load_policy(sorted((run / "checkpoints").glob("step_*.zip"))[-1])
     assert policy.record.training.kickstart == {"policy_set": str(tmp_path / "set"), "epochs": 3, "lr": 5e-5,
-                                                "batch_size": 512}
+                                                "batch_size": 512, "corrupted": False}
     with pytest.raises(SystemExit, match="routes no clip"):
         PolicySet(tmp_path / "plain", MODELS / "mimic_walk", MODELS / "mimic_walk").save()
         train_main(["--clips", "deepmimic:walk", "--init-from", str(MODELS / "mimic_walk"), "--kickstart",
