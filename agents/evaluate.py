@@ -175,7 +175,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
     summary = summarize(runs)
     result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), denoiser=denoiser,
                                       **steps),
-              "mirror_average": args.mirror_average, **preparation_record(steps), "clips": args.clips, "corrupt": args.corrupt,
+              "mirror_average": args.mirror_average, **preparation_record(steps), "clips": args.clips,
+              "corrupt": args.corrupt,
               "without": args.without,
               "obs_frame": ", ".join(sorted(frames)), "physics_rate_hz": sorted(rates),
               "steer_gain_hz": sorted(gains),

@@ -9,9 +9,10 @@ trains every other take). Unlike a DAgger student (``agents/distill.py``), the n
 weights and its PPO objective on every take, so what PPO made it robust to is not re-fitted away.
 
 For a rollout's states of taught takes (their clip's name, or the clip it was copied from, matches a
-glob of the set; by default only in clean episodes, :attr:`KickstartConfig.corrupted`), with ``s`` the observation normalised as PPO saw it, ``a_T`` the teacher's mean action
-on the raw observation (its first values, as :func:`agents.teachers.check_teacher_layouts` allows) and
-``μ(s)`` the policy's mean action, :attr:`KickstartConfig.epochs` passes of minibatch Adam minimise
+glob of the set; by default only in clean episodes, :attr:`KickstartConfig.corrupted`), with ``s`` the
+observation normalised as PPO saw it, ``a_T`` the teacher's mean action on the raw observation (its
+first values, as :func:`agents.teachers.check_teacher_layouts` allows) and ``μ(s)`` the policy's mean
+action, :attr:`KickstartConfig.epochs` passes of minibatch Adam minimise
 ``mean ||μ(s) − a_T||²`` (rad²).
 """
 
@@ -80,12 +81,33 @@ class Teaching:
 
     @classmethod
     def load(cls, policy_set: str | Path, env: gym.Env) -> Teaching:
-        """The teachers of ``policy_set``, each checked to read ``env``'s observation and act with its
-        actions (:func:`agents.teachers.check_teacher_layouts`)."""
+        """The teachers of ``policy_set``, each observing in ``env``'s frame (a teacher trained in
+        another frame of the same layout is turned into it, :meth:`MimicPolicy.observing`; another
+        layout raises :class:`agents.policy.PolicyError`) and checked to read ``env``'s observation
+        and act with its actions (:func:`agents.teachers.check_teacher_layouts`)."""
         routes = taught_globs(policy_set)
-        teachers = [load_policy(directory) for directory in dict.fromkeys(d.resolve() for _, d in routes)]
+        frame = env.unwrapped.config.obs_frame
+        teachers = []
+        for directory in dict.fromkeys(d.resolve() for _, d in routes):
+            teacher = load_policy(directory)
+            if teacher.record.env.mimic_config().obs_frame != frame:
+                print(f"note: teacher {teacher.path} observes in the run's {frame!r} frame (MimicPolicy.observing)")
+                teacher = teacher.observing(frame)
+            teachers.append(teacher)
         check_teacher_layouts(teachers, env)
         return cls(routes, teachers)
+
+    def check_teaches(self, clips: list[str], corrupted_fraction: float, corrupted: bool) -> None:
+        """A :class:`ValueError` unless some of the training ``clips`` (names) have a teacher and some of
+        their episodes are taught: clean ones, unless ``corrupted`` (:attr:`KickstartConfig.corrupted`),
+        are ``1 - corrupted_fraction`` of them."""
+        if not any(self.teacher_of(clip) is not None for clip in clips):
+            globs = ", ".join(glob for glob, _ in self.routes)
+            raise ValueError(f"--kickstart: no training clip matches a glob of the set ({globs}); nothing would be "
+                             f"taught")
+        if corrupted_fraction >= 1 and not corrupted:
+            raise ValueError("--kickstart teaches clean episodes only, and --corrupted-fraction 1 leaves none: give "
+                             "--kickstart-corrupted or a lower --corrupted-fraction")
 
     def teacher_of(self, clip: str) -> int | None:
         """Index in :attr:`teachers` of ``clip``'s teacher, or ``None``: PPO alone trains it."""
@@ -105,8 +127,8 @@ class Kickstart(BaseCallback):
     """Gathers, while PPO collects a rollout, the states of taught takes (normalised as PPO saw them,
     and raw for the teachers); after the update that follows, fits the policy's mean action to the
     teachers' on them (:func:`kickstart_loss`). ``logger`` records ``kickstart/states`` and
-    ``kickstart/loss`` (before the passes) per rollout. Its Adam starts afresh with every ``learn``
-    (a resumed run included): its moments are not in the checkpoint."""
+    ``kickstart/loss`` (before the passes) after each rollout that met taught states. Its Adam starts
+    afresh with every ``learn`` (a resumed run included): its moments are not in the checkpoint."""
 
     def __init__(self, teaching: Teaching, config: KickstartConfig, seed: int = 0):
         super().__init__()

@@ -62,7 +62,8 @@ from perception.weights import shared_network
 from reference_motion.atomic import atomic_write, write_json
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.cli import (CliParser, add_mocap_options, fraction, mocap_options, non_negative_float,
-                                  non_negative_int, one_line_errors, output_dir, positive_float, positive_int)
+                                  non_negative_int, one_line_errors, or_none, output_dir, positive_float,
+                                  positive_int)
 from reference_motion.grounding import add_grounding_option
 from reference_motion.leg_gap import add_leg_gap_option
 from reference_motion.leg_symmetry import add_leg_symmetry_option
@@ -257,11 +258,13 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="train the mirror-symmetric actor (agents/symmetric_policy.py: the mean of the actor's action "
                         "and, mapped back, its action on the mirrored observation) with --init-from's weights; the "
                         "source's observation statistics are made mirror symmetric and frozen")
-    g.add_argument("--kickstart", default=None, metavar="SET",
+    g.add_argument("--kickstart", type=or_none(str), default=None, metavar="SET",
                    help="after each PPO update, pull the policy's mean action towards a teacher's on the last "
-                        "rollout's states of the takes a policy set routes to a policy of its own (agents/kickstart.py; "
-                        "the set's default and backward policies teach nothing); the teachers read the run's "
-                        "observation (or the part before its reference window) and act with its actions")
+                        "rollout's states of the takes a policy set routes to a policy of its own "
+                        "(agents/kickstart.py; the set's default and backward policies teach nothing); the "
+                        "teachers read the run's "
+                        "observation (or the part before its reference window) and act with its actions; 'none' "
+                        "turns it off in a resumed run")
     g.add_argument("--kickstart-epochs", type=positive_int, default=KickstartConfig.epochs,
                    help="passes over those states after each update")
     g.add_argument("--kickstart-lr", type=positive_float, default=KickstartConfig.lr,
@@ -292,11 +295,34 @@ def artefact_mix(args: argparse.Namespace, corrupted_fraction: float) -> Artefac
                        denoiser=args.denoise, denoise_slow_s=args.denoise_slow, **steps)
 
 
+def check_kickstart(args: argparse.Namespace) -> None:
+    """A :class:`ValueError` when ``--kickstart-epochs``, ``--kickstart-lr`` or ``--kickstart-corrupted``
+    is set without ``--kickstart``: they would do nothing."""
+    if args.kickstart is not None:
+        return
+    given = [flag for flag, on in (("--kickstart-epochs", args.kickstart_epochs != KickstartConfig.epochs),
+                                   ("--kickstart-lr", args.kickstart_lr != KickstartConfig.lr),
+                                   ("--kickstart-corrupted", args.kickstart_corrupted)) if on]
+    if given:
+        raise ValueError(f"{' and '.join(given)} set{'s' if len(given) == 1 else ''} the kickstarting that "
+                         f"--kickstart SET asks for; give it")
+
+
 def kickstart_config(args: argparse.Namespace) -> KickstartConfig:
     """The supervised step between PPO updates that ``--kickstart``, ``--kickstart-epochs``,
     ``--kickstart-lr`` and ``--kickstart-corrupted`` ask for."""
-    return KickstartConfig(policy_set=str(args.kickstart), epochs=args.kickstart_epochs, lr=args.kickstart_lr,
-                           corrupted=args.kickstart_corrupted)
+    return KickstartConfig(policy_set=repository_relative(args.kickstart), epochs=args.kickstart_epochs,
+                           lr=args.kickstart_lr, corrupted=args.kickstart_corrupted)
+
+
+def kickstarter(args: argparse.Namespace, env: gym.Env, clips: list[str] | list[Motion]) -> Kickstart:
+    """The callback that kickstarts the run (``--kickstart``): its teachers read ``env``'s observation
+    and teach some episodes of the training ``clips`` (:func:`training_motions`: SOURCE strings or clips)."""
+    config = kickstart_config(args)
+    teaching = Teaching.load(args.kickstart, env)
+    names = [clip if isinstance(clip, str) else clip.name for clip in clips]
+    teaching.check_teaches(names, args.corrupted_fraction, config.corrupted)
+    return Kickstart(teaching, config, args.seed)
 
 
 def env_kwargs(args: argparse.Namespace, clips: list, corrupted_fraction: float) -> dict:
@@ -841,6 +867,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         check_denoiser(args)
     check_slowing(args.denoise, args.denoise_slow)
     check_preparation(args)
+    check_kickstart(args)
     check_symmetric(args, run_dir)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args), stance_extra(args)
@@ -864,8 +891,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)
     maps = MirrorMaps.of(eval_env) if args.symmetric else None  # refuses a layout it does not know, before the run
-    teachers = ([Kickstart(Teaching.load(args.kickstart, eval_env), kickstart_config(args), args.seed)]
-                if args.kickstart else [])  # a teacher that cannot read the run's observation: before the run
+    teachers = [kickstarter(args, eval_env, clips)] if args.kickstart else []  # bad teachers: before the run
     # the run is recorded only now that every clip has loaded: bad input leaves no run behind
     run_dir.mkdir(parents=True, exist_ok=True)
     command = ["agents/train_ppo.py", *argv]
@@ -913,8 +939,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     handlers = {s: signal.getsignal(s) for s in (signal.SIGINT, signal.SIGTERM)}  # restored when training ends
     signal.signal(signal.SIGTERM, _interrupt)  # `kill` saves a checkpoint too (background jobs ignore SIGINT)
     try:
-        model.learn(remaining, callback=CallbackList([callback, UpdateThreads(collect_threads, update_threads),
-                                                      *kl_following(args.target_kl), *teachers]),
+        # the teachers before UpdateThreads: their fit at a rollout's start runs with the update's threads
+        callbacks = [callback, *teachers, UpdateThreads(collect_threads, update_threads), *kl_following(args.target_kl)]
+        model.learn(remaining, callback=CallbackList(callbacks),
                     reset_num_timesteps=checkpoint is None, tb_log_name="ppo",
                     progress_bar=not args.no_progress)
     except KeyboardInterrupt:  # Ctrl-C, `kill` or `timeout`: keep what was learned, resumable with --resume

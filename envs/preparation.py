@@ -49,7 +49,7 @@ def prepared(take: Motion, denoiser: Denoiser | None = None, *, symmetry: LegSym
 class PreparationSteps(TypedDict):
     """The steps of :func:`prepared` after the denoiser, each ``None`` when not asked for: keyword
     arguments of :func:`prepared`, :class:`envs.config.ArtefactMix`, ``agents.evaluate.tracked_and_judged``
-    and ``Policy.preparation_note``."""
+    and ``MimicPolicy.preparation_note``."""
 
     symmetry: LegSymmetry | None
     legs: LegGap | None

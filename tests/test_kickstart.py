@@ -84,17 +84,29 @@ def test_corrupted_episodes_are_taught_only_when_asked_for(tmp_path, corrupted):
     assert len(kick.labels()[0]) == (32 if corrupted else 0)
 
 
-def test_train_ppo_kickstarts_and_records_it(tmp_path):
+def test_train_ppo_kickstarts_and_records_it(tmp_path, monkeypatch):
+    fits = []
+    fit = Kickstart.fit
+    monkeypatch.setattr(Kickstart, "fit", lambda self: fits.append(len(self._who)) or fit(self))
     run = tmp_path / "run"
-    train_main(["--clips", "deepmimic:walk", "deepmimic:run", "--init-from", str(MODELS / "mimic_walk"),
-                "--kickstart", str(teaching_set(tmp_path)), "--kickstart-epochs", "3", "--n-envs", "2",
-                "--n-steps", "64", "--batch-size", "64", "--total-steps", "256", "--vec", "dummy", "--no-progress", "--run-dir", str(run),
-                "--eval-every", "100000", "--checkpoint-every", "128"])
+    common = ["--init-from", str(MODELS / "mimic_walk"), "--n-envs", "2", "--n-steps", "64", "--batch-size", "64",
+              "--vec", "dummy", "--no-progress", "--eval-every", "100000"]
+    train_main(["--clips", "deepmimic:walk", "deepmimic:run", "--kickstart", str(teaching_set(tmp_path)),
+                "--kickstart-epochs", "3", "--total-steps", "256", "--checkpoint-every", "128", "--run-dir", str(run),
+                *common])
+    assert len(fits) == 1 and 0 < fits[0] < 128  # after the first of two rollouts' update, on some of its states
     policy = load_policy(sorted((run / "checkpoints").glob("step_*.zip"))[-1])
     assert policy.record.training.kickstart == {"policy_set": str(tmp_path / "set"), "epochs": 3, "lr": 5e-5,
                                                 "batch_size": 512, "corrupted": False}
-    with pytest.raises(SystemExit, match="routes no clip"):
-        PolicySet(tmp_path / "plain", MODELS / "mimic_walk", MODELS / "mimic_walk").save()
-        train_main(["--clips", "deepmimic:walk", "--init-from", str(MODELS / "mimic_walk"), "--kickstart",
-                    str(tmp_path / "plain"), "--run-dir", str(tmp_path / "refused"), "--no-progress"])
-    assert not (tmp_path / "refused").exists()  # refused before the run
+    refused = ["--run-dir", str(tmp_path / "refused"), *common]
+    PolicySet(tmp_path / "plain", MODELS / "mimic_walk", MODELS / "mimic_walk").save()
+    for extra, error in ((["--clips", "deepmimic:walk", "--kickstart", str(tmp_path / "plain")], "routes no clip"),
+                         (["--clips", "deepmimic:walk", "--kickstart", str(tmp_path / "set")],
+                          r"no training clip matches a glob of the set \(\*run\*\)"),
+                         (["--clips", "deepmimic:run", "--kickstart", str(tmp_path / "set"), "--corrupted-fraction",
+                           "1"], "--corrupted-fraction 1 leaves none"),
+                         (["--clips", "deepmimic:run", "--kickstart-lr", "1e-3"],
+                          "--kickstart-lr sets the kickstarting")):
+        with pytest.raises(SystemExit, match=error):
+            train_main([*extra, *refused])
+        assert not (tmp_path / "refused").exists()  # refused before the run
