@@ -85,13 +85,13 @@ from agents.mirror import MirrorMaps
 from agents.policy import MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
-from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions_and_values
+from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions_and_values, observing_in
 from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
                               reposed_copies, stance_extra, warped_clips)
 from agents.warm_start import widen_by_window, widen_hidden
 from envs import ArtefactMix
 from envs.config import FOOT_MODELS
-from envs.preparation import preparation_of, preparation_record
+from envs.preparation import no_preparation, preparation_of, preparation_record
 from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option, check_slowing
 from reference_motion.artefacts import ArtefactRecipe
 from reference_motion.atomic import atomic_write, write_json
@@ -256,11 +256,8 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
         raise PolicyError(f"{teacher}: no clip is routed to its default policy {default_dir}, whose observation "
                           f"statistics the student takes; add clips it performs")
     frame = policies[default].record.env.mimic_config().obs_frame
-    for i, policy in enumerate(policies):  # one env observes for all: each teacher reads it in its frame
-        if policy.record.env.mimic_config().obs_frame != frame:
-            print(f"note: teacher {policy.path} observes in the {frame!r} frame of the default policy "
-                  f"{policies[default].path} here (MimicPolicy.observing)")
-            policies[i] = policy.observing(frame)
+    # one env observes for all: each teacher reads it in its frame
+    policies = [observing_in(policy, frame, f"the default policy {policies[default].path}") for policy in policies]
     of_clip: dict[str, int] = {}
     for i, (_, clips) in enumerate(groups):
         for m in clips:
@@ -711,7 +708,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                   strength=tuple(args.strength), judge=mix.judge if mix else ArtefactMix().judge,
                                   denoiser=repository_relative(mix.denoiser if mix else None),
                                   denoise_slow_s=mix.denoise_slow_s if mix else None,
-                                  **preparation_record(mix.steps if mix else preparation_of(args), lift_key="lift"),
+                                  **preparation_record(mix.steps if mix else no_preparation(), lift_key="lift"),
                                   mirror=args.mirror, warps=warps,
                                   postures=args.postures, posture_seed=config.seed,
                                   posture_ranges=asdict(ranges) if args.postures else None,

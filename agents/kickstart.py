@@ -29,7 +29,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 
 from agents.policy import MimicPolicy, load_policy
 from agents.policy_set import load_policy_set, source_name
-from agents.teachers import check_teacher_layouts, mean_actions_and_values
+from agents.teachers import check_teacher_layouts, mean_actions_and_values, observing_in
 
 
 @dataclass(frozen=True)
@@ -71,12 +71,9 @@ class Teaching:
     """Which teacher, if any, teaches a clip: the first glob of the set that the clip's name or its
     source's name (without the transforms' suffixes) matches, as the set routes clips."""
 
-    def __init__(self, routes: list[tuple[str, Path]], teachers: list[MimicPolicy]):
+    def __init__(self, routes: list[tuple[str, int]], teachers: list[MimicPolicy]):
+        """``routes``: ``[(glob, index in teachers), ...]`` in the set's order."""
         self.routes, self.teachers = routes, teachers
-        index = {}
-        for _, directory in routes:
-            index.setdefault(directory.resolve(), len(index))
-        self._index = [index[directory.resolve()] for _, directory in routes]
         self._cache: dict[str, int | None] = {}
 
     @classmethod
@@ -86,16 +83,11 @@ class Teaching:
         layout raises :class:`agents.policy.PolicyError`) and checked to read ``env``'s observation
         and act with its actions (:func:`agents.teachers.check_teacher_layouts`)."""
         routes = taught_globs(policy_set)
+        directories = list(dict.fromkeys(directory.resolve() for _, directory in routes))
         frame = env.unwrapped.config.obs_frame
-        teachers = []
-        for directory in dict.fromkeys(d.resolve() for _, d in routes):
-            teacher = load_policy(directory)
-            if teacher.record.env.mimic_config().obs_frame != frame:
-                print(f"note: teacher {teacher.path} observes in the run's {frame!r} frame (MimicPolicy.observing)")
-                teacher = teacher.observing(frame)
-            teachers.append(teacher)
+        teachers = [observing_in(load_policy(directory), frame, "the run") for directory in directories]
         check_teacher_layouts(teachers, env)
-        return cls(routes, teachers)
+        return cls([(glob, directories.index(directory.resolve())) for glob, directory in routes], teachers)
 
     def check_teaches(self, clips: list[str], corrupted_fraction: float, corrupted: bool) -> None:
         """A :class:`ValueError` unless some of the training ``clips`` (names) have a teacher and some of
@@ -113,7 +105,7 @@ class Teaching:
         """Index in :attr:`teachers` of ``clip``'s teacher, or ``None``: PPO alone trains it."""
         if clip not in self._cache:
             names = (clip, source_name(clip))
-            self._cache[clip] = next((self._index[i] for i, (glob, _) in enumerate(self.routes)
+            self._cache[clip] = next((teacher for glob, teacher in self.routes
                                       if any(fnmatch.fnmatchcase(n, glob) for n in names)), None)
         return self._cache[clip]
 

@@ -62,3 +62,13 @@ def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.nd
     # a chunk at a time: a normalised (float64) and a mirrored copy of millions of labels would be several times theirs
     answers = [answer(obs[start:start + ANSWER_CHUNK]) for start in range(0, max(len(obs), 1), ANSWER_CHUNK)]
     return np.concatenate([a for a, _ in answers]), np.concatenate([v for _, v in answers])
+
+
+def observing_in(teacher: MimicPolicy, frame: str, whose: str) -> MimicPolicy:
+    """``teacher`` observing in ``frame``, the frame of ``whose`` observation it reads (a note says so when
+    it was trained in another frame of the same layout, :meth:`MimicPolicy.observing`; another layout
+    raises :class:`PolicyError`)."""
+    if teacher.record.env.mimic_config().obs_frame == frame:
+        return teacher
+    print(f"note: teacher {teacher.path} observes in the {frame!r} frame of {whose} here (MimicPolicy.observing)")
+    return teacher.observing(frame)

@@ -262,9 +262,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="after each PPO update, pull the policy's mean action towards a teacher's on the last "
                         "rollout's states of the takes a policy set routes to a policy of its own "
                         "(agents/kickstart.py; the set's default and backward policies teach nothing); the "
-                        "teachers read the run's "
-                        "observation (or the part before its reference window) and act with its actions; 'none' "
-                        "turns it off in a resumed run")
+                        "teachers read the run's observation (or the part before its reference window) and act "
+                        "with its actions; 'none' turns it off in a resumed run")
     g.add_argument("--kickstart-epochs", type=positive_int, default=KickstartConfig.epochs,
                    help="passes over those states after each update")
     g.add_argument("--kickstart-lr", type=positive_float, default=KickstartConfig.lr,

@@ -27,7 +27,7 @@ from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS
 from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
                                steered_velocities, steering_pull)
 from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
-from envs.preparation import prepared
+from envs.preparation import no_preparation, prepared
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
@@ -319,15 +319,13 @@ class MimicEnv(gym.Env):
         mix = None if judged or as_given else self.artefacts
         denoiser = mix.denoiser if mix is not None and corruption is not None else None
         slow_s = mix.denoise_slow_s if denoiser is not None else None
-        symmetry, legs, grounding, lift = ((mix.symmetry, mix.legs, mix.grounding, mix.lift) if mix is not None
-                                           else (None, None, None, None))
+        steps = mix.steps if mix is not None else no_preparation()
         content = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
-                   denoiser, slow_s, symmetry, legs, grounding, lift, self.config.cube_size_m)
+                   denoiser, slow_s, *steps.values(), self.config.cube_size_m)
         track = _SHARED_TRACKS.get(content)
         if track is None:
             motion = given if corruption is None else corrupt(given, *corruption)
-            motion = prepared(motion, None if denoiser is None else mix_denoiser(denoiser, slow_s),
-                              symmetry=symmetry, legs=legs, grounding=grounding, lift=lift)
+            motion = prepared(motion, None if denoiser is None else mix_denoiser(denoiser, slow_s), **steps)
             track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                          self.config.cube_size_m)
             for value in vars(track).values():  # shared between environments: nobody may write to it

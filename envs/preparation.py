@@ -64,6 +64,11 @@ def preparation_of(args: argparse.Namespace) -> PreparationSteps:
                             lift=swing_lift_of(args))
 
 
+def no_preparation() -> PreparationSteps:
+    """Steps that prepare nothing (each ``None``)."""
+    return PreparationSteps(symmetry=None, legs=None, grounding=None, lift=None)
+
+
 def prepares_any(steps: PreparationSteps) -> bool:
     """Whether ``steps`` asks for any step at all."""
     return any(step is not None for step in steps.values())
