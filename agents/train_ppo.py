@@ -53,8 +53,8 @@ from agents.mirror import MirrorMaps
 from agents.symmetric_policy import SymmetricActorCriticPolicy, maps_as_kwargs, symmetrise_statistics
 from agents.warm_start import observation_normalizer, renormalised_inputs, warm_start
 from envs import ENV_IDS, ArtefactMix
-from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGES, Dynamics, GaitConfig, MimicConfig,
-                         Pushes)
+from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGED_WITHOUT, JUDGES, Dynamics, GaitConfig,
+                         MimicConfig, Pushes)
 from envs.observations import OBS_FRAMES
 from envs.preparation import preparation_of, preparation_record, prepares_any
 from perception.imu_denoiser import add_denoise_option, add_slow_corrections_option, check_slowing
@@ -99,7 +99,8 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "(ADAPT), the clean clip a corrupted one was made from, the reference as made, before "
                         "--denoise, --even-legs, --part-legs, --ground and --swing-lift prepared it, as evaluate.py "
                         "judges a take, or (clean_pose) that reference as made with the clean clip's hinge angles: the "
-                        "corrupted root path, a performable pose (envs.ArtefactMix.judge)")
+                        "corrupted root path, a performable pose, or (unslid_pose) that without the root's stance skate "
+                        "as well (envs.ArtefactMix.judge)")
     add_denoise_option(g, "every corrupted reference (training, and --eval-strength evaluation), before the "
                           "policy observes it, as clean.py --denoise does (envs.ArtefactMix.denoiser); the "
                           "--eval-strength evaluation then judges a rollout against the denoised reference it follows "
@@ -119,7 +120,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="reference tracks each env keeps in memory (~2 MB each; more than this are rebuilt on "
                         "use, which slows training). Per clip: 1, and 1 per variant; each doubles where the "
                         "episode is judged against another track (--judge given with --denoise, --even-legs, "
-                        "--part-legs, --ground or --swing-lift; --judge clean_pose)")
+                        "--part-legs, --ground or --swing-lift; --judge clean_pose or unslid_pose)")
     g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
                    help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
                         "offset from the reference (envs.observations)")
@@ -780,7 +781,7 @@ def check_preparation(args: argparse.Namespace) -> None:
     if args.judge == "given" and (mix is None or not mix.prepares(args.corrupted_fraction > 0)):
         raise ValueError("--judge given judges against the reference as made, before --denoise, --even-legs, "
                          "--part-legs, --ground and --swing-lift prepare it; this run prepares none (give one of them)")
-    if args.judge in ("clean", "clean_pose") and not args.corrupted_fraction:
+    if args.judge in ("clean", *JUDGED_WITHOUT) and not args.corrupted_fraction:
         raise ValueError(f"--judge {args.judge} judges corrupted episodes against another reference; this run "
                          f"has none (give --corrupted-fraction > 0)")
 
@@ -885,7 +886,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
                                                variants_per_clip=args.eval_episodes, denoiser=args.denoise,
                                                denoise_slow_s=args.denoise_slow, **preparation_of(args),
-                                               judge="given" if args.judge in ("given", "clean_pose")
+                                               judge="given" if args.judge in ("given", *JUDGED_WITHOUT)
                                                else "corrupted")
     eval_env = gym.make(args.env_id, **eval_kwargs)
     eval_env.reset(seed=10_000 + args.seed)

@@ -17,7 +17,7 @@ import numpy as np
 
 from envs.observations import OBS_FRAMES
 from envs.preparation import PreparationSteps, prepares_any
-from reference_motion.artefacts import ArtefactRecipe
+from reference_motion.artefacts import HINGE_KINDS, ArtefactRecipe
 from reference_motion.grounding import Grounding
 from reference_motion.leg_gap import LegGap
 from reference_motion.leg_symmetry import LegSymmetry
@@ -221,8 +221,12 @@ class MimicConfig:
         return round(self.frame_rate_hz / self.control_rate_hz)
 
 
-JUDGES = ("corrupted", "clean", "given", "clean_pose")
+JUDGES = ("corrupted", "clean", "given", "clean_pose", "unslid_pose")
 """What an episode is rewarded and terminated against (:attr:`ArtefactMix.judge`)."""
+
+JUDGED_WITHOUT = {"clean_pose": HINGE_KINDS, "unslid_pose": (*HINGE_KINDS, "skate")}
+"""The judges that compare a corrupted episode with its variant as made without some artefact kinds
+(:data:`reference_motion.artefacts.ARTEFACT_KINDS`), and those kinds."""
 
 
 @dataclass(frozen=True)
@@ -255,7 +259,10 @@ class ArtefactMix:
             variant's root path (its heading, root drift, skate and height, drawn from the same
             streams), so the policy is paid for a pose it can perform (the IMU suit's hip adduction
             crosses the legs) along the path that evaluation judges it against.
-            With ``"clean"``, ``"given"`` and ``"clean_pose"`` a clean episode the mix prepares is
+            Or ``"unslid_pose"``: that without its stance skate too (heading, root drift and height
+            kept), so the policy is not paid to follow a slide of the root its planted feet cannot make
+            (:data:`JUDGED_WITHOUT`).
+            With ``"clean"``, ``"given"``, ``"clean_pose"`` and ``"unslid_pose"`` a clean episode the mix prepares is
             judged against the clip as given; with ``"corrupted"`` every episode against what the
             policy tracks.
         denoiser: directory of an IMU denoiser (:mod:`perception.imu_denoiser`) that every

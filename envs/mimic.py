@@ -22,8 +22,8 @@ import mujoco
 import numpy as np
 
 from envs.bodies import bodies_touching, floor_contact_geoms, read_body_state, region_contacts, update_kinematics
-from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, OBS_MODES, SPINAL_BODIES,
-                         ArtefactMix, Dynamics, MimicConfig, Pushes)
+from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS, JUDGED_WITHOUT, OBS_MODES,
+                         SPINAL_BODIES, ArtefactMix, Dynamics, MimicConfig, Pushes)
 from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
                                steered_velocities, steering_pull)
 from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
@@ -34,7 +34,7 @@ from envs.rendering import GhostRenderer
 from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, com_velocity_reward, cube_face_points,
                           cube_face_velocities, fallen, lagging, mimic_reward, still_feet_reward, unstable)
 from reference_motion import rotations as rot
-from reference_motion.artefacts import HINGE_KINDS, corrupt
+from reference_motion.artefacts import corrupt
 from reference_motion.humanoid.model import HumanoidModel, load_model
 from reference_motion.library import load_motion, named_set
 from reference_motion.motion import Motion
@@ -279,7 +279,7 @@ class MimicEnv(gym.Env):
         return self._episode_end
 
     def track(self, clip: int, variant: int = -1, *, as_given: bool = False,
-              clean_pose: bool = False) -> ReferenceTrack:
+              without: tuple[str, ...] = ()) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
         ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use (or
         taken from another environment of this process that holds the same one,
@@ -287,15 +287,16 @@ class MimicEnv(gym.Env):
         says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
         variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
         (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
-        prepared. ``clean_pose``: a corrupted variant without its hinge errors (with ``as_given``,
-        what ``ArtefactMix.judge == "clean_pose"`` compares with; without, prepared as the variant
-        is; ignored for the clip and ``JUDGED``). A variant's artefact seed and strength depend only
+        prepared. ``without``: a corrupted variant with these artefact kinds switched off (with
+        ``as_given``, what ``ArtefactMix.judge == "clean_pose"`` or ``"unslid_pose"`` compares with,
+        :data:`envs.config.JUDGED_WITHOUT`; without, prepared as the variant is; ignored for the clip
+        and ``JUDGED``). A variant's artefact seed and strength depend only
         on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant), so the
         same seed always gives the same references whatever order episodes come in."""
         as_given = (as_given and variant != JUDGED and self.artefacts is not None
                     and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
-        clean_pose = clean_pose and variant >= 0
-        key = (clip, variant, as_given, clean_pose)
+        without = tuple(without) if variant >= 0 else ()
+        key = (clip, variant, as_given, without)
         if key in self._tracks:
             self._tracks.move_to_end(key)
             return self._tracks[key]
@@ -309,7 +310,7 @@ class MimicEnv(gym.Env):
             rng = np.random.default_rng([self._variant_base, clip, variant])
             seed = int(rng.integers(2**31))
             recipe = mix.recipe.scaled(float(rng.uniform(*mix.strength)))
-            corruption = (recipe.without(HINGE_KINDS) if clean_pose else recipe, seed)
+            corruption = (recipe.without(without) if without else recipe, seed)
             self._variant_seeds[(clip, variant)] = seed
         judged = variant == JUDGED
         if variant < JUDGED or (judged and self._judged is None):
@@ -395,7 +396,8 @@ class MimicEnv(gym.Env):
         """What an episode on ``variant`` of ``clip``, tracking ``track``, is judged against: the
         env's ``judged_clips``, else as ``ArtefactMix.judge`` says (``"corrupted"``: ``track``
         itself; ``"clean"``: the clip as given; ``"given"``: the variant as given, before the mix
-        prepared it; ``"clean_pose"``: that without its hinge errors), else ``track``."""
+        prepared it; ``"clean_pose"``, ``"unslid_pose"``: that without the kinds of
+        :data:`envs.config.JUDGED_WITHOUT`), else ``track``."""
         if self._judged is not None:
             return self.track(clip, JUDGED)
         mix = self.artefacts
@@ -404,8 +406,8 @@ class MimicEnv(gym.Env):
         corrupted = variant >= 0
         if mix.judge == "clean" and corrupted:
             return self.track(clip, -1, as_given=True)
-        if mix.judge == "clean_pose" and corrupted:
-            return self.track(clip, variant, as_given=True, clean_pose=True)
+        if mix.judge in JUDGED_WITHOUT and corrupted:
+            return self.track(clip, variant, as_given=True, without=JUDGED_WITHOUT[mix.judge])
         return self.track(clip, variant, as_given=True) if mix.prepares(corrupted) else track
 
     @property

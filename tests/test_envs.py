@@ -19,7 +19,7 @@ from envs.reference import pd_targets
 from reference_motion import rotations as rot
 from perception.imu_denoiser import DEFAULT_DENOISER, denoise
 from perception.weights import shared_network
-from reference_motion.artefacts import ArtefactRecipe, corrupt
+from reference_motion.artefacts import HINGE_KINDS, ArtefactRecipe, corrupt
 from reference_motion.cli import CliParser
 from reference_motion.grounding import Grounding, add_grounding_option
 from reference_motion.leg_gap import LegGap, add_leg_gap_option, lateral_foot_gap
@@ -433,7 +433,7 @@ def test_a_corrupted_episode_can_be_judged_against_the_clean_clip(walk):
     assert info_j["corrupted"] and info_a["corrupted"]
     np.testing.assert_array_equal(obs_j, obs_a)  # the same corrupted reference is observed ...
     assert judged.judging_track is judged.track(0, -1) and judged.current_track is judged.track(0, 0)
-    assert sorted(judged._tracks) == [(0, -1, False, False), (0, 0, False, False)]  # nothing prepared: one slot each
+    assert sorted(judged._tracks) == [(0, -1, False, ()), (0, 0, False, ())]  # nothing prepared: one slot each
     assert adapt.judging_track is adapt.current_track
     action = np.zeros(adapt.action_space.shape)
     for _ in range(10):
@@ -569,17 +569,34 @@ def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_cl
     np.testing.assert_array_equal(judged[:, :7], variant[:, :7])
     np.testing.assert_array_equal(judged[:, 7:], walk.qpos[:len(judged), 7:])
     assert np.abs(variant[:, 7:] - walk.qpos[:len(variant), 7:]).max() > 0.1  # the hinge errors it is spared
-    assert env.judging_track is env.track(0, 0, as_given=True, clean_pose=True)
+    assert env.judging_track is env.track(0, 0, as_given=True, without=HINGE_KINDS)
     assert env.current_track is env.track(0, 0)  # it tracks the variant, set on the floor
     env.reset(options={"clip": 0, "start_frame": 0, "corrupted": False})
     np.testing.assert_array_equal(env.judging_track.motion.qpos, walk.qpos[:env.judging_track.n_frames])
     unprepared = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, grounding=None, seed=None)).unwrapped
     unprepared.reset(seed=3, options={"clip": 0, "start_frame": 0, "corrupted": True})
     assert unprepared.judging_track is not unprepared.current_track  # nothing prepared, yet another track
-    assert sorted(unprepared._tracks) == [(0, 0, False, False), (0, 0, False, True)]
+    assert sorted(unprepared._tracks) == [(0, 0, False, ()), (0, 0, False, HINGE_KINDS)]
     np.testing.assert_array_equal(unprepared.judging_track.motion.qpos[:, 7:], walk.qpos[:len(judged), 7:])
     unprepared.reset(seed=11, options={"clip": 0, "start_frame": 0, "corrupted": False})
-    assert sorted(unprepared._tracks) == [(0, -1, False, False)]  # a new seed drops every variant's tracks
+    assert sorted(unprepared._tracks) == [(0, -1, False, ())]  # a new seed drops every variant's tracks
+
+
+def test_unslid_pose_judges_a_corrupted_episode_against_its_root_path_without_the_stance_skate(walk):
+    """ArtefactMix.judge="unslid_pose": as "clean_pose", and the judged root path is the variant's without
+    its stance skate: its heading, root drift and height drawn from the same streams, the clean hinge angles."""
+    mix = ArtefactMix(strength=(1.0, 1.0), fraction=1.0, variants_per_clip=1, seed=5, judge="unslid_pose")
+    env = gym.make("MimicIMU-v0", clips=[walk], artefacts=mix).unwrapped
+    env.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    unslid = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(
+        mix, recipe=mix.recipe.without(("skate",)), judge="corrupted")).unwrapped
+    unslid.reset(options={"clip": 0, "start_frame": 0, "corrupted": True})
+    variant, judged = env.current_track.motion.qpos, env.judging_track.motion.qpos
+    np.testing.assert_array_equal(judged[:, :7], unslid.current_track.motion.qpos[:len(judged), :7])
+    np.testing.assert_array_equal(judged[:, 7:], walk.qpos[:len(judged), 7:])
+    slide = np.linalg.norm(variant[:, :2] - judged[:, :2], axis=1)
+    assert 0.005 < slide.max() < 0.2  # the skate it is spared: centimetres, not the path
+    assert env.judging_track is env.track(0, 0, as_given=True, without=(*HINGE_KINDS, "skate"))
 
 
 def test_a_clip_can_be_judged_against_another_motion(walk):
