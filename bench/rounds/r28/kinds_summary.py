@@ -1,7 +1,7 @@
 """Round 28: summarises bench/rounds/r28/kinds_probe.sh. For each artefact kind, the mean ELR with every kind but
 that one, and its paired gain over every kind (per take and seed: mean +- standard error).
 
-usage: python bench/rounds/r28/kinds_summary.py [_dn]   (no argument: the raw takes; _dn: behind the denoiser)
+usage: python bench/rounds/r28/kinds_summary.py NAME [_dn]   (NAME: WW, or the probe's NAME; _dn: behind the denoiser)
 """
 import collections
 import glob
@@ -10,14 +10,14 @@ import sys
 
 import numpy as np
 
-suffix = sys.argv[1] if len(sys.argv) > 1 else ""
+name = sys.argv[1]
+suffix = sys.argv[2] if len(sys.argv) > 2 else ""
 by_condition = collections.defaultdict(dict)  # condition -> seed -> {take: ELR}
-for path in glob.glob(f"bench/results/round28_kinds_WW_*{suffix}.json"):
-    name = path.split("round28_kinds_WW_")[1][:-len(".json")]
-    if name.endswith("_dn") != bool(suffix):
+for path in glob.glob(f"bench/results/round28_kinds_{name}_*{suffix}.json"):
+    stem = path.split(f"round28_kinds_{name}_")[1][:-len(".json")]
+    if stem.endswith("_dn") != bool(suffix):
         continue
-    name = name[:len(name) - len(suffix)]
-    condition, seed = name.rsplit("_", 1)
+    condition, seed = stem[:len(stem) - len(suffix)].rsplit("_", 1)
     by_condition[condition][seed] = {c["clip"]: c["ELR"] for c in json.load(open(path))["per_clip"]}
 
 
