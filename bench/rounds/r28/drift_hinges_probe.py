@@ -3,7 +3,8 @@ ankles, shoulders: its PD targets are the take's angle plus its action) or the o
 (spine, neck, elbows ...). Each take is corrupted at IMU strength 1, and again without drift; the hybrids keep the
 drift on one group of hinges only (the other artefacts' random numbers are the same in both). WW with the raw rows'
 preparation (mirror-averaged, legs evened and parted, grounded, swing-lifted), the ten training takes of
-bench/rounds/r28/kinds_probe.sh, 4 rollouts per take.
+bench/rounds/r28/kinds_probe.sh, 40 rollouts per take (start frames 0, 3, ..., 117: ten times the kinds probe's
+four, so its rows are not the same rollouts as that probe's).
 
 usage: python bench/rounds/r28/drift_hinges_probe.py SEED [SEED ...]   (prints a JSON line per seed)
 """
@@ -49,6 +50,6 @@ for seed in map(int, sys.argv[1:]):
             clips.append(q)
         tracked, judged = tracked_and_judged(clips, None, symmetry=LegSymmetry(), legs=LegGap(), grounding=Grounding(),
                                              lift=SwingLift())
-        summary, _ = evaluate_tracking(policy, tracked, judged, episodes=4 * len(clips), mirror_average=True)
+        summary, _ = evaluate_tracking(policy, tracked, judged, episodes=40, mirror_average=True)
         rows[name] = round(summary["ELR_mean"], 4)
     print(json.dumps({"seed": seed, "driven_columns": len(driven), **rows}), flush=True)
