@@ -85,7 +85,7 @@ from agents.mirror import MirrorMaps
 from agents.policy import MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
-from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions_and_values, observing_in
+from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions, mean_actions_and_values, observing_in
 from agents.train_ppo import (glob_speeds, load_training_motions, policy_kwargs, posture_range, posture_ranges,
                               reposed_copies, stance_extra, warped_clips)
 from agents.warm_start import widen_by_window, widen_hidden
@@ -315,8 +315,8 @@ def collect(env: gym.Env, actor: MimicPolicy | None, teachers: Teachers, steps: 
         teacher = teachers.of_clip[info["clip"]]
         seen = teacher_observation(env, obs, info, teacher_reads,
                                    teachers.policies[teacher].model.observation_space.shape[0], teacher_env)
-        mean, _ = (mean_actions_and_values(actor, obs[None]) if actor is not None
-                   else mean_actions_and_values(teachers.policies[teacher], seen[None]))
+        mean = (mean_actions(actor, obs[None]) if actor is not None
+                else mean_actions(teachers.policies[teacher], seen[None]))
         obs_rows.append(obs)
         teacher_rows.append(seen)
         who.append(teacher)

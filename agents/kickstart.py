@@ -29,7 +29,7 @@ from stable_baselines3.common.callbacks import BaseCallback
 
 from agents.policy import MimicPolicy, load_policy
 from agents.policy_set import load_policy_set, source_name
-from agents.teachers import check_teacher_layouts, mean_actions_and_values, observing_in
+from agents.teachers import check_teacher_layouts, mean_actions, observing_in
 
 
 @dataclass(frozen=True)
@@ -159,7 +159,7 @@ class Kickstart(BaseCallback):
             rows = np.flatnonzero(who == i)
             if len(rows):
                 inputs = teacher.model.observation_space.shape[0]
-                actions[rows] = mean_actions_and_values(teacher, raw[rows, :inputs])[0]
+                actions[rows] = mean_actions(teacher, raw[rows, :inputs])
         return np.asarray(self._normalised, np.float32), actions
 
     def fit(self) -> float:

@@ -1,6 +1,6 @@
 """How a teacher policy reads a student's observation and answers it: which teachers fit a student's
 environment (:func:`check_teacher_layouts`) and their mean actions and values on raw observations
-(:func:`mean_actions_and_values`). ``agents/distill.py`` (DAgger) and ``agents/kickstart.py``
+(:func:`mean_actions_and_values`, :func:`mean_actions`). ``agents/distill.py`` (DAgger) and ``agents/kickstart.py``
 (kickstarting PPO) label states with them."""
 
 from __future__ import annotations
@@ -46,22 +46,35 @@ def mean_actions_and_values(policy: MimicPolicy, obs: np.ndarray) -> tuple[np.nd
     ``obs (N, D)`` (normalised by the policy's own statistics). A policy acting as its symmetric actor
     (:attr:`MimicPolicy.mirror`) answers with that actor's action (:mod:`agents.mirror`) and the mean
     of its values on the observation and its mirror image."""
-    def network(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    actions, values = _answers(policy, obs, with_values=True)
+    return actions, values
+
+
+def mean_actions(policy: MimicPolicy, obs: np.ndarray) -> np.ndarray:
+    """The ``(N, A)`` mean actions of :func:`mean_actions_and_values`, without the critic's pass."""
+    return _answers(policy, obs, with_values=False)[0]
+
+
+def _answers(policy: MimicPolicy, obs: np.ndarray, with_values: bool) -> tuple[np.ndarray, np.ndarray | None]:
+    """:func:`mean_actions_and_values`, the values ``None`` unless ``with_values``."""
+    def network(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         x = torch.as_tensor(policy.normalizer.normalize_obs(raw), dtype=torch.float32)
         with torch.no_grad():
             return (policy.model.policy.get_distribution(x).distribution.mean.numpy(),
-                    policy.model.policy.predict_values(x)[:, 0].numpy())
+                    policy.model.policy.predict_values(x)[:, 0].numpy() if with_values else None)
 
-    def answer(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    def answer(raw: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
         mean, value = network(raw)
         if policy.mirror is None:
             return mean, value
         mean_mirrored, value_mirrored = network(policy.mirror.observation(raw))
-        return policy.mirror.averaged(mean, mean_mirrored), 0.5 * (value + value_mirrored)
+        return (policy.mirror.averaged(mean, mean_mirrored),
+                0.5 * (value + value_mirrored) if with_values else None)
 
     # a chunk at a time: a normalised (float64) and a mirrored copy of millions of labels would be several times theirs
     answers = [answer(obs[start:start + ANSWER_CHUNK]) for start in range(0, max(len(obs), 1), ANSWER_CHUNK)]
-    return np.concatenate([a for a, _ in answers]), np.concatenate([v for _, v in answers])
+    return (np.concatenate([a for a, _ in answers]),
+            np.concatenate([v for _, v in answers]) if with_values else None)
 
 
 def observing_in(teacher: MimicPolicy, frame: str, whose: str) -> MimicPolicy:
