@@ -206,7 +206,7 @@ class MimicEnv(gym.Env):
         self._judged_keys = [] if self._judged is None else [_content_key(c) for c in self._judged]
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
-        self._tracks: OrderedDict[tuple[int, int, bool, bool], ReferenceTrack] = OrderedDict()
+        self._tracks: OrderedDict[tuple[int, int, bool, tuple[str, ...]], ReferenceTrack] = OrderedDict()
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None if artefacts is None else artefacts.seed
         """Base seed of the corrupted variants: ``artefacts.seed`` if fixed, else the last reset seed."""
@@ -295,7 +295,9 @@ class MimicEnv(gym.Env):
         same seed always gives the same references whatever order episodes come in."""
         as_given = (as_given and variant != JUDGED and self.artefacts is not None
                     and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
-        without = tuple(without) if variant >= 0 else ()
+        if isinstance(without, str):
+            raise TypeError(f"track: without takes a sequence of artefact kinds, e.g. ({without!r},), not a string")
+        without = tuple(sorted(set(without))) if variant >= 0 else ()  # one cache slot whatever the order
         key = (clip, variant, as_given, without)
         if key in self._tracks:
             self._tracks.move_to_end(key)

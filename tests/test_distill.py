@@ -20,7 +20,7 @@ from agents.distill import (DistillConfig, Labels, Teachers, artefact_mix, build
 from agents.mirror import MirrorMaps
 from agents.policy import PolicyError, load_policy
 from agents.policy_set import PolicySet
-from agents.teachers import check_teacher_layouts, mean_actions_and_values
+from agents.teachers import check_teacher_layouts, mean_actions, mean_actions_and_values
 from agents.train_ppo import artefact_mix as ppo_artefact_mix
 from agents.train_ppo import build_parser as build_ppo_parser
 from envs import ArtefactMix
@@ -129,7 +129,7 @@ def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answe
     """The distillation fits the held-out split's training rows in place (indices, no copy): the
     same loss and weights as a fit on the copy with the same generator; a policy's answers for many
     observations, plain or as its symmetric actor, are the same answered 7 at a time, and so is the
-    critic's centring."""
+    critic's centring; ``mean_actions`` gives the same actions without the critic."""
     default = load_policy(MODELS / "mimic_walk")
     env = default.make_env(["deepmimic:walk"], artefacts=None)
     obs = np.stack([env.reset(seed=s)[0] for s in range(40)])
@@ -145,9 +145,11 @@ def test_a_fit_on_rows_of_the_labels_is_the_fit_on_their_copy_and_policies_answe
         chunked = mean_actions_and_values(policy, obs)
         np.testing.assert_allclose(chunked[0], actions, atol=1e-6)
         np.testing.assert_allclose(chunked[1], values, rtol=1e-6)
+        np.testing.assert_allclose(mean_actions(policy, obs), actions, atol=1e-6)  # without the critic: the same
     assert not np.allclose(whole[0][0], whole[1][0])  # the symmetric actor answers otherwise
     none_actions, none_values = mean_actions_and_values(default, obs[:0])
     assert none_actions.shape == (0, env.action_space.shape[0]) and none_values.shape == (0,)
+    assert mean_actions(default, obs[:0]).shape == (0, env.action_space.shape[0])
     centred_chunked = new_student(env, default, DistillConfig(net="16,16"))
     center_values(centred_chunked, labels, rows)
     assert centred_chunked.model.policy.value_net.bias.item() == pytest.approx(

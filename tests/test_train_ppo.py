@@ -262,8 +262,9 @@ def test_a_run_can_track_references_prepared_as_evaluation_prepares_takes(tmp_pa
     assert env_kwargs(plain, ["deepmimic:walk"], 0.0)["artefacts"] is None
     with pytest.raises(SystemExit, match="--judge given judges against the reference as made.*prepares none"):
         main(["--clips", "deepmimic:walk", "--judge", "given", "--run-dir", str(tmp_path / "x")])
-    with pytest.raises(SystemExit, match=r"--judge clean_pose judges corrupted episodes.*--corrupted-fraction > 0"):
-        main(["--clips", "deepmimic:walk", "--judge", "clean_pose", "--run-dir", str(tmp_path / "x")])
+    for judge in ("clean_pose", "unslid_pose"):
+        with pytest.raises(SystemExit, match=fr"--judge {judge} judges corrupted episodes.*--corrupted-fraction > 0"):
+            main(["--clips", "deepmimic:walk", "--judge", judge, "--run-dir", str(tmp_path / "x")])
     with pytest.raises(SystemExit, match="--swing-from goes with --swing-lift"):
         main(["--clips", "deepmimic:walk", "--swing-from", "speed", "--run-dir", str(tmp_path / "y")])
     assert not (tmp_path / "x").exists() and not (tmp_path / "y").exists()

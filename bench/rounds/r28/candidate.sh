@@ -1,14 +1,17 @@
 #!/bin/bash
 # usage: bench/rounds/r28/candidate.sh RUN_DIR HHMM NAME
-# A registered candidate of a training run: its newest checkpoint at HHMM UTC (or its last, if the run ends first).
-# The run is then stopped with a checkpoint (resumable: train_ppo.py --run-dir RUN_DIR --resume), and the
+# A registered candidate of a training run: its newest checkpoint at HHMM UTC, the same day (or its last, if the run
+# ends first). The run is then stopped with a checkpoint (resumable: train_ppo.py --run-dir RUN_DIR --resume), and the
 # checkpoint's path is written to runs/r28/NAME_candidate.txt, which the round's scoring reads.
-set -e
+set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r28
 R=$1; T=$2; N=$3
-while pgrep -f "run-dir $R" > /dev/null && [ "$(date -u +%H%M)" -lt "$T" ]; do sleep 20; done
+[[ $T =~ ^[0-2][0-9][0-5][0-9]$ ]] || { echo "candidate.sh: HHMM expected, got '$T'" >&2; exit 2; }
+RUN="--run-dir $R( |\$)"  # that run's train_ppo.py only, not a run dir that starts with the same name
+while pgrep -f -- "$RUN" > /dev/null && [ "$(date -u +%H%M)" -lt "$T" ]; do sleep 20; done
 W=$(ls "$R"/checkpoints/step_*.zip | sort -V | tail -1)
-pkill -TERM -f "run-dir $R" || true
-while pgrep -f "run-dir $R" > /dev/null; do sleep 5; done
-echo "$W" > runs/r28/${N}_candidate.txt
+[ -n "$W" ] || { echo "candidate.sh: no checkpoint in $R/checkpoints" >&2; exit 1; }
+pkill -TERM -f -- "$RUN" || true
+while pgrep -f -- "$RUN" > /dev/null; do sleep 5; done
+echo "$W" > "runs/r28/${N}_candidate.txt"
 echo "$N candidate: $W at $(date -u +%H:%M:%S)"

@@ -2,14 +2,13 @@
 ankles, shoulders: its PD targets are the take's angle plus its action) or the ones that follow the take open-loop
 (spine, neck, elbows ...). Each take is corrupted at IMU strength 1, and again without drift; the hybrids keep the
 drift on one group of hinges only (the other artefacts' random numbers are the same in both). WW with the raw rows'
-preparation (mirror-averaged, legs evened and parted, grounded, swing-lifted), the ten training takes of
-bench/rounds/r28/kinds_probe.sh, 40 rollouts per take (start frames 0, 3, ..., 117: ten times the kinds probe's
+preparation (mirror-averaged, legs evened and parted, grounded, swing-lifted), the ten takes of the train split in
+bench/rounds/r28/takes.txt, 40 rollouts per take (start frames 0, 3, ..., 117: ten times the kinds probe's
 four, so its rows are not the same rollouts as that probe's).
 
 usage: python bench/rounds/r28/drift_hinges_probe.py SEED [SEED ...]   (prints a JSON line per seed)
 """
 import json
-import subprocess
 import sys
 from dataclasses import replace
 
@@ -26,8 +25,7 @@ from reference_motion.leg_gap import LegGap
 from reference_motion.leg_symmetry import LegSymmetry
 from reference_motion.swing_lift import SwingLift
 
-TAKES = subprocess.run(["bash", "-c", "grep -o 'dataset-1_[a-z_-]*[0-9]*\\|02_09' bench/rounds/r28/kinds_probe.sh"],
-                       capture_output=True, text=True).stdout.split()
+TAKES = open("bench/rounds/r28/takes.txt").read().split()
 SOURCES = [f"library:data/library#{t}" for t in TAKES]
 policy = load_policy("models/mimic_general_wide")
 env = policy.make_env(reference_clips(SOURCES[:1], "humanoid_1seg", MimicConfig(), None, 1.0, 0), artefacts=None)
