@@ -28,6 +28,7 @@ from stable_baselines3.common.torch_layers import FlattenExtractor
 from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.mirror import MirrorAveraged, MirrorMaps
+from agents.privileged_critic import PrivilegedCriticPolicy, actor_only
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar, recorded_path
 from agents.symmetric_policy import SymmetricActorCriticPolicy
 from envs.config import GAIT_ABLATIONS
@@ -380,6 +381,9 @@ def load_policy(path: str | Path) -> MimicPolicy:
         raise PolicyError(f"{stats_file}: not VecNormalize statistics: {err}") from err
     if not isinstance(stats, VecNormalize):
         raise PolicyError(f"{stats_file}: holds a {type(stats).__name__}, not VecNormalize statistics")
+    if shape == model.observation_space.shape and isinstance(model.policy, PrivilegedCriticPolicy):
+        model, stats = actor_only(model, stats)  # trained with a privileged critic: the policy is its actor
+        shape = stats.obs_rms.mean.shape
     if shape != model.observation_space.shape:
         raise PolicyError(f"{stats_file}: statistics for observations {shape}, but the model takes "
                           f"{model.observation_space.shape}: the two files come from different runs")

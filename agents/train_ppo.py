@@ -51,7 +51,8 @@ from agents.batched_vec_env import BatchedMimicVecEnv, BatchShard
 from agents.vec_env import ShardedVecEnv, shard_count
 from agents.mirror import MirrorMaps
 from agents.symmetric_policy import SymmetricActorCriticPolicy, maps_as_kwargs, symmetrise_statistics
-from agents.warm_start import observation_normalizer, renormalised_inputs, warm_start
+from agents.privileged_critic import PrivilegedCriticPolicy, PrivilegedObservation, actor_only
+from agents.warm_start import observation_normalizer, renormalised_inputs, warm_start, warm_start_privileged
 from envs import ENV_IDS, ArtefactMix
 from envs.config import (CONTACT_MODES, FOOT_MODELS, GAIT_ABLATIONS, JUDGED_WITHOUT, JUDGES, Dynamics, GaitConfig,
                          MimicConfig, Pushes)
@@ -259,6 +260,10 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="train the mirror-symmetric actor (agents/symmetric_policy.py: the mean of the actor's action "
                         "and, mapped back, its action on the mirrored observation) with --init-from's weights; the "
                         "source's observation statistics are made mirror symmetric and frozen")
+    g.add_argument("--privileged-critic", action="store_true",
+                   help="an asymmetric critic: the value network also reads each episode's hidden corruption and "
+                        "randomised body (envs/privileged.py; agents/privileged_critic.py), the policy its own "
+                        "observation only; the run's checkpoints load as their actor")
     g.add_argument("--kickstart", type=or_none(str), default=None, metavar="SET",
                    help="after each PPO update, pull the policy's mean action towards a teacher's on the last "
                         "rollout's states of the takes a policy set routes to a policy of its own "
@@ -656,7 +661,10 @@ class CheckpointAndEvaluate(BaseCallback):
 
     def _evaluate(self) -> float:
         """Evaluate, log, keep the best; returns the SR90."""
-        policy = MimicPolicy(self.run_dir, self.model, self.model.get_vec_normalize_env())
+        model, statistics = self.model, self.model.get_vec_normalize_env()
+        if isinstance(model.policy, PrivilegedCriticPolicy):  # evaluated as the actor it is
+            model, statistics = actor_only(model, statistics)
+        policy = MimicPolicy(self.run_dir, model, statistics)
         start = time.perf_counter()
         corrupted = getattr(self.args, "eval_strength", None) is not None
         summary, _ = evaluate(self.eval_env, policy, episodes=self.args.eval_episodes, corrupted=corrupted)
@@ -786,6 +794,16 @@ def check_preparation(args: argparse.Namespace) -> None:
                          f"has none (give --corrupted-fraction > 0)")
 
 
+def check_privileged_critic(args: argparse.Namespace) -> None:
+    """Refuse, before any work, ``--privileged-critic`` with what reads the rollouts' observations as the
+    policy's own: the symmetric actor mirrors every column, the kickstarting teachers label them."""
+    if getattr(args, "privileged_critic", False):
+        for flag, on in (("--symmetric", args.symmetric), ("--kickstart", args.kickstart is not None)):
+            if on:
+                raise ValueError(f"--privileged-critic appends the critic's inputs to the stored observations; "
+                                 f"{flag} reads them as the policy's own: give one of the two")
+
+
 def check_symmetric(args: argparse.Namespace, run_dir: Path) -> None:
     """Refuse, before any work, a run whose actor would not be what ``--symmetric`` says: the
     symmetric actor without a policy to start from (its frozen statistics are the source's), a
@@ -869,6 +887,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     check_preparation(args)
     check_kickstart(args)
     check_symmetric(args, run_dir)
+    check_privileged_critic(args)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args), stance_extra(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)
@@ -881,6 +900,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         training_kwargs["dynamics"] = varied
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
                         env_kwargs=training_kwargs)
+    privileged = getattr(args, "privileged_critic", False)  # a run older than the option has none
+    if privileged:
+        venv = PrivilegedObservation(venv)
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
     if args.eval_strength is not None:
         eval_kwargs["artefacts"] = ArtefactMix(strength=(args.eval_strength, args.eval_strength), fraction=1.0,
@@ -911,12 +933,17 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         kwargs = policy_kwargs(args.net, args.action_variance)
         if maps is not None:
             kwargs["mirror"] = maps_as_kwargs(maps)
-        model = PPO(SymmetricActorCriticPolicy if maps is not None else "MlpPolicy", venv, learning_rate=args.lr,
+        if privileged:
+            kwargs["policy_inputs"] = venv.policy_inputs
+        policy_class = (SymmetricActorCriticPolicy if maps is not None else PrivilegedCriticPolicy if privileged
+                        else "MlpPolicy")
+        model = PPO(policy_class, venv, learning_rate=args.lr,
                     n_steps=args.n_steps, batch_size=args.batch_size, n_epochs=args.epochs, gamma=args.gamma,
                     gae_lambda=args.gae_lambda, clip_range=args.clip_range, seed=args.seed, device=args.device,
                     tensorboard_log=str(run_dir / "tb"), verbose=0, policy_kwargs=kwargs)
         if args.init_from is not None:  # warm start: another run's weights and observation statistics
-            venv = warm_start(model, venv, load_policy(args.init_from), env_config(args), args.gamma)
+            venv = (warm_start_privileged if privileged else warm_start)(model, venv, load_policy(args.init_from),
+                                                                        env_config(args), args.gamma)
             set_action_variance(model, args.action_variance)  # this run's noise, not the source's
             if maps is not None:  # the network mirrors normalised inputs: statistics symmetric, and kept so
                 symmetric = symmetrise_statistics(venv.obs_rms, maps)  # the first layers absorb the change

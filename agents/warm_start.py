@@ -33,6 +33,7 @@ from stable_baselines3.common.vec_env import VecEnv, VecNormalize
 from stable_baselines3.common.running_mean_std import RunningMeanStd
 
 from agents.policy import MimicPolicy, PolicyError
+from agents.privileged_critic import PrivilegedObservation, plain_model, widen_critic
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.mimic import driven_actuators
 from envs.observations import WINDOW_PARTS, observation_slices, same_layout
@@ -288,3 +289,29 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     normalizer.obs_rms = rms
     return normalizer
 
+
+
+PRIVILEGED_SAMPLE_RESETS = 16
+"""Resets of the run's environments whose privileged features give their running mean and variance
+(:func:`warm_start_privileged`)."""
+
+
+def warm_start_privileged(model: PPO, venv: PrivilegedObservation, source: MimicPolicy, config: MimicConfig,
+                          gamma: float) -> VecNormalize:
+    """:func:`warm_start` for a run with a privileged critic (``train_ppo.py --privileged-critic``):
+    ``model`` (an :class:`agents.privileged_critic.PrivilegedCriticPolicy` on ``venv``) gets ``source``'s
+    weights as :func:`warm_start` gives them to a plain network of the run's own observation, its critic
+    reading the privileged columns with zero weights (:func:`agents.privileged_critic.widen_critic`); the
+    returned statistics are ``source``'s for the observation and, for the privileged columns, their mean
+    and variance over :data:`PRIVILEGED_SAMPLE_RESETS` resets of every env (:func:`sampled_statistics`)."""
+    plain = plain_model(venv.venv.observation_space, venv.action_space, model.policy_kwargs, device="cpu")
+    inner = warm_start(plain, venv.venv, source, config, gamma)
+    widen_critic(model, plain)
+    mean, var = sampled_statistics(venv, slice(venv.policy_inputs, None), PRIVILEGED_SAMPLE_RESETS)
+    rms = RunningMeanStd(shape=venv.observation_space.shape)
+    rms.mean = np.concatenate([inner.obs_rms.mean, mean])
+    rms.var = np.concatenate([inner.obs_rms.var, var])
+    rms.count = inner.obs_rms.count
+    normalizer = observation_normalizer(venv, gamma)
+    normalizer.obs_rms = rms
+    return normalizer

@@ -28,6 +28,7 @@ from envs.observations import (heading_rotation, lookahead_observation, mimic_ob
                                steered_velocities, steering_pull)
 from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
 from envs.preparation import no_preparation, prepared
+from envs.privileged import privileged_features, privileged_size
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
 from envs.rendering import GhostRenderer
@@ -617,6 +618,21 @@ class MimicEnv(gym.Env):
                              f"{self._track.n_frames}; it must be the running clip or one of its variants")
         state = read_body_state(self.model, self.data)
         return self._tracking_observation(state, track.frame(self._frame), self._action, self._window(track))
+
+    def privileged_observation(self) -> np.ndarray:
+        """What an asymmetric critic sees of the running episode now and the policy does not
+        (:func:`envs.privileged.privileged_features`, ``(privileged_size,)``): the tracked reference's
+        hidden corruption against the judged reference and the clean clip, and the episode's
+        randomised body."""
+        if self._track is None:
+            raise RuntimeError("call reset() first")
+        return privileged_features(self._track, self._judge, self.track(self._clip, -1), self._frame,
+                                   self.config.frames_per_control, self.physics_draw)
+
+    @property
+    def privileged_size(self) -> int:
+        """Length of :meth:`privileged_observation`."""
+        return privileged_size(self.model.nu, self.model.nbody)
 
     @property
     def clip_index(self) -> int:

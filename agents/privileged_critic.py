@@ -1,0 +1,159 @@
+"""PPO with an asymmetric critic: the value network also reads what the policy cannot observe.
+
+``train_ppo.py --privileged-critic`` appends each environment's
+:meth:`envs.mimic.MimicEnv.privileged_observation` (the tracked reference's hidden corruption and the
+episode's randomised body, :mod:`envs.privileged`) to the observation the rollouts store
+(:class:`PrivilegedObservation`), and trains :class:`PrivilegedCriticPolicy`, whose actor reads the
+first ``policy_inputs`` columns only and whose critic reads them all (Pinto et al. 2018, "Asymmetric
+actor critic for image-based robot learning"). The actor is exactly a plain mimic policy's network,
+so such a run's checkpoints load as their actor (:func:`actor_only`, which
+:func:`agents.policy.load_policy` applies): evaluation, cleaning and every other command see a plain
+policy of the environment's own observation.
+"""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import torch
+from stable_baselines3 import PPO
+from stable_baselines3.common.policies import ActorCriticPolicy
+from stable_baselines3.common.running_mean_std import RunningMeanStd
+from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
+from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecEnvWrapper, VecNormalize
+
+
+class PrivilegedObservation(VecEnvWrapper):
+    """``venv``'s observations ``(N, D)`` with each environment's privileged features ``(N, P)`` after
+    them: ``(N, D + P)`` float32. ``venv`` steps :class:`envs.mimic.MimicEnv` environments in this
+    process (``--vec batched`` or ``dummy``), whose ``privileged_observation`` is read after every
+    reset and step.
+
+    An episode that ended is reset inside the step, so its ``terminal_observation`` (which PPO values
+    to bootstrap a time-limit truncation) gets the privileged features of the step before: the
+    corruption and body of the same episode one control step earlier.
+    """
+
+    def __init__(self, venv: VecEnv):
+        self.policy_inputs = int(venv.observation_space.shape[0])
+        size = int(venv.get_attr("privileged_size", [0])[0])
+        space = gym.spaces.Box(-np.inf, np.inf, (self.policy_inputs + size,), np.float32)
+        super().__init__(venv, observation_space=space)
+        self._last = np.zeros((venv.num_envs, size), np.float32)
+
+    def _privileged(self) -> np.ndarray:
+        return np.stack(self.venv.env_method("privileged_observation")).astype(np.float32)
+
+    def reset(self) -> np.ndarray:
+        obs = self.venv.reset()
+        self._last = self._privileged()
+        return np.concatenate([obs, self._last], axis=1)
+
+    def step_wait(self):
+        obs, rewards, dones, infos = self.venv.step_wait()
+        for i in np.flatnonzero(dones):
+            if "terminal_observation" in infos[i]:
+                infos[i]["terminal_observation"] = np.concatenate([infos[i]["terminal_observation"], self._last[i]])
+        self._last = self._privileged()
+        return np.concatenate([obs, self._last], axis=1), rewards, dones, infos
+
+
+class ActorInputs(BaseFeaturesExtractor):
+    """The actor's features: the first ``policy_inputs`` columns of the (flat) observation."""
+
+    def __init__(self, observation_space: gym.spaces.Box, policy_inputs: int):
+        super().__init__(observation_space, policy_inputs)
+        self.policy_inputs = policy_inputs
+
+    def forward(self, observations: torch.Tensor) -> torch.Tensor:
+        return observations[:, :self.policy_inputs]
+
+
+class PrivilegedCriticPolicy(ActorCriticPolicy):
+    """SB3's MLP actor-critic, its actor reading the first ``policy_inputs`` columns of the
+    observation (the environment's own) and its critic every column (those and the privileged
+    features). The two networks are separate (``share_features_extractor=False``), as ``MlpPolicy``'s
+    are with ``net_arch`` ``{"pi": ..., "vf": ...}``; every other argument is ``ActorCriticPolicy``'s."""
+
+    def __init__(self, observation_space: gym.spaces.Box, action_space: gym.spaces.Space, lr_schedule, *,
+                 policy_inputs: int, **kwargs):
+        if not 0 < policy_inputs < observation_space.shape[0]:
+            raise ValueError(f"PrivilegedCriticPolicy: policy_inputs must be between 1 and the observation's "
+                             f"{observation_space.shape[0]} columns less one, got {policy_inputs}")
+        self.policy_inputs = policy_inputs
+        super().__init__(observation_space, action_space, lr_schedule, share_features_extractor=False, **kwargs)
+
+    def _build_mlp_extractor(self) -> None:
+        super()._build_mlp_extractor()  # both nets read features_dim columns; the actor's first layer fewer
+        first = self.mlp_extractor.policy_net[0]
+        self.mlp_extractor.policy_net[0] = torch.nn.Linear(self.policy_inputs, first.out_features)
+        self.pi_features_extractor = ActorInputs(self.observation_space, self.policy_inputs)
+
+    def _get_constructor_parameters(self) -> dict:
+        data = super()._get_constructor_parameters()
+        data.pop("share_features_extractor", None)  # always False here
+        return {**data, "policy_inputs": self.policy_inputs}
+
+
+class _Spaces(gym.Env):
+    """An environment that has only spaces: what SB3 needs to build a model that will not be stepped."""
+
+    def __init__(self, observation_space: gym.spaces.Space, action_space: gym.spaces.Space):
+        self.observation_space, self.action_space = observation_space, action_space
+
+    def reset(self, *, seed=None, options=None):
+        raise RuntimeError("a model built by plain_model is not stepped")
+
+    def step(self, action):
+        raise RuntimeError("a model built by plain_model is not stepped")
+
+
+def plain_model(observation_space: gym.spaces.Box, action_space: gym.spaces.Box, policy_kwargs: dict,
+                **ppo_kwargs) -> PPO:
+    """A new ``MlpPolicy`` PPO model of these spaces with no environment to step (a vessel for weights)."""
+    kwargs = {k: v for k, v in policy_kwargs.items() if k not in ("policy_inputs", "share_features_extractor")}
+    return PPO("MlpPolicy", DummyVecEnv([lambda: _Spaces(observation_space, action_space)]), verbose=0,
+               policy_kwargs=kwargs, **ppo_kwargs)
+
+
+def actor_only(model: PPO, statistics: VecNormalize) -> tuple[PPO, VecNormalize]:
+    """A plain ``MlpPolicy`` PPO model and its observation statistics for the actor of ``model``, a
+    :class:`PrivilegedCriticPolicy` with ``statistics`` over its ``D + P`` columns: the same actor and
+    exploration noise, statistics of the first ``D`` columns, and the critic without its privileged
+    inputs (their first-layer weights dropped: a value of the observation alone, for a run started
+    from it, not the trained critic's estimate)."""
+    policy = model.policy
+    if not isinstance(policy, PrivilegedCriticPolicy):
+        raise TypeError(f"actor_only: a model trained with a privileged critic, got a {type(policy).__name__}")
+    d = policy.policy_inputs
+    space = gym.spaces.Box(-np.inf, np.inf, (d,), np.float32)
+    plain = plain_model(space, model.action_space, model.policy_kwargs, device=model.device, n_steps=model.n_steps,
+                        batch_size=model.batch_size, n_epochs=model.n_epochs, gamma=model.gamma,
+                        gae_lambda=model.gae_lambda, seed=model.seed)
+    weights = policy.state_dict()
+    weights["mlp_extractor.value_net.0.weight"] = weights["mlp_extractor.value_net.0.weight"][:, :d]
+    plain.policy.load_state_dict(weights)
+    plain.num_timesteps = model.num_timesteps
+    sliced = VecNormalize.__new__(VecNormalize)  # a shallow copy: copy.copy pickles, which a loaded one refuses
+    sliced.__dict__.update(statistics.__dict__)
+    rms = RunningMeanStd(shape=(d,))
+    rms.mean, rms.var, rms.count = statistics.obs_rms.mean[:d].copy(), statistics.obs_rms.var[:d].copy(), \
+        statistics.obs_rms.count
+    sliced.obs_rms, sliced.observation_space = rms, space
+    return plain, sliced
+
+
+def widen_critic(model: PPO, source: PPO) -> None:
+    """Start ``model`` (a :class:`PrivilegedCriticPolicy`) from ``source``, a plain policy of its first
+    ``D`` columns: every weight copied, the critic's first layer reading the privileged columns with
+    zero weights, so the run starts acting and valuing exactly as ``source``."""
+    weights = source.policy.state_dict()
+    key = "mlp_extractor.value_net.0.weight"
+    old = weights[key]
+    target = model.policy.state_dict()[key]
+    if old.shape[1] != model.policy.policy_inputs or target.shape[0] != old.shape[0]:
+        raise ValueError(f"widen_critic: the source's critic reads {old.shape[1]} inputs into {old.shape[0]} units; "
+                         f"this run's actor reads {model.policy.policy_inputs} into {target.shape[0]}")
+    widened = torch.zeros_like(target)
+    widened[:, :old.shape[1]] = old
+    model.policy.load_state_dict({**weights, key: widened})
