@@ -153,7 +153,7 @@ def widen_critic(model: PPO, source: PPO) -> None:
     target = model.policy.state_dict()[key]
     if old.shape[1] != model.policy.policy_inputs or target.shape[0] != old.shape[0]:
         raise ValueError(f"widen_critic: the source's critic reads {old.shape[1]} inputs into {old.shape[0]} units; "
-                         f"this run's actor reads {model.policy.policy_inputs} into {target.shape[0]}")
+                         f"this run's critic reads {model.policy.policy_inputs} before its privileged ones into {target.shape[0]}")
     widened = torch.zeros_like(target)
     widened[:, :old.shape[1]] = old
     model.policy.load_state_dict({**weights, key: widened})

@@ -1,0 +1,163 @@
+"""The asymmetric critic (``train_ppo.py --privileged-critic``): what it sees (envs/privileged.py), a
+network whose actor cannot see it, the warm start, and a run's checkpoints loading as their actor."""
+
+from dataclasses import replace
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import torch
+from stable_baselines3 import PPO
+from stable_baselines3.common.vec_env import VecNormalize
+
+from agents.batched_vec_env import BatchedMimicVecEnv
+from agents.policy import load_policy, mlp_mean_action
+from agents.privileged_critic import PrivilegedCriticPolicy, PrivilegedObservation, actor_only, widen_critic
+from agents.train_ppo import main, newest_checkpoint, policy_kwargs
+from envs.config import ArtefactMix, Dynamics
+from envs.physics import PhysicsDraw
+from envs.privileged import PATH_STEPS, privileged_features, privileged_size
+
+WALK_POLICY = Path(__file__).parents[1] / "models" / "mimic_walk"
+
+
+def _env(fraction: float, dynamics: Dynamics | None = None) -> gym.Env:
+    mix = ArtefactMix(strength=(1.0, 1.0), fraction=fraction, variants_per_clip=2, judge="clean_pose", seed=3)
+    return gym.make("MimicIMU-v0", clips=["deepmimic:walk"], artefacts=mix, dynamics=dynamics).unwrapped
+
+
+def test_privileged_features_of_hand_made_tracks():
+    env = _env(0.0)
+    env.reset(seed=0)
+    track = env.current_track
+    nu, nb = env.model.nu, env.model.nbody
+    shifted = replace(track, com=track.com + [0.1, -0.2, 0.0], com_vel=track.com_vel + [0.3, 0.0, 0.0])
+    judged = replace(track, ctrl=track.ctrl - 0.05)
+    body = PhysicsDraw(mass=np.full(nb, 1.1), friction=0.8, strength=np.full(nu, 0.9), offset=np.full(nu, 0.02))
+    frame = track.n_frames - 3  # the later path steps are clamped to the last frame
+    features = privileged_features(track, judged, shifted, frame, 2, body)
+    assert features.shape == (privileged_size(nu, nb),) == (env.privileged_size,) and features.dtype == np.float32
+    heading = track.to_heading[frame]
+    parts = np.split(features, np.cumsum([nu, 3 * len(PATH_STEPS), 3, nb, 1, nu]))
+    np.testing.assert_allclose(parts[0], 0.05, atol=1e-6)  # tracked − judged hinge angles
+    np.testing.assert_allclose(parts[1].reshape(-1, 3), np.tile(heading @ [0.1, -0.2, 0.0], (len(PATH_STEPS), 1)),
+                               atol=1e-6)  # clean − tracked path, in the tracked take's heading frame
+    np.testing.assert_allclose(parts[2], heading @ [0.3, 0.0, 0.0], atol=1e-6)
+    np.testing.assert_allclose(np.concatenate(parts[3:6]), np.concatenate([np.full(nb, 0.1), [-0.2], np.full(nu, -0.1)]),
+                               atol=1e-6)
+    np.testing.assert_allclose(parts[6], 0.02, atol=1e-7)
+    with pytest.raises(ValueError, match="the clean track has 5 frames"):
+        privileged_features(track, track, replace(track, motion=track.motion.with_qpos(track.motion.qpos[:5])), 0, 2,
+                            body)
+
+
+def test_a_clean_episode_on_the_nominal_body_hides_nothing_and_a_corrupted_one_does():
+    clean, corrupted = _env(0.0), _env(1.0)
+    clean.reset(seed=1)
+    assert clean.variant_index == -1 and not clean.privileged_observation().any()
+    corrupted.reset(seed=1)
+    hidden = corrupted.privileged_observation()
+    nu = corrupted.model.nu
+    assert corrupted.variant_index >= 0
+    assert np.abs(hidden[:nu]).max() > 0.01  # the suit's hinge errors, against the judged clean pose
+    assert np.abs(hidden[nu:nu + 3 * len(PATH_STEPS)]).max() > 0.001  # its path, against the clean clip's
+    body = _env(0.0, Dynamics(mass=0.1, friction=0.2, strength=0.1, offset_deg=2.0))
+    body.reset(seed=2)
+    drawn = body.privileged_observation()[nu + 3 * len(PATH_STEPS) + 3:]
+    assert np.abs(drawn).max() > 0.01 and np.abs(drawn).max() < 0.21
+
+
+def _privileged_model(venv, net: str = "16,16") -> PPO:
+    kwargs = {**policy_kwargs(net, 0.03), "policy_inputs": venv.policy_inputs}
+    return PPO(PrivilegedCriticPolicy, venv, n_steps=16, batch_size=16, policy_kwargs=kwargs, device="cpu", seed=0)
+
+
+def test_the_actor_reads_its_own_observation_and_the_critic_also_the_privileged_columns():
+    venv = PrivilegedObservation(BatchedMimicVecEnv([lambda: _env(1.0)] * 2, n_threads=1))
+    try:
+        obs = venv.reset()
+        d = venv.policy_inputs
+        assert obs.shape == (2, d + venv.get_attr("privileged_size", [0])[0]) and d == 273
+        np.testing.assert_array_equal(obs[:, d:], np.stack(venv.env_method("privileged_observation")))
+        model = _privileged_model(venv)
+        policy = model.policy
+        assert policy.mlp_extractor.policy_net[0].in_features == d
+        assert policy.mlp_extractor.value_net[0].in_features == obs.shape[1]
+        changed = obs.copy()
+        changed[:, d:] += 1.0
+        with torch.no_grad():
+            a, b = (policy.get_distribution(torch.as_tensor(o)).distribution.mean for o in (obs, changed))
+            values = [policy.predict_values(torch.as_tensor(o)) for o in (obs, changed)]
+        torch.testing.assert_close(a, b)
+        assert not torch.allclose(*values)
+        for _ in range(40):  # the wrapper's terminal observations carry the critic's columns too
+            obs, _, dones, infos = venv.step(np.zeros((2, venv.action_space.shape[0]), np.float32))
+            assert obs.shape[1] == d + venv.get_attr("privileged_size", [0])[0]
+            for i in np.flatnonzero(dones):
+                assert infos[i]["terminal_observation"].shape == obs.shape[1:]
+    finally:
+        venv.close()
+
+
+def test_widen_critic_and_actor_only_keep_the_source():
+    source = load_policy(WALK_POLICY)
+    venv = PrivilegedObservation(BatchedMimicVecEnv([lambda: _env(1.0)] * 2, n_threads=1))
+    try:
+        obs = venv.reset()
+        model = _privileged_model(venv, source.record.ppo.net)
+        widen_critic(model, source.model)
+        d = venv.policy_inputs
+        with torch.no_grad():
+            for o in obs:
+                own = torch.as_tensor(o[None, :d])
+                full = torch.as_tensor(o[None])
+                torch.testing.assert_close(model.policy.predict_values(full), source.model.policy.predict_values(own))
+                torch.testing.assert_close(model.policy.get_distribution(full).distribution.mean,
+                                           source.model.policy.get_distribution(own).distribution.mean)
+        statistics = source.normalizer
+        wide = VecNormalize(venv, norm_reward=False)  # the source's statistics and others for the critic's columns
+        wide.obs_rms.mean[:d], wide.obs_rms.var[:d] = statistics.obs_rms.mean, statistics.obs_rms.var
+        plain, sliced = actor_only(model, wide)
+        assert plain.observation_space.shape == (d,) and sliced.obs_rms.mean.shape == (d,)
+        np.testing.assert_array_equal(sliced.obs_rms.var, statistics.obs_rms.var)
+        for o in obs:
+            np.testing.assert_allclose(mlp_mean_action(plain.policy, o[:d]), mlp_mean_action(source.model.policy, o[:d]),
+                                       atol=1e-6)
+        with pytest.raises(TypeError, match="a model trained with a privileged critic"):
+            actor_only(source.model, statistics)
+        with pytest.raises(ValueError, match="the source's critic reads 273 inputs into 256 units; this run's critic reads 273 before its "
+                                             "privileged ones into 32"):
+            widen_critic(_privileged_model(venv, "32,32"), source.model)
+    finally:
+        venv.close()
+
+
+def test_a_privileged_critic_run_starts_as_its_source_and_its_checkpoints_load_as_the_actor(tmp_path):
+    """``train_ppo.py --privileged-critic --init-from``: at learning rate ~0 the checkpoint acts as the
+    source, loads (and resumes) as a plain policy of the environment's observation, and its statistics
+    of the critic's columns come from the run's resets."""
+    source = load_policy(WALK_POLICY)
+    run = tmp_path / "run"
+    common = ["--no-progress", "--n-envs", "2", "--n-steps", "64", "--batch-size", "64", "--lr", "1e-12",
+              "--checkpoint-every", "128", "--eval-every", "128", "--eval-episodes", "1"]
+    main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--privileged-critic", "--corrupted-fraction",
+          "0.5", "--judge", "clean_pose", "--run-dir", str(run), "--total-steps", "128", *common])
+    trained = PPO.load(newest_checkpoint(run), device="cpu")
+    assert isinstance(trained.policy, PrivilegedCriticPolicy) and trained.observation_space.shape == (273 + 169,)
+    policy = load_policy(newest_checkpoint(run))
+    assert type(policy.model.policy).__name__ == "ActorCriticPolicy" and policy.model.observation_space.shape == (273,)
+    np.testing.assert_allclose(policy.normalizer.obs_rms.mean, source.normalizer.obs_rms.mean, atol=1e-4)  # 128 steps more
+    env = policy.make_env(["deepmimic:walk"])
+    obs, _ = env.reset(seed=5)
+    np.testing.assert_allclose(policy(obs), source(obs), atol=1e-3)
+    assert load_policy(run / "best").model.observation_space.shape == (273,)  # evaluated as the actor
+    main(["--run-dir", str(run), "--resume", "--total-steps", "256", "--no-progress"])  # one rollout of 2 × 64 more
+    assert newest_checkpoint(run).name == "step_256.zip"
+
+
+@pytest.mark.parametrize("flag", [["--symmetric", "--init-from", str(WALK_POLICY)], ["--kickstart", "x.json"]])
+def test_privileged_critic_refuses_what_reads_the_observations_as_the_policys(tmp_path, flag):
+    with pytest.raises(SystemExit, match=f"--privileged-critic appends .* {flag[0]} reads them"):
+        main(["--clips", "deepmimic:walk", "--privileged-critic", *flag, "--run-dir", str(tmp_path / "run")])
+    assert not (tmp_path / "run").exists()
