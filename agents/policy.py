@@ -357,7 +357,9 @@ def save_loaded_policy(path: Path, model: PPO, statistics: VecNormalize, sidecar
 def load_policy(path: str | Path) -> MimicPolicy:
     """Load a policy directory (or its ``model.zip``), or a training run's checkpoint
     ``RUN/checkpoints/step_N.zip`` (with its ``step_N_sidecar.json``); :class:`PolicyError` names
-    what is wrong."""
+    what is wrong. A network trained with a privileged critic (``train_ppo.py --privileged-critic``)
+    loads as its actor (:func:`agents.privileged_critic.actor_only`; its values are the critic's without
+    the privileged inputs)."""
     path = Path(path)
     directory = path.parent if path.suffix == ".zip" else path
     model_file = path if path.suffix == ".zip" else directory / MODEL_FILE

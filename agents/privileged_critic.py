@@ -7,8 +7,9 @@ episode's randomised body, :mod:`envs.privileged`) to the observation the rollou
 first ``policy_inputs`` columns only and whose critic reads them all (Pinto et al. 2018, "Asymmetric
 actor critic for image-based robot learning"). The actor is exactly a plain mimic policy's network,
 so such a run's checkpoints load as their actor (:func:`actor_only`, which
-:func:`agents.policy.load_policy` applies): evaluation, cleaning and every other command see a plain
-policy of the environment's own observation.
+:func:`agents.policy.load_policy` applies), and its ``best/`` and a shipped policy (``agents/ship.py``)
+are written as the actor: evaluation, cleaning and every other command see a plain policy of the
+environment's own observation, whose critic is the trained one without its privileged inputs.
 """
 
 from __future__ import annotations
@@ -25,13 +26,15 @@ from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecEnvWrapper,
 
 class PrivilegedObservation(VecEnvWrapper):
     """``venv``'s observations ``(N, D)`` with each environment's privileged features ``(N, P)`` after
-    them: ``(N, D + P)`` float32. ``venv`` steps :class:`envs.mimic.MimicEnv` environments in this
-    process (``--vec batched`` or ``dummy``), whose ``privileged_observation`` is read after every
-    reset and step.
+    them: ``(N, D + P)`` float32. ``venv`` steps :class:`envs.mimic.MimicEnv` environments, whose
+    ``privileged_observation`` is read after every reset and step (``env_method``: a call per
+    environment in this process with ``--vec batched`` or ``dummy``, a round trip per shard with the
+    sharded kinds).
 
-    An episode that ended is reset inside the step, so its ``terminal_observation`` (which PPO values
-    to bootstrap a time-limit truncation) gets the privileged features of the step before: the
-    corruption and body of the same episode one control step earlier.
+    An episode that ended is reset inside the step, so its ``terminal_observation`` gets the features
+    the environment put in ``info["privileged_observation"]`` when its time ran out (the only terminal
+    observations PPO values, to bootstrap the truncation), else those of the step before (an episode
+    that fell or lagged is not bootstrapped).
     """
 
     def __init__(self, venv: VecEnv):
@@ -53,7 +56,8 @@ class PrivilegedObservation(VecEnvWrapper):
         obs, rewards, dones, infos = self.venv.step_wait()
         for i in np.flatnonzero(dones):
             if "terminal_observation" in infos[i]:
-                infos[i]["terminal_observation"] = np.concatenate([infos[i]["terminal_observation"], self._last[i]])
+                hidden = infos[i].get("privileged_observation", self._last[i])
+                infos[i]["terminal_observation"] = np.concatenate([infos[i]["terminal_observation"], hidden])
         self._last = self._privileged()
         return np.concatenate([obs, self._last], axis=1), rewards, dones, infos
 
@@ -90,9 +94,7 @@ class PrivilegedCriticPolicy(ActorCriticPolicy):
         self.pi_features_extractor = ActorInputs(self.observation_space, self.policy_inputs)
 
     def _get_constructor_parameters(self) -> dict:
-        data = super()._get_constructor_parameters()
-        data.pop("share_features_extractor", None)  # always False here
-        return {**data, "policy_inputs": self.policy_inputs}
+        return {**super()._get_constructor_parameters(), "policy_inputs": self.policy_inputs}
 
 
 class _Spaces(gym.Env):
@@ -108,12 +110,22 @@ class _Spaces(gym.Env):
         raise RuntimeError("a model built by plain_model is not stepped")
 
 
+SETTINGS = ("learning_rate", "lr_schedule", "n_steps", "batch_size", "n_epochs", "gamma", "gae_lambda", "clip_range",
+            "clip_range_vf", "ent_coef", "vf_coef", "max_grad_norm", "target_kl", "seed", "num_timesteps")
+"""The PPO settings and progress :func:`actor_only` carries over (what ``PPO.save`` stores and a run
+started from the policy, e.g. ``agents/adaptation.py``, reads)."""
+
+
 def plain_model(observation_space: gym.spaces.Box, action_space: gym.spaces.Box, policy_kwargs: dict,
-                **ppo_kwargs) -> PPO:
-    """A new ``MlpPolicy`` PPO model of these spaces with no environment to step (a vessel for weights)."""
-    kwargs = {k: v for k, v in policy_kwargs.items() if k not in ("policy_inputs", "share_features_extractor")}
-    return PPO("MlpPolicy", DummyVecEnv([lambda: _Spaces(observation_space, action_space)]), verbose=0,
-               policy_kwargs=kwargs, **ppo_kwargs)
+                device: str | torch.device = "cpu") -> PPO:
+    """A new ``MlpPolicy`` PPO model of these spaces with no environment to step (a vessel for weights;
+    SB3's default settings). The global random generators are left as they were: no seed, and the
+    initial weights drawn from a fork of torch's, so a training run that evaluates through one keeps
+    its own stream."""
+    kwargs = {k: v for k, v in policy_kwargs.items() if k != "policy_inputs"}
+    with torch.random.fork_rng(devices=[]):
+        return PPO("MlpPolicy", DummyVecEnv([lambda: _Spaces(observation_space, action_space)]), verbose=0,
+                   policy_kwargs=kwargs, device=device)
 
 
 def actor_only(model: PPO, statistics: VecNormalize) -> tuple[PPO, VecNormalize]:
@@ -127,19 +139,21 @@ def actor_only(model: PPO, statistics: VecNormalize) -> tuple[PPO, VecNormalize]
         raise TypeError(f"actor_only: a model trained with a privileged critic, got a {type(policy).__name__}")
     d = policy.policy_inputs
     space = gym.spaces.Box(-np.inf, np.inf, (d,), np.float32)
-    plain = plain_model(space, model.action_space, model.policy_kwargs, device=model.device, n_steps=model.n_steps,
-                        batch_size=model.batch_size, n_epochs=model.n_epochs, gamma=model.gamma,
-                        gae_lambda=model.gae_lambda, seed=model.seed)
+    plain = plain_model(space, model.action_space, model.policy_kwargs, model.device)
+    for name in SETTINGS:
+        setattr(plain, name, getattr(model, name))
     weights = policy.state_dict()
     weights["mlp_extractor.value_net.0.weight"] = weights["mlp_extractor.value_net.0.weight"][:, :d]
     plain.policy.load_state_dict(weights)
-    plain.num_timesteps = model.num_timesteps
-    sliced = VecNormalize.__new__(VecNormalize)  # a shallow copy: copy.copy pickles, which a loaded one refuses
+    # a copy of the settings (copy.copy pickles, which loaded statistics refuse), detached from any
+    # environment and not updating, that saves and loads as any policy's statistics
+    sliced = VecNormalize.__new__(VecNormalize)
     sliced.__dict__.update(statistics.__dict__)
     rms = RunningMeanStd(shape=(d,))
-    rms.mean, rms.var, rms.count = statistics.obs_rms.mean[:d].copy(), statistics.obs_rms.var[:d].copy(), \
-        statistics.obs_rms.count
-    sliced.obs_rms, sliced.observation_space = rms, space
+    rms.mean, rms.var, rms.count = (statistics.obs_rms.mean[:d].copy(), statistics.obs_rms.var[:d].copy(),
+                                    statistics.obs_rms.count)
+    sliced.obs_rms, sliced.observation_space, sliced.venv, sliced.training = rms, space, None, False
+    sliced.class_attributes, sliced.returns = {}, np.zeros(1)
     return plain, sliced
 
 

@@ -11,7 +11,9 @@ checkpoint instead, for a choice registered on that one), evaluates it with
 and the run's training steps and wall time in all (at its newest checkpoint) in
 ``models/NAME/sidecar.json``. Refuses a model over 20 MB. The policy
 is assembled beside ``models/NAME`` and replaces it only once evaluated, so a failed run leaves
-``models/NAME`` as it was.
+``models/NAME`` as it was. A checkpoint of a run trained with a privileged critic
+(``train_ppo.py --privileged-critic``) ships as its actor, a plain policy (its ``run/`` keeps the
+whole network for resuming).
 
 ``--resumable`` also copies the run's newest checkpoint and its records (``args.json``,
 ``evaluations.jsonl``, ``wall.json``) to ``models/NAME/run/``, from which a later session resumes
@@ -23,16 +25,20 @@ and students kept beside the policy) is kept.
 from __future__ import annotations
 
 import json
+import pickle
 import shlex
 import shutil
 import sys
 from pathlib import Path
+
+from stable_baselines3 import PPO
 
 if __package__ in (None, ""):  # `python agents/ship.py`: make the repository importable
     sys.path.insert(0, str(Path(__file__).resolve().parents[1]))
 
 from agents import evaluate
 from agents.policy import CHECKPOINTS_DIR, MODEL_FILE, SIDECAR_FILE, STATS_FILE
+from agents.privileged_critic import PrivilegedCriticPolicy, actor_only
 from agents.train_ppo import newest_checkpoint, recorded_progress
 from reference_motion.atomic import write_json
 from reference_motion.cli import CliParser, one_line_errors, output_dir
@@ -63,6 +69,17 @@ def _copy_resumable_run(run_dir: Path, dest: Path) -> None:
     for name in RUN_RECORDS:
         if (run_dir / name).exists():
             shutil.copy2(run_dir / name, dest / name)
+
+
+def _as_actor(directory: Path) -> None:
+    """Rewrite the model and statistics of the policy ``directory`` as their actor
+    (:func:`agents.privileged_critic.actor_only`) if the network was trained with a privileged critic."""
+    model = PPO.load(directory / MODEL_FILE, device="cpu")
+    if isinstance(model.policy, PrivilegedCriticPolicy):
+        with open(directory / STATS_FILE, "rb") as f:
+            model, statistics = actor_only(model, pickle.load(f))
+        statistics.save(str(directory / STATS_FILE))
+        model.save(directory / MODEL_FILE)
 
 
 def _best_files(run_dir: Path) -> dict[str, Path]:
@@ -111,6 +128,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     try:
         for name, source in sources.items():
             shutil.copy2(source, staging / name)
+        _as_actor(staging)
         result = {**evaluate.main(["--policy", str(staging), *eval_args]), "policy": str(out)}
         write_json(staging / "evaluation.json", result)
         sidecar = json.loads((staging / SIDECAR_FILE).read_text())

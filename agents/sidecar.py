@@ -159,6 +159,8 @@ class TrainingRecord:
         dynamics: the training envs' randomised physics (:class:`envs.config.Dynamics` as a dict), if any.
         init_from: the policy it was warm-started from, if any.
         symmetric: whether PPO trained the mirror-symmetric actor (``train_ppo.py --symmetric``).
+        privileged_critic: whether its critic also read the episodes' hidden corruption and body
+            (``train_ppo.py --privileged-critic``); the policy is its actor either way.
         kickstart: the teachers and supervised step that pulled it towards them on their takes between
             PPO updates (:class:`agents.kickstart.KickstartConfig` as a dict; ``train_ppo.py --kickstart``), if any.
         commands: every command that trained the run, in order.
@@ -189,6 +191,7 @@ class TrainingRecord:
     dynamics: dict | None = None
     init_from: str | None = None
     symmetric: bool = False
+    privileged_critic: bool = False
     kickstart: dict | None = None
     commands: list[str] = field(default_factory=list)
     seed: int = 0

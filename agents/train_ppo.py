@@ -260,7 +260,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="train the mirror-symmetric actor (agents/symmetric_policy.py: the mean of the actor's action "
                         "and, mapped back, its action on the mirrored observation) with --init-from's weights; the "
                         "source's observation statistics are made mirror symmetric and frozen")
-    g.add_argument("--privileged-critic", action="store_true",
+    g.add_argument("--privileged-critic", action=argparse.BooleanOptionalAction, default=False,
                    help="an asymmetric critic: the value network also reads each episode's hidden corruption and "
                         "randomised body (envs/privileged.py; agents/privileged_critic.py), the policy its own "
                         "observation only; the run's checkpoints load as their actor")
@@ -636,15 +636,19 @@ class CheckpointAndEvaluate(BaseCallback):
         """Training wall time (s) of the run so far, earlier commands included."""
         return self._wall_before + time.time() - self._t0
 
-    def _save(self, directory: Path, stem: str) -> None:
+    def _save(self, directory: Path, stem: str, actor: bool = False) -> None:
         """Save model and observation statistics, each file whole or not at all, the statistics
         first (a ``step_N.zip`` is only there with its statistics); Ctrl-C or ``kill`` during the
-        save takes effect after it (:func:`deferred_signals`)."""
+        save takes effect after it (:func:`deferred_signals`). ``actor``: a network trained with a
+        privileged critic as its actor (:func:`agents.privileged_critic.actor_only`), a plain policy."""
+        model, statistics = self.model, self.model.get_vec_normalize_env()
+        if actor and isinstance(model.policy, PrivilegedCriticPolicy):
+            model, statistics = actor_only(model, statistics)
         with deferred_signals():
             with atomic_write(directory / f"{stem}_vecnormalize.pkl") as tmp:
-                self.model.get_vec_normalize_env().save(str(tmp))
+                statistics.save(str(tmp))
             with atomic_write(directory / f"{stem}.zip") as tmp:
-                self.model.save(tmp)
+                model.save(tmp)
 
     def _on_step(self) -> bool:
         if self.num_timesteps >= self._next_ckpt:
@@ -679,7 +683,7 @@ class CheckpointAndEvaluate(BaseCallback):
         if score > self.best:
             self.best = score
             with deferred_signals():  # the best policy's files and its sidecar, all or none
-                self._save(self.run_dir / "best", "model")
+                self._save(self.run_dir / "best", "model", actor=True)  # every command reads a policy directory
                 self._sidecar(record).save(self.best_path)
         print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
               f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
@@ -709,6 +713,7 @@ class CheckpointAndEvaluate(BaseCallback):
             dynamics=asdict(varied) if varied is not None else None,
             init_from=str(args.init_from) if args.init_from else None,
             symmetric=isinstance(self.model.policy, SymmetricActorCriticPolicy),
+            privileged_critic=isinstance(self.model.policy, PrivilegedCriticPolicy),
             kickstart=asdict(kickstart_config(args)) if args.kickstart else None,
             commands=[shlex.join(["python", *c]) for c in args.commands], seed=args.seed, steps=record["steps"],
             wall_s=record["wall_s"])
@@ -794,10 +799,18 @@ def check_preparation(args: argparse.Namespace) -> None:
                          f"has none (give --corrupted-fraction > 0)")
 
 
-def check_privileged_critic(args: argparse.Namespace) -> None:
+def check_privileged_critic(args: argparse.Namespace, run_dir: Path) -> None:
     """Refuse, before any work, ``--privileged-critic`` with what reads the rollouts' observations as the
-    policy's own: the symmetric actor mirrors every column, the kickstarting teachers label them."""
-    if getattr(args, "privileged_critic", False):
+    policy's own (the symmetric actor mirrors every column, the kickstarting teachers label them), and a
+    resumed run whose network is of the other kind."""
+    privileged = getattr(args, "privileged_critic", False)  # a run older than the option has none
+    checkpoint = newest_checkpoint(run_dir) if args.resume else None
+    if checkpoint is not None:
+        trained = isinstance(PPO.load(checkpoint, device="cpu").policy, PrivilegedCriticPolicy)
+        if trained != privileged:
+            raise ValueError(f"{run_dir}: its critic was trained {'with' if trained else 'without'} the privileged "
+                             f"inputs; resume it {'with' if trained else 'without'} --privileged-critic")
+    if privileged:
         for flag, on in (("--symmetric", args.symmetric), ("--kickstart", args.kickstart is not None)):
             if on:
                 raise ValueError(f"--privileged-critic appends the critic's inputs to the stored observations; "
@@ -886,8 +899,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
     check_slowing(args.denoise, args.denoise_slow)
     check_preparation(args)
     check_kickstart(args)
+    check_privileged_critic(args, run_dir)
     check_symmetric(args, run_dir)
-    check_privileged_critic(args)
     push, varied = pushes(args), dynamics(args)  # refused here, before the clips take their time to load
     posture_ranges(args), stance_extra(args)
     vec_cls, vec_kwargs, collect_threads, update_threads = vec_env_settings(args)

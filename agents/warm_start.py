@@ -290,10 +290,14 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     return normalizer
 
 
-
 PRIVILEGED_SAMPLE_RESETS = 16
 """Resets of the run's environments whose privileged features give their running mean and variance
 (:func:`warm_start_privileged`)."""
+
+PRIVILEGED_MIN_STD = 0.01
+"""Smallest running std given to a privileged feature (rad, m, m/s or a factor's deviation from 1), so that
+one the resets rarely show (a PD-target offset of a run without them, a clean run's hinge errors) is not
+scaled up without bound."""
 
 
 def warm_start_privileged(model: PPO, venv: PrivilegedObservation, source: MimicPolicy, config: MimicConfig,
@@ -303,14 +307,16 @@ def warm_start_privileged(model: PPO, venv: PrivilegedObservation, source: Mimic
     weights as :func:`warm_start` gives them to a plain network of the run's own observation, its critic
     reading the privileged columns with zero weights (:func:`agents.privileged_critic.widen_critic`); the
     returned statistics are ``source``'s for the observation and, for the privileged columns, their mean
-    and variance over :data:`PRIVILEGED_SAMPLE_RESETS` resets of every env (:func:`sampled_statistics`)."""
+    and variance over :data:`PRIVILEGED_SAMPLE_RESETS` resets of every env (:func:`sampled_statistics`;
+    the std at least :data:`PRIVILEGED_MIN_STD`), counted as the source's: all but fixed from then on, as
+    the source's are."""
     plain = plain_model(venv.venv.observation_space, venv.action_space, model.policy_kwargs, device="cpu")
     inner = warm_start(plain, venv.venv, source, config, gamma)
     widen_critic(model, plain)
     mean, var = sampled_statistics(venv, slice(venv.policy_inputs, None), PRIVILEGED_SAMPLE_RESETS)
     rms = RunningMeanStd(shape=venv.observation_space.shape)
     rms.mean = np.concatenate([inner.obs_rms.mean, mean])
-    rms.var = np.concatenate([inner.obs_rms.var, var])
+    rms.var = np.concatenate([inner.obs_rms.var, np.maximum(var, PRIVILEGED_MIN_STD**2)])
     rms.count = inner.obs_rms.count
     normalizer = observation_normalizer(venv, gamma)
     normalizer.obs_rms = rms

@@ -113,7 +113,9 @@ class MimicEnv(gym.Env):
     floor); ``frame`` (reference frame index)
     and ``episode_frame`` (frames since the start); ``clip``, ``corrupted``, ``artefact_seed``;
     ``unstable`` (the simulation blew up); ``ended_by``: ``""`` while running, else one of
-    ``"lagging"``, ``"fallen"``, ``"unstable"``, ``"time_limit"``.
+    ``"lagging"``, ``"fallen"``, ``"unstable"``, ``"time_limit"``; at ``"time_limit"`` also
+    ``privileged_observation`` (:meth:`privileged_observation` of the last state, which a vector env's
+    reset would replace).
     """
 
     metadata = {"render_modes": ["rgb_array"], "render_fps": 30}
@@ -537,6 +539,8 @@ class MimicEnv(gym.Env):
         info = self._step_info()
         info.update(terms, reward=reward, contacts=self._sim_contacts.copy(), unstable=False,
                     ended_by=ended_by or ("time_limit" if truncated else ""))
+        if truncated:  # what an asymmetric critic values the last state with, before a vector env resets
+            info["privileged_observation"] = self.privileged_observation()
         return obs, reward, bool(ended_by), truncated, info
 
     @property

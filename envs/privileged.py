@@ -20,13 +20,16 @@ path_offset     3K     the clean clip's CoM − the tracked reference's CoM at e
                        :data:`PATH_STEPS` control steps from now, in the tracked
                        reference's heading frame now (m)
 path_velocity   3      the clean clip's CoM velocity − the tracked reference's, now (m/s, same axes)
-mass            nb     the episode's mass factor on each body − 1
+mass            nb     the episode's mass factor on each body − 1 (the world body's, which has
+                       no mass, 0)
 friction        1      its friction factor − 1
 strength        nu     its PD gain factor on each actuator − 1
 pd_offset       nu     its PD-target offset on each actuator (rad; 0 without one)
 ==============  =====  ==================================================================
 
-A clean episode on the nominal body gives zeros throughout.
+A clean episode on the nominal body gives zeros throughout when it is judged against the reference it
+tracks (``ArtefactMix.judge`` ``"corrupted"``, ``"clean_pose"`` or ``"unslid_pose"``; ``"clean"`` and
+``"given"`` judge against the take as made, before it was prepared).
 """
 
 from __future__ import annotations
@@ -55,7 +58,8 @@ def privileged_features(tracked: ReferenceTrack, judged: ReferenceTrack, clean: 
     Args:
         tracked: the reference the policy observes and tracks (a corrupted variant, prepared).
         judged: the reference its reward and terminations compare with.
-        clean: the clip as given (variant -1), whose path the tracked reference's slides away from.
+        clean: the clip (variant -1), prepared as the tracked reference is, whose path the tracked
+            reference's slides and drifts away from.
         frame: the current reference frame; the path steps are clamped to the tracks' last frame.
         frames_per_control: reference frames per control step.
         body: the episode's draw of the randomised physics.
@@ -69,5 +73,6 @@ def privileged_features(tracked: ReferenceTrack, judged: ReferenceTrack, clean: 
     path = (clean.com[ahead] - tracked.com[ahead]) @ heading.T
     velocity = heading @ (clean.com_vel[frame] - tracked.com_vel[frame])
     offset = np.zeros(len(body.strength)) if body.offset is None else body.offset
-    return np.concatenate([tracked.ctrl[frame] - judged.ctrl[frame], path.ravel(), velocity, body.mass - 1.0,
+    mass = np.concatenate([[0.0], body.mass[1:] - 1.0])
+    return np.concatenate([tracked.ctrl[frame] - judged.ctrl[frame], path.ravel(), velocity, mass,
                            [body.friction - 1.0], body.strength - 1.0, offset]).astype(np.float32)
