@@ -73,19 +73,44 @@ class ActorInputs(BaseFeaturesExtractor):
         return observations[:, :self.policy_inputs]
 
 
+class ScaledAdam(torch.optim.Adam):
+    """Adam whose parameter groups may step at a multiple ``lr_scale`` (default 1) of the learning rate
+    the training loop sets on every group (SB3 sets one rate, from its schedule, before each update)."""
+
+    def step(self, closure=None):
+        rates = [group["lr"] for group in self.param_groups]
+        for group in self.param_groups:
+            group["lr"] = group["lr"] * group.get("lr_scale", 1.0)
+        try:
+            return super().step(closure)
+        finally:
+            for group, rate in zip(self.param_groups, rates):
+                group["lr"] = rate
+
+
 class PrivilegedCriticPolicy(ActorCriticPolicy):
     """SB3's MLP actor-critic, its actor reading the first ``policy_inputs`` columns of the
     observation (the environment's own) and its critic every column (those and the privileged
     features). The two networks are separate (``share_features_extractor=False``), as ``MlpPolicy``'s
-    are with ``net_arch`` ``{"pi": ..., "vf": ...}``; every other argument is ``ActorCriticPolicy``'s."""
+    are with ``net_arch`` ``{"pi": ..., "vf": ...}``. ``critic_lr_scale``: the critic's layers step at
+    this multiple of PPO's learning rate (:class:`ScaledAdam`), so that a critic warm-started from a
+    policy's learns to read its new inputs at a rate of its own while the actor moves as slowly as
+    fine-tuning wants. Every other argument is ``ActorCriticPolicy``'s."""
 
     def __init__(self, observation_space: gym.spaces.Box, action_space: gym.spaces.Space, lr_schedule, *,
-                 policy_inputs: int, **kwargs):
+                 policy_inputs: int, critic_lr_scale: float = 1.0, **kwargs):
         if not 0 < policy_inputs < observation_space.shape[0]:
             raise ValueError(f"PrivilegedCriticPolicy: policy_inputs must be between 1 and the observation's "
                              f"{observation_space.shape[0]} columns less one, got {policy_inputs}")
-        self.policy_inputs = policy_inputs
+        if not critic_lr_scale > 0:
+            raise ValueError(f"PrivilegedCriticPolicy: critic_lr_scale must be > 0, got {critic_lr_scale}")
+        self.policy_inputs, self.critic_lr_scale = policy_inputs, critic_lr_scale
         super().__init__(observation_space, action_space, lr_schedule, share_features_extractor=False, **kwargs)
+        if critic_lr_scale != 1.0:
+            critic = {id(p) for p in (*self.mlp_extractor.value_net.parameters(), *self.value_net.parameters())}
+            groups = [{"params": [p for p in self.parameters() if id(p) not in critic]},
+                      {"params": [p for p in self.parameters() if id(p) in critic], "lr_scale": critic_lr_scale}]
+            self.optimizer = ScaledAdam(groups, lr=lr_schedule(1), **self.optimizer_kwargs)
 
     def _build_mlp_extractor(self) -> None:
         super()._build_mlp_extractor()  # both nets read features_dim columns; the actor's first layer fewer
@@ -94,7 +119,8 @@ class PrivilegedCriticPolicy(ActorCriticPolicy):
         self.pi_features_extractor = ActorInputs(self.observation_space, self.policy_inputs)
 
     def _get_constructor_parameters(self) -> dict:
-        return {**super()._get_constructor_parameters(), "policy_inputs": self.policy_inputs}
+        return {**super()._get_constructor_parameters(), "policy_inputs": self.policy_inputs,
+                "critic_lr_scale": self.critic_lr_scale}
 
 
 class _Spaces(gym.Env):
@@ -122,7 +148,7 @@ def plain_model(observation_space: gym.spaces.Box, action_space: gym.spaces.Box,
     SB3's default settings). The global random generators are left as they were: no seed, and the
     initial weights drawn from a fork of torch's, so a training run that evaluates through one keeps
     its own stream."""
-    kwargs = {k: v for k, v in policy_kwargs.items() if k != "policy_inputs"}
+    kwargs = {k: v for k, v in policy_kwargs.items() if k not in ("policy_inputs", "critic_lr_scale")}
     with torch.random.fork_rng(devices=[]):
         return PPO("MlpPolicy", DummyVecEnv([lambda: _Spaces(observation_space, action_space)]), verbose=0,
                    policy_kwargs=kwargs, device=device)

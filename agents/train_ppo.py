@@ -264,6 +264,9 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="an asymmetric critic: the value network also reads each episode's hidden corruption and "
                         "randomised body (envs/privileged.py; agents/privileged_critic.py), the policy its own "
                         "observation only; the run's checkpoints load as their actor")
+    g.add_argument("--critic-lr-scale", type=positive_float, default=1.0,
+                   help="with --privileged-critic: the critic's layers learn at this multiple of --lr (the actor at "
+                        "--lr), so a warm-started critic takes up its new inputs faster than the actor moves")
     g.add_argument("--kickstart", type=or_none(str), default=None, metavar="SET",
                    help="after each PPO update, pull the policy's mean action towards a teacher's on the last "
                         "rollout's states of the takes a policy set routes to a policy of its own "
@@ -801,15 +804,23 @@ def check_preparation(args: argparse.Namespace) -> None:
 
 def check_privileged_critic(args: argparse.Namespace, run_dir: Path) -> None:
     """Refuse, before any work, ``--privileged-critic`` with what reads the rollouts' observations as the
-    policy's own (the symmetric actor mirrors every column, the kickstarting teachers label them), and a
-    resumed run whose network is of the other kind."""
+    policy's own (the symmetric actor mirrors every column, the kickstarting teachers label them),
+    ``--critic-lr-scale`` without it, and a resumed run whose network is of the other kind or whose
+    critic learned at another rate (its optimizer's groups are the checkpoint's)."""
     privileged = getattr(args, "privileged_critic", False)  # a run older than the option has none
+    scale = getattr(args, "critic_lr_scale", 1.0)
     checkpoint = newest_checkpoint(run_dir) if args.resume else None
     if checkpoint is not None:
-        trained = isinstance(PPO.load(checkpoint, device="cpu").policy, PrivilegedCriticPolicy)
+        policy = PPO.load(checkpoint, device="cpu").policy
+        trained = isinstance(policy, PrivilegedCriticPolicy)
         if trained != privileged:
             raise ValueError(f"{run_dir}: its critic was trained {'with' if trained else 'without'} the privileged "
                              f"inputs; resume it {'with' if trained else 'without'} --privileged-critic")
+        if trained and policy.critic_lr_scale != scale:
+            raise ValueError(f"{run_dir}: its critic learned at --critic-lr-scale {policy.critic_lr_scale:g}; resume "
+                             f"it with that")
+    if not privileged and scale != 1.0:
+        raise ValueError("--critic-lr-scale sets the privileged critic's learning rate; give --privileged-critic")
     if privileged:
         for flag, on in (("--symmetric", args.symmetric), ("--kickstart", args.kickstart is not None)):
             if on:
@@ -947,7 +958,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         if maps is not None:
             kwargs["mirror"] = maps_as_kwargs(maps)
         if privileged:
-            kwargs["policy_inputs"] = venv.policy_inputs
+            kwargs.update(policy_inputs=venv.policy_inputs, critic_lr_scale=args.critic_lr_scale)
         policy_class = (SymmetricActorCriticPolicy if maps is not None else PrivilegedCriticPolicy if privileged
                         else "MlpPolicy")
         model = PPO(policy_class, venv, learning_rate=args.lr,

@@ -196,6 +196,8 @@ def test_a_privileged_critic_run_starts_as_its_source_and_its_checkpoints_load_a
     with pytest.raises(SystemExit, match="its critic was trained with the privileged inputs; resume it with "
                                          "--privileged-critic"):
         main(["--run-dir", str(run), "--resume", "--total-steps", "256", "--no-progress", "--no-privileged-critic"])
+    with pytest.raises(SystemExit, match="its critic learned at --critic-lr-scale 1; resume it with that"):
+        main(["--run-dir", str(run), "--resume", "--total-steps", "256", "--no-progress", "--critic-lr-scale", "3"])
     main(["--run-dir", str(run), "--resume", "--total-steps", "256", "--no-progress"])  # one rollout of 2 × 64 more
     assert newest_checkpoint(run).name == "step_256.zip"
     assert isinstance(PPO.load(newest_checkpoint(run), device="cpu").policy, PrivilegedCriticPolicy)
@@ -206,3 +208,28 @@ def test_privileged_critic_refuses_what_reads_the_observations_as_the_policys(tm
     with pytest.raises(SystemExit, match=f"--privileged-critic appends .* {flag[0]} reads them"):
         main(["--clips", "deepmimic:walk", "--privileged-critic", *flag, "--run-dir", str(tmp_path / "run")])
     assert not (tmp_path / "run").exists()
+
+
+def test_the_critic_learns_at_its_own_rate(tmp_path):
+    """``--critic-lr-scale``: one Adam step at learning rate ``lr`` moves the actor's weights by about
+    ``lr`` and the critic's by about ``scale · lr`` (Adam's first step is ``lr · sign(g)``); the rate
+    is the run's and cannot change on resume."""
+    venv = PrivilegedObservation(BatchedMimicVecEnv([lambda: _env(1.0)] * 2, n_threads=1))
+    try:
+        kwargs = {**policy_kwargs("16,16", 0.03), "policy_inputs": venv.policy_inputs, "critic_lr_scale": 10.0}
+        model = PPO(PrivilegedCriticPolicy, venv, n_steps=16, batch_size=16, n_epochs=1, learning_rate=1e-3,
+                    policy_kwargs=kwargs, device="cpu", seed=0)
+        policy = model.policy
+        before = {name: p.detach().clone() for name, p in policy.named_parameters()}
+        model.learn(32)  # one update: one epoch of two minibatches
+        moved = {name: (p.detach() - before[name]).abs().max().item() for name, p in policy.named_parameters()}
+        assert 1.5e-3 < moved["mlp_extractor.policy_net.0.weight"] < 2.5e-3  # two steps of 1e-3
+        assert 1.5e-2 < moved["mlp_extractor.value_net.0.weight"] < 2.5e-2 and 1.5e-2 < moved["value_net.weight"] < 2.5e-2
+        assert policy.optimizer.param_groups[1]["lr"] == policy.optimizer.param_groups[0]["lr"] == 1e-3  # as SB3 set it
+        model.save(tmp_path / "model.zip")
+        assert PPO.load(tmp_path / "model.zip", device="cpu").policy.critic_lr_scale == 10.0
+    finally:
+        venv.close()
+    with pytest.raises(SystemExit, match="--critic-lr-scale sets the privileged critic's learning rate; give "
+                                         "--privileged-critic"):
+        main(["--clips", "deepmimic:walk", "--critic-lr-scale", "5", "--run-dir", str(tmp_path / "run")])
