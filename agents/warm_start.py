@@ -309,7 +309,9 @@ def warm_start_privileged(model: PPO, venv: PrivilegedObservation, source: Mimic
     returned statistics are ``source``'s for the observation and, for the privileged columns, their mean
     and variance over :data:`PRIVILEGED_SAMPLE_RESETS` resets of every env (:func:`sampled_statistics`;
     the std at least :data:`PRIVILEGED_MIN_STD`), counted as the source's: all but fixed from then on, as
-    the source's are."""
+    the source's are. A source trained with a privileged critic loads as its actor
+    (:func:`agents.policy.load_policy`), so its critic's privileged weights start again from zero here;
+    ``train_ppo.py --resume`` keeps them."""
     plain = plain_model(venv.venv.observation_space, venv.action_space, model.policy_kwargs, device="cpu")
     inner = warm_start(plain, venv.venv, source, config, gamma)
     widen_critic(model, plain)
