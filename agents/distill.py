@@ -76,13 +76,13 @@ import gymnasium as gym
 import numpy as np
 import torch
 from stable_baselines3 import PPO
-from stable_baselines3.common.running_mean_std import RunningMeanStd
-from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+from stable_baselines3.common.vec_env import DummyVecEnv
 from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.mirror import MirrorMaps
-from agents.policy import MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy
+from agents.policy import (MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy,
+                           with_statistics)
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
 from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions, mean_actions_and_values, observing_in
@@ -444,18 +444,6 @@ def student_task(default: MimicPolicy, config: DistillConfig) -> EnvSpec:
     widened = replace(task, config={**task.config, "lookahead": list(config.lookahead),
                                     "lookbehind": list(config.lookbehind)})
     widened.mimic_config()  # raises for steps the config refuses
-    return widened
-
-
-def with_statistics(normalizer: VecNormalize, mean: np.ndarray, var: np.ndarray) -> VecNormalize:
-    """A copy of a loaded policy's observation ``normalizer`` (the same settings; the original is
-    untouched) normalising by ``mean`` and ``var`` ``(D,)``, with the original's count of samples
-    and an observation space of ``D`` values, so that it loads onto the student's env."""
-    widened = VecNormalize.__new__(VecNormalize)  # a loaded one wraps no envs, which copy.copy would look up
-    widened.__dict__.update(normalizer.__dict__)
-    widened.observation_space = gym.spaces.Box(-np.inf, np.inf, mean.shape, np.float32)  # VecNormalize.load checks it
-    widened.obs_rms = RunningMeanStd(shape=mean.shape)
-    widened.obs_rms.mean, widened.obs_rms.var, widened.obs_rms.count = mean, var, normalizer.obs_rms.count
     return widened
 
 

@@ -24,11 +24,11 @@ import gymnasium as gym
 import numpy as np
 import torch
 from stable_baselines3 import PPO
+from stable_baselines3.common.running_mean_std import RunningMeanStd
 from stable_baselines3.common.torch_layers import FlattenExtractor
 from stable_baselines3.common.vec_env import VecNormalize
 
 from agents.mirror import MirrorAveraged, MirrorMaps
-from agents.privileged_critic import PrivilegedCriticPolicy, actor_only
 from agents.sidecar import GAIT_ENV_ID, PolicySidecar, recorded_path
 from agents.symmetric_policy import SymmetricActorCriticPolicy
 from envs.config import GAIT_ABLATIONS
@@ -342,6 +342,19 @@ def save_policy(path: Path, model: PPO, statistics: VecNormalize | Path, sidecar
     shutil.rmtree(old, ignore_errors=True)
 
 
+def with_statistics(normalizer: VecNormalize, mean: np.ndarray, var: np.ndarray) -> VecNormalize:
+    """A copy of a loaded policy's observation ``normalizer`` (the same settings; the original is
+    untouched) normalising by ``mean`` and ``var`` ``(D,)``, with the original's count of samples
+    and an observation space of ``D`` values, so that it loads onto an env of ``D`` observations (a DAgger student's,
+    :mod:`agents.distill`; a privileged critic's actor, :func:`agents.privileged_critic.actor_only`)."""
+    widened = VecNormalize.__new__(VecNormalize)  # a loaded one wraps no envs, which copy.copy would look up
+    widened.__dict__.update(normalizer.__dict__)
+    widened.observation_space = gym.spaces.Box(-np.inf, np.inf, mean.shape, np.float32)  # VecNormalize.load checks it
+    widened.obs_rms = RunningMeanStd(shape=mean.shape)
+    widened.obs_rms.mean, widened.obs_rms.var, widened.obs_rms.count = mean, var, normalizer.obs_rms.count
+    return widened
+
+
 def save_loaded_policy(path: Path, model: PPO, statistics: VecNormalize, sidecar: PolicySidecar) -> None:
     """:func:`save_policy` for ``statistics`` a loaded policy holds (:func:`load_policy`), whose
     weights or statistics a tool changed: they lack what ``VecNormalize``'s pickling drops (the
@@ -383,6 +396,7 @@ def load_policy(path: str | Path) -> MimicPolicy:
         raise PolicyError(f"{stats_file}: not VecNormalize statistics: {err}") from err
     if not isinstance(stats, VecNormalize):
         raise PolicyError(f"{stats_file}: holds a {type(stats).__name__}, not VecNormalize statistics")
+    from agents.privileged_critic import PrivilegedCriticPolicy, actor_only  # not at the top: it imports this module
     if shape == model.observation_space.shape and isinstance(model.policy, PrivilegedCriticPolicy):
         model, stats = actor_only(model, stats)  # trained with a privileged critic: the policy is its actor
         shape = stats.obs_rms.mean.shape

@@ -19,9 +19,10 @@ import numpy as np
 import torch
 from stable_baselines3 import PPO
 from stable_baselines3.common.policies import ActorCriticPolicy
-from stable_baselines3.common.running_mean_std import RunningMeanStd
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 from stable_baselines3.common.vec_env import DummyVecEnv, VecEnv, VecEnvWrapper, VecNormalize
+
+from agents.policy import with_statistics
 
 
 class PrivilegedObservation(VecEnvWrapper):
@@ -171,15 +172,9 @@ def actor_only(model: PPO, statistics: VecNormalize) -> tuple[PPO, VecNormalize]
     weights = policy.state_dict()
     weights["mlp_extractor.value_net.0.weight"] = weights["mlp_extractor.value_net.0.weight"][:, :d]
     plain.policy.load_state_dict(weights)
-    # a copy of the settings (copy.copy pickles, which loaded statistics refuse), detached from any
-    # environment and not updating, that saves and loads as any policy's statistics
-    sliced = VecNormalize.__new__(VecNormalize)
-    sliced.__dict__.update(statistics.__dict__)
-    rms = RunningMeanStd(shape=(d,))
-    rms.mean, rms.var, rms.count = (statistics.obs_rms.mean[:d].copy(), statistics.obs_rms.var[:d].copy(),
-                                    statistics.obs_rms.count)
-    sliced.obs_rms, sliced.observation_space, sliced.venv, sliced.training = rms, space, None, False
-    sliced.class_attributes, sliced.returns = {}, np.zeros(1)
+    sliced = with_statistics(statistics, statistics.obs_rms.mean[:d].copy(), statistics.obs_rms.var[:d].copy())
+    # detached from the training envs and not updating; what pickling drops given empty, so that it saves
+    sliced.venv, sliced.training, sliced.class_attributes, sliced.returns = None, False, {}, None
     return plain, sliced
 
 
