@@ -639,14 +639,12 @@ class CheckpointAndEvaluate(BaseCallback):
         """Training wall time (s) of the run so far, earlier commands included."""
         return self._wall_before + time.time() - self._t0
 
-    def _save(self, directory: Path, stem: str, actor: bool = False) -> None:
-        """Save model and observation statistics, each file whole or not at all, the statistics
-        first (a ``step_N.zip`` is only there with its statistics); Ctrl-C or ``kill`` during the
-        save takes effect after it (:func:`deferred_signals`). ``actor``: a network trained with a
-        privileged critic as its actor (:func:`agents.privileged_critic.actor_only`), a plain policy."""
-        model, statistics = self.model, self.model.get_vec_normalize_env()
-        if actor and isinstance(model.policy, PrivilegedCriticPolicy):
-            model, statistics = actor_only(model, statistics)
+    def _save(self, directory: Path, stem: str, policy: MimicPolicy | None = None) -> None:
+        """Save model and observation statistics (the run's, or ``policy``'s), each file whole or not at
+        all, the statistics first (a ``step_N.zip`` is only there with its statistics); Ctrl-C or ``kill``
+        during the save takes effect after it (:func:`deferred_signals`)."""
+        model, statistics = ((self.model, self.model.get_vec_normalize_env()) if policy is None
+                             else (policy.model, policy.normalizer))
         with deferred_signals():
             with atomic_write(directory / f"{stem}_vecnormalize.pkl") as tmp:
                 statistics.save(str(tmp))
@@ -686,7 +684,7 @@ class CheckpointAndEvaluate(BaseCallback):
         if score > self.best:
             self.best = score
             with deferred_signals():  # the best policy's files and its sidecar, all or none
-                self._save(self.run_dir / "best", "model", actor=True)  # every command reads a policy directory
+                self._save(self.run_dir / "best", "model", policy)  # as evaluated: a privileged critic's actor
                 self._sidecar(record).save(self.best_path)
         print(f"[eval @ {self.num_timesteps}] ELR {summary['ELR_mean']:.3f} SR90 {summary['SR90']:.2f} "
               f"MRR {summary['MRR_mean']:.3f} (best score {self.best:.3f})", flush=True)
