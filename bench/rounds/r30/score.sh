@@ -4,11 +4,12 @@
 # through its checkpoint runs/r29/ppo_pv/checkpoints/step_3500000.zip (the label of its validation clean files), as
 # bench/rounds/r27/score.sh (slow: behind the quint denoiser's slow corrections) and bench/rounds/r28/score_raw.sh
 # (raw) scored against WW: validation IMU draws from SEED (40 x 2 rollouts per take) for both, the candidate's
-# validation clean, then the selection rule (bench/results/round30_select_ROW_NAME_SEED.json).
+# validation clean, then the selection rule (bench/results/round30_select_ROW_NAME_SEED.json). BASE=NAME and
+# BASE_POLICY=CHECKPOINT score against another baseline whose validation clean files exist under NAME (default PV).
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
 ROW=$1; N=$2; P=$3; S=$4
-PV=runs/r29/ppo_pv/checkpoints/step_3500000.zip
+B=${BASE:-PV}; PV=${BASE_POLICY:-runs/r29/ppo_pv/checkpoints/step_3500000.zip}
 FLAGS="--even-legs --part-legs"
 QT=models/imu_denoiser_soles_quint_mirror
 case $ROW in
@@ -20,12 +21,12 @@ case $ROW in
 esac
 # a result file is reused only if it is of this policy (a NAME of an earlier round may name another checkpoint)
 of() { [ -f "$1" ] && grep -qF "\"$2 (mirror-averaged)" "$1"; }
-(of bench/results/${R}_draws_${S}_PV.json $PV && echo "PV's draws $S exist: reused" || bash $DRAWS PV $PV $S $EXTRA $FLAGS) &
+(of bench/results/${R}_draws_${S}_$B.json $PV && echo "$B's draws $S exist: reused" || bash $DRAWS $B $PV $S $EXTRA $FLAGS) &
 BASELINE=$!
 of bench/results/${R}_draws_${S}_$N.json "$P" && echo "$N's draws $S exist: reused" || bash $DRAWS $N "$P" $S $EXTRA $FLAGS
 of bench/results/${R}_val_clean_$N.json "$P" && echo "$N's validation clean exists: reused" || bash $CLEAN $N "$P" $EXTRA $FLAGS
 wait $BASELINE  # its failure stops the scoring (set -e)
 cd bench && ../.venv/bin/python select_policy.py --baseline "$PV$LABEL" \
-  --clean results/${R}_val_clean_PV.json results/${R}_val_clean_$N.json \
-  --draws results/${R}_draws_${S}_PV.json results/${R}_draws_${S}_$N.json \
+  --clean results/${R}_val_clean_$B.json results/${R}_val_clean_$N.json \
+  --draws results/${R}_draws_${S}_$B.json results/${R}_draws_${S}_$N.json \
   --draws-per-policy 40 --json results/round30_select_${ROW}_${N}_${S}.json
