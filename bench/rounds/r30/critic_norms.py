@@ -14,11 +14,13 @@ from pathlib import Path
 
 from stable_baselines3 import PPO
 
+from agents.privileged_critic import PrivilegedCriticPolicy
+
 
 def column_norms(checkpoint: Path) -> dict[str, float]:
     """The value network's first-layer column norms of ``checkpoint``, split at the actor's inputs."""
     policy = PPO.load(checkpoint, device="cpu").policy
-    if not hasattr(policy, "policy_inputs"):
+    if not isinstance(policy, PrivilegedCriticPolicy):
         raise SystemExit(f"{checkpoint}: not a privileged critic's checkpoint (train_ppo.py --privileged-critic)")
     norms = policy.mlp_extractor.value_net[0].weight.detach().norm(dim=0)
     seen, privileged = norms[:policy.policy_inputs], norms[policy.policy_inputs:]
