@@ -9,7 +9,7 @@
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
 ROW=$1; N=$2; P=$3; S=$4
-B=${BASE:-PV}; PV=${BASE_POLICY:-runs/r29/ppo_pv/checkpoints/step_3500000.zip}
+B=${BASE:-PV}; BP=${BASE_POLICY:-runs/r29/ppo_pv/checkpoints/step_3500000.zip}
 FLAGS="--even-legs --part-legs"
 QT=models/imu_denoiser_soles_quint_mirror
 case $ROW in
@@ -21,12 +21,12 @@ case $ROW in
 esac
 # a result file is reused only if it is of this policy (a NAME of an earlier round may name another checkpoint)
 of() { [ -f "$1" ] && grep -qF "\"$2 (mirror-averaged)" "$1"; }
-(of bench/results/${R}_draws_${S}_$B.json $PV && echo "$B's draws $S exist: reused" || bash $DRAWS $B $PV $S $EXTRA $FLAGS) &
+(of bench/results/${R}_draws_${S}_$B.json $BP && echo "$B's draws $S exist: reused" || bash $DRAWS $B $BP $S $EXTRA $FLAGS) &
 BASELINE=$!
 of bench/results/${R}_draws_${S}_$N.json "$P" && echo "$N's draws $S exist: reused" || bash $DRAWS $N "$P" $S $EXTRA $FLAGS
 of bench/results/${R}_val_clean_$N.json "$P" && echo "$N's validation clean exists: reused" || bash $CLEAN $N "$P" $EXTRA $FLAGS
 wait $BASELINE  # its failure stops the scoring (set -e)
-cd bench && ../.venv/bin/python select_policy.py --baseline "$PV$LABEL" \
+cd bench && ../.venv/bin/python select_policy.py --baseline "$BP$LABEL" \
   --clean results/${R}_val_clean_$B.json results/${R}_val_clean_$N.json \
   --draws results/${R}_draws_${S}_$B.json results/${R}_draws_${S}_$N.json \
   --draws-per-policy 40 --json results/round30_select_${ROW}_${N}_${S}.json
