@@ -133,11 +133,12 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "does not trail the reference (MimicConfig.velocity_feedforward)")
     g.add_argument("--lookahead", type=positive_int, nargs="+", default=[], metavar="STEPS",
                    help="the observation also shows the reference this many control steps ahead, each "
-                        "(e.g. 1 4 10; MimicConfig.lookahead; --init-from a policy without it widens its inputs)")
+                        "(e.g. 1 4 10; MimicConfig.lookahead; --init-from a policy without it, or with fewer of these "
+                        "steps, widens its inputs)")
     g.add_argument("--lookbehind", type=positive_int, nargs="+", default=[], metavar="STEPS",
                    help="the observation also shows the reference this many control steps back, each, after the "
-                        "lookahead (e.g. 1 2 4 8; MimicConfig.lookbehind; --init-from a policy without a window "
-                        "widens its inputs)")
+                        "lookahead (e.g. 1 2 4 8; MimicConfig.lookbehind; --init-from a policy without a window, or "
+                        "with fewer of these steps, widens its inputs)")
     g.add_argument("--steer-gain", type=non_negative_float, default=MimicConfig.steer_gain_hz, metavar="HZ",
                    help="the observed reference velocities pull the character back onto the reference's position "
                         "at this rate, 1/s (MimicConfig.steer_gain_hz; 0: ADAPT's observation, same layout)")

@@ -3,7 +3,8 @@ observation that gained inputs or onto wider hidden layers.
 
 A policy trained on ADAPT's world-frame observation (:mod:`envs.observations`) can be carried to
 the same observation with ``dp_com`` (``MimicConfig.com_offset``) or with a window of the reference
-(``MimicConfig.lookahead``, ``lookbehind``): the first layer of actor and critic gets zero weights for the new
+(``MimicConfig.lookahead``, ``lookbehind``), and a policy with a window to one with more of its steps (``1 2 4 8``
+to ``1 2 4 8 16 32``; the steps it saw keep their weights): the first layer of actor and critic gets zero weights for the new
 inputs, so the widened network computes exactly what the source did until training gives those
 inputs weight, and the observation statistics get an entry for them (a fixed scale for
 ``dp_com``; for the window, which is the reference's alone, the mean and variance of the run's
@@ -73,20 +74,35 @@ def window_slice(slices: dict[str, slice]) -> slice | None:
 
 
 def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray, venv: VecEnv,
-                    resets: int = LOOKAHEAD_SAMPLE_RESETS) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
+                    resets: int = LOOKAHEAD_SAMPLE_RESETS, source_steps: tuple[int, ...] = ()
+                    ) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
     """A policy's ``state_dict`` and observation statistics ``mean``, ``var`` ``(D,)`` carried to
-    the environments of ``venv``, whose observation is the policy's with the reference window
-    appended (:func:`window_slice`): zero first-layer weights for its inputs (:func:`widen_inputs`,
+    the environments of ``venv``, whose reference window (:func:`window_slice`, ending the
+    observation) shows the steps of ``MimicConfig.window_steps``, a superset of the policy's own
+    ``source_steps`` (empty: a policy without a window). The policy's window steps keep their
+    weights and statistics; each new step's inputs get zero first-layer weights (:func:`remap_inputs`,
     so the policy acts as before) and their mean and variance over ``resets`` resets of every env of
-    ``venv`` (:func:`sampled_statistics`). Raises :class:`PolicyError` unless the
-    observation is exactly the policy's plus the window."""
+    ``venv`` (:func:`sampled_statistics`). Raises :class:`PolicyError` unless the observation is
+    exactly the policy's with those steps added."""
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
-    if window is None or window.start != len(mean) or window.stop != venv.observation_space.shape[0]:
+    steps = venv.get_attr("config", indices=[0])[0].window_steps
+    per_step = (window.stop - window.start) // len(steps) if window is not None else 0
+    if (window is None or not set(source_steps) <= set(steps) or window.stop != venv.observation_space.shape[0]
+            or window.start + per_step * len(source_steps) != len(mean)):
         raise PolicyError(f"the environment's observation ({venv.observation_space.shape[0]} values) is not the "
-                          f"policy's ({len(mean)}) followed by a reference window (lookahead, lookbehind)")
+                          f"policy's ({len(mean)}, reference window steps {list(source_steps)}) with more steps of "
+                          f"a reference window (lookahead, lookbehind)")
+    source_index = np.arange(window.stop)
+    for at, step in enumerate(steps):
+        block = slice(window.start + at * per_step, window.start + (at + 1) * per_step)
+        source_index[block] = (window.start + source_steps.index(step) * per_step + np.arange(per_step)
+                               if step in source_steps else -1)
+    new = source_index < 0
     window_mean, window_var = sampled_statistics(venv, window, resets)
-    return (widen_inputs(state_dict, window.start, window.stop - window.start),
-            np.concatenate([mean, window_mean]), np.concatenate([var, window_var]))
+    sampled_mean, sampled_var = np.zeros(window.stop), np.ones(window.stop)
+    sampled_mean[window], sampled_var[window] = window_mean, window_var
+    return (remap_inputs(state_dict, source_index),
+            np.where(new, sampled_mean, mean[source_index]), np.where(new, sampled_var, var[source_index]))
 
 
 def observation_normalizer(venv: VecEnv, gamma: float) -> VecNormalize:
@@ -115,15 +131,28 @@ def widen_inputs(state_dict: dict[str, torch.Tensor], insert_at: int, n_new: int
     """A copy of an SB3 ``MlpPolicy`` ``state_dict`` whose first layers (:data:`FIRST_LAYERS`) take
     ``n_new`` more inputs at index ``insert_at``, with zero weights: the widened network's outputs
     equal the source's for any values of the new inputs."""
+    n_inputs = state_dict[FIRST_LAYERS[0]].shape[1] if FIRST_LAYERS[0] in state_dict else 0
+    if not 0 <= insert_at <= n_inputs:
+        raise PolicyError(f"warm start: cannot insert inputs at {insert_at} into {FIRST_LAYERS[0]} of {n_inputs} inputs")
+    return remap_inputs(state_dict, np.concatenate([np.arange(insert_at), np.full(n_new, -1),
+                                                    np.arange(insert_at, n_inputs)]))
+
+
+def remap_inputs(state_dict: dict[str, torch.Tensor], source_index: np.ndarray) -> dict[str, torch.Tensor]:
+    """A copy of an SB3 ``MlpPolicy`` ``state_dict`` whose first layers (:data:`FIRST_LAYERS`) read
+    ``len(source_index)`` inputs: input ``i`` takes the weights of the source's input
+    ``source_index[i]``, or zero weights where that is ``-1`` (a new input the network does not read)."""
+    source_index = np.asarray(source_index)
     out = dict(state_dict)
     for name in FIRST_LAYERS:
         if name not in state_dict:
             raise PolicyError(f"warm start: the source policy has no {name!r}; not an SB3 MlpPolicy")
         weight = state_dict[name]
-        if not 0 <= insert_at <= weight.shape[1]:
-            raise PolicyError(f"warm start: cannot insert inputs at {insert_at} into {name} of {weight.shape[1]} inputs")
-        zeros = weight.new_zeros(weight.shape[0], n_new)
-        out[name] = torch.cat([weight[:, :insert_at], zeros, weight[:, insert_at:]], dim=1)
+        if source_index.max(initial=-1) >= weight.shape[1]:
+            raise PolicyError(f"warm start: {name} has {weight.shape[1]} inputs, not {source_index.max() + 1}")
+        index = torch.as_tensor(np.maximum(source_index, 0), device=weight.device)
+        keep = torch.as_tensor(source_index >= 0, device=weight.device).to(weight.dtype)
+        out[name] = weight[:, index] * keep
     return out
 
 
@@ -248,13 +277,13 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
-    if source_config.window_steps and source_config.window_steps != config.window_steps:
+    if not set(source_config.window_steps) <= set(config.window_steps):
         raise PolicyError(f"{source.path}: observes the reference window lookahead {source_config.lookahead}, "
                           f"lookbehind {source_config.lookbehind}; this run's is lookahead {config.lookahead}, "
-                          f"lookbehind {config.lookbehind}. A warm start adds a window to a policy without one, "
-                          f"or keeps the same one")
+                          f"lookbehind {config.lookbehind}. A warm start may add window steps, not drop them")
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
-    n_window = window.stop - window.start if window is not None and not source_config.window_steps else 0
+    n_new_steps = len(config.window_steps) - len(source_config.window_steps)
+    n_window = (window.stop - window.start) * n_new_steps // len(config.window_steps) if n_new_steps else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
     more_hinges = venv.action_space.shape != source.model.action_space.shape
     if more_hinges:
@@ -274,10 +303,12 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
         rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_com, COM_OFFSET_STD_M**2))
         print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
     if widen and n_window:
-        state, rms.mean, rms.var = widen_by_window(state, rms.mean, rms.var, venv)
+        state, rms.mean, rms.var = widen_by_window(state, rms.mean, rms.var, venv,
+                                                   source_steps=source_config.window_steps)
         print(f"widening {source.path}'s inputs by the reference window (lookahead {config.lookahead}, lookbehind "
-              f"{config.lookbehind}; zero weights at {window.start}:{window.stop}; statistics from "
-              f"{LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
+              f"{config.lookbehind}, where it saw lookahead {source_config.lookahead}, lookbehind "
+              f"{source_config.lookbehind}; zero weights for the new steps' inputs in {window.start}:{window.stop}; "
+              f"statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
     if not widen and not more_hinges:
         source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
     fresh = model.policy.state_dict()

@@ -348,10 +348,32 @@ def test_a_warm_start_onto_the_reference_window_acts_as_the_source_with_the_new_
     assert 0.02 < stats.mean[window][0] < 0.06  # walk's CoM moves ~1.2 m/s × 1/30 s along +x in one control step
     behind = env.unwrapped.obs_slices["lookbehind"]
     assert -0.18 < stats.mean[behind][0] < -0.06  # and back ~0.12 m in three
-    with pytest.raises(SystemExit, match="A warm start adds a window to a policy without one, or keeps the same one"):
+    with pytest.raises(SystemExit, match="A warm start may add window steps, not drop them"):
         main(["--clips", "deepmimic:walk", "--init-from", str(run / "best"), "--lookahead", "1", "5",
               "--run-dir", str(tmp_path / "other"), "--no-progress", "--n-envs", "2", "--n-steps", "64",
               "--batch-size", "64", "--total-steps", "128"])
+
+    # a longer window: lookahead 1 5 10, lookbehind 3 6 from 1 5 / 3; the old steps keep their weights
+    longer = tmp_path / "longer"
+    main(["--clips", "deepmimic:walk", "--init-from", str(run / "best"), "--lookahead", "1", "5", "10",
+          "--lookbehind", "3", "6", "--run-dir", str(longer), "--no-progress", "--n-envs", "2", "--n-steps", "64",
+          "--batch-size", "64", "--total-steps", "128", "--lr", "1e-12", "--checkpoint-every", "1000",
+          "--eval-every", "128", "--eval-episodes", "1"])
+    wider = load_policy(longer / "best")
+    assert wider.record.env.mimic_config().window_steps == (1, 5, 10, -3, -6)
+    wide_env = wider.make_env(["deepmimic:walk"])
+    wide_obs, _ = wide_env.reset(seed=0)
+    assert wide_obs.shape == (273 + 5 * 66,)
+    kept = np.r_[0:273 + 132, 273 + 198:273 + 264]  # lookahead 1, 5 and lookbehind 3 of the wider layout
+    assert np.allclose(wide_obs[kept], env.reset(seed=0)[0], atol=1e-5)
+    new_steps = np.r_[273 + 132:273 + 198, 273 + 264:273 + 330]
+    moved = wide_obs.copy()
+    moved[new_steps] += np.random.default_rng(1).normal(0, 0.5, 132)
+    assert np.allclose(wider(wide_obs), wider(moved), atol=1e-5)
+    assert np.allclose(wider(wide_obs), widened(wide_obs[kept]), atol=1e-4)
+    wide_stats = wider.normalizer.obs_rms
+    assert np.allclose(wide_stats.mean[kept], stats.mean, atol=1e-3)  # the source's, barely moved at lr ~0
+    assert -0.36 < wide_stats.mean[273 + 264] < -0.12  # lookbehind 6: the CoM ~0.24 m back
 
 
 class Actor(torch.nn.Module):
