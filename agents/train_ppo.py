@@ -806,8 +806,7 @@ def check_privileged_critic(args: argparse.Namespace, run_dir: Path) -> None:
     policy's own (the symmetric actor mirrors every column, the kickstarting teachers label them),
     ``--critic-lr-scale`` without it, and a resumed run whose network is of the other kind or whose
     critic learned at another rate (its optimizer's groups are the checkpoint's)."""
-    privileged = getattr(args, "privileged_critic", False)  # a run older than the option has none
-    scale = getattr(args, "critic_lr_scale", 1.0)
+    privileged, scale = args.privileged_critic, args.critic_lr_scale  # run_args gives an older run the defaults
     checkpoint = newest_checkpoint(run_dir) if args.resume else None
     if checkpoint is not None:
         policy = PPO.load(checkpoint, device="cpu").policy
@@ -923,7 +922,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> None:
         training_kwargs["dynamics"] = varied
     venv = make_vec_env(args.env_id, n_envs=args.n_envs, seed=args.seed, vec_env_cls=vec_cls, vec_env_kwargs=vec_kwargs,
                         env_kwargs=training_kwargs)
-    privileged = getattr(args, "privileged_critic", False)  # a run older than the option has none
+    privileged = args.privileged_critic
     if privileged:
         venv = PrivilegedObservation(venv)
     eval_kwargs = env_kwargs(args, evaluation_clips(args), 0.0)
