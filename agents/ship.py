@@ -48,11 +48,13 @@ MAX_MODEL_BYTES = 20 * 1024 * 1024
 RUN_RECORDS = ("args.json", "evaluations.jsonl", "wall.json")
 
 
-def _checked_size(path: Path) -> int:
-    """``path``'s size in bytes; raises ValueError if it is over the limit for ``models/``."""
+def _checked_size(path: Path, shown: str | None = None) -> int:
+    """``path``'s size in bytes; raises ValueError, naming ``shown`` (default: ``path``), if it is over
+    the limit for ``models/``."""
     size = path.stat().st_size
     if size > MAX_MODEL_BYTES:
-        raise ValueError(f"{path}: {size / 2**20:.1f} MB, over the 20 MB limit for models/")
+        raise ValueError(f"{shown or path}: {size / 2**20:.1f} MB, over the {MAX_MODEL_BYTES / 2**20:g} MB limit "
+                         f"for models/")
     return size
 
 
@@ -130,7 +132,6 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                    help="ship the run's newest checkpoint instead of its best by its own evaluation")
     args, eval_args = p.parse_known_args(argv)
     sources = _newest_files(args.run_dir) if args.newest else _best_files(args.run_dir)
-    size = _checked_size(sources[MODEL_FILE])
     out = args.models / args.name
     staging = args.models / f".{args.name}.partial"  # becomes `out` only once evaluated: never half-shipped
     shutil.rmtree(staging, ignore_errors=True)
@@ -139,6 +140,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         for name, source in sources.items():
             shutil.copy2(source, staging / name)
         _as_actor(staging)
+        # what ships is checked: a run with a privileged critic ships its actor only
+        size = _checked_size(staging / MODEL_FILE, shown=f"{sources[MODEL_FILE]} as shipped")
         result = {**evaluate.main(["--policy", str(staging), *eval_args]), "policy": str(out)}
         write_json(staging / "evaluation.json", result)
         sidecar = json.loads((staging / SIDECAR_FILE).read_text())

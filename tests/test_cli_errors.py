@@ -314,6 +314,17 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
     assert (models / "walk" / "student" / "model.zip").read_text() == "student"
 
 
+def test_ship_refuses_a_policy_over_the_size_limit_and_leaves_nothing(trained_run, tmp_path, monkeypatch):
+    """The limit applies to what ships (the model as shipped), before its evaluation; nothing is left in models/."""
+    size = (trained_run / "best" / "model.zip").stat().st_size
+    monkeypatch.setattr(ship, "MAX_MODEL_BYTES", size - 1)
+    models = tmp_path / "models"
+    with pytest.raises(SystemExit, match=r"best/model\.zip as shipped: .* MB, over the .* MB limit for models/"):
+        ship.main(["--run-dir", str(trained_run), "--name", "walk", "--models", str(models),
+                   "--clips", "deepmimic:walk", "--episodes", "1"])
+    assert list(models.iterdir()) == []
+
+
 def test_ship_newest_ships_the_newest_checkpoint_whole(tmp_path, capsys):
     """``--newest`` ships the run's newest checkpoint (a choice registered on it), not ``best/``, and
     refuses one whose observation statistics are missing."""
