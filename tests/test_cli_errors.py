@@ -315,13 +315,26 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
 
 
 def test_ship_refuses_a_policy_over_the_size_limit_and_leaves_nothing(trained_run, tmp_path, monkeypatch):
-    """The limit applies to what ships (the model as shipped), before its evaluation; nothing is left in models/."""
+    """The limit applies to what ships (the model as shipped, and with --resumable its run's checkpoint as
+    copied, deflated), before the evaluation; either refused leaves nothing in models/."""
     size = (trained_run / "best" / "model.zip").stat().st_size
     monkeypatch.setattr(ship, "MAX_MODEL_BYTES", size - 1)
     models = tmp_path / "models"
     with pytest.raises(SystemExit, match=r"best/model\.zip as shipped: .* MB, over the .* MB limit for models/"):
         ship.main(["--run-dir", str(trained_run), "--name", "walk", "--models", str(models),
                    "--clips", "deepmimic:walk", "--episodes", "1"])
+    assert list(models.iterdir()) == []
+    monkeypatch.setattr(ship, "MAX_MODEL_BYTES", size)  # the policy fits; its run's checkpoint, deflated, does not
+    run = tmp_path / "run"  # a copy: the shared run keeps its checkpoints
+    shutil.copytree(trained_run, run, ignore=shutil.ignore_patterns("checkpoints"))
+    checkpoints = run / "checkpoints"
+    checkpoints.mkdir()
+    (checkpoints / "step_10.zip").write_bytes(np.random.default_rng(0).bytes(size + 1))  # random bytes do not deflate
+    with zipfile.ZipFile(checkpoints / "step_20.zip", "w") as big:
+        big.writestr("policy.pth", np.random.default_rng(1).bytes(size + 1))
+    with pytest.raises(SystemExit, match=r"checkpoints/step_20\.zip \(deflated\): .* MB, over the .* MB limit"):
+        ship.main(["--run-dir", str(run), "--name", "walk", "--models", str(models),
+                   "--clips", "deepmimic:walk", "--episodes", "1", "--resumable"])
     assert list(models.iterdir()) == []
 
 
