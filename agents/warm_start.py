@@ -73,6 +73,13 @@ def window_slice(slices: dict[str, slice]) -> slice | None:
     return slice(parts[0].start, parts[-1].stop) if parts else None
 
 
+def describe_steps(window_steps: tuple[int, ...] | list[int]) -> str:
+    """``MimicConfig.window_steps`` as the options give them: "lookahead 1 2, lookbehind 4" (or "no window")."""
+    ahead, behind = [k for k in window_steps if k > 0], [-k for k in window_steps if k < 0]
+    parts = [f"{name} {' '.join(map(str, ks))}" for name, ks in (("lookahead", ahead), ("lookbehind", behind)) if ks]
+    return ", ".join(parts) or "no window"
+
+
 def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray, venv: VecEnv,
                     resets: int = LOOKAHEAD_SAMPLE_RESETS, source_steps: tuple[int, ...] = ()
                     ) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
@@ -87,11 +94,16 @@ def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: 
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
     steps = venv.get_attr("config", indices=[0])[0].window_steps
     per_step = (window.stop - window.start) // len(steps) if window is not None else 0
-    if (window is None or not set(source_steps) <= set(steps) or window.stop != venv.observation_space.shape[0]
+    missing = [step for step in source_steps if step not in steps]
+    if missing:
+        raise PolicyError(f"the policy observes the reference {describe_steps(source_steps)}; the environment's window "
+                          f"({describe_steps(steps)}) lacks {describe_steps(missing)}: a warm start may add window steps, "
+                          f"not drop them")
+    if (window is None or window.stop != venv.observation_space.shape[0]
             or window.start + per_step * len(source_steps) != len(mean)):
         raise PolicyError(f"the environment's observation ({venv.observation_space.shape[0]} values) is not the "
-                          f"policy's ({len(mean)}, reference window steps {list(source_steps)}) with more steps of "
-                          f"a reference window (lookahead, lookbehind)")
+                          f"policy's ({len(mean)}; {describe_steps(source_steps)}) with more steps of a reference "
+                          f"window ({describe_steps(steps)})")
     source_index = np.arange(window.stop)
     for at, step in enumerate(steps):
         block = slice(window.start + at * per_step, window.start + (at + 1) * per_step)
@@ -131,7 +143,7 @@ def widen_inputs(state_dict: dict[str, torch.Tensor], insert_at: int, n_new: int
     """A copy of an SB3 ``MlpPolicy`` ``state_dict`` whose first layers (:data:`FIRST_LAYERS`) take
     ``n_new`` more inputs at index ``insert_at``, with zero weights: the widened network's outputs
     equal the source's for any values of the new inputs."""
-    n_inputs = state_dict[FIRST_LAYERS[0]].shape[1] if FIRST_LAYERS[0] in state_dict else 0
+    n_inputs = first_layers(state_dict)[FIRST_LAYERS[0]].shape[1]
     if not 0 <= insert_at <= n_inputs:
         raise PolicyError(f"warm start: cannot insert inputs at {insert_at} into {FIRST_LAYERS[0]} of {n_inputs} inputs")
     return remap_inputs(state_dict, np.concatenate([np.arange(insert_at), np.full(n_new, -1),
@@ -144,16 +156,22 @@ def remap_inputs(state_dict: dict[str, torch.Tensor], source_index: np.ndarray) 
     ``source_index[i]``, or zero weights where that is ``-1`` (a new input the network does not read)."""
     source_index = np.asarray(source_index)
     out = dict(state_dict)
-    for name in FIRST_LAYERS:
-        if name not in state_dict:
-            raise PolicyError(f"warm start: the source policy has no {name!r}; not an SB3 MlpPolicy")
-        weight = state_dict[name]
+    for name, weight in first_layers(state_dict).items():
         if source_index.max(initial=-1) >= weight.shape[1]:
             raise PolicyError(f"warm start: {name} has {weight.shape[1]} inputs, not {source_index.max() + 1}")
         index = torch.as_tensor(np.maximum(source_index, 0), device=weight.device)
         keep = torch.as_tensor(source_index >= 0, device=weight.device).to(weight.dtype)
         out[name] = weight[:, index] * keep
     return out
+
+
+def first_layers(state_dict: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:
+    """The weights of :data:`FIRST_LAYERS` in an SB3 ``MlpPolicy`` ``state_dict``; raises
+    :class:`PolicyError` naming the first one it lacks."""
+    for name in FIRST_LAYERS:
+        if name not in state_dict:
+            raise PolicyError(f"warm start: the source policy has no {name!r}; not an SB3 MlpPolicy")
+    return {name: state_dict[name] for name in FIRST_LAYERS}
 
 
 def widen_hidden(source: dict[str, torch.Tensor], target: dict[str, torch.Tensor]) -> dict[str, torch.Tensor]:
@@ -261,9 +279,9 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     """Load ``source``'s weights into ``model`` (a new run on ``venv``, whose environments use
     ``config``) and return ``venv`` wrapped in ``source``'s observation statistics.
 
-    The spaces must match, or differ only by ``dp_com`` and/or the reference window: ``config`` observes
-    them and the source's environment did not (then the inputs are widened, see the module
-    docstring). The frames must
+    The spaces must match, or differ only by ``dp_com`` and/or steps of the reference window: ``config``
+    observes them and the source's environment did not (``dp_com``; the window, or some of its steps)
+    (then the inputs are widened, see the module docstring). The frames must
     match too, or both be of :data:`envs.observations.SAME_LAYOUT_FRAMES` (world and reference
     axes: the weights carry over as they are, and a note says so). ``model``'s hidden layers may be
     wider than the source's (:func:`widen_hidden`)."""
@@ -277,10 +295,11 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
-    if not set(source_config.window_steps) <= set(config.window_steps):
-        raise PolicyError(f"{source.path}: observes the reference window lookahead {source_config.lookahead}, "
-                          f"lookbehind {source_config.lookbehind}; this run's is lookahead {config.lookahead}, "
-                          f"lookbehind {config.lookbehind}. A warm start may add window steps, not drop them")
+    missing = [step for step in source_config.window_steps if step not in config.window_steps]
+    if missing:
+        raise PolicyError(f"{source.path}: observes the reference window {describe_steps(source_config.window_steps)}; "
+                          f"this run's ({describe_steps(config.window_steps)}) lacks {describe_steps(missing)}. A warm "
+                          f"start may add window steps, not drop them")
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
     n_new_steps = len(config.window_steps) - len(source_config.window_steps)
     n_window = (window.stop - window.start) * n_new_steps // len(config.window_steps) if n_new_steps else 0
@@ -305,10 +324,10 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     if widen and n_window:
         state, rms.mean, rms.var = widen_by_window(state, rms.mean, rms.var, venv,
                                                    source_steps=source_config.window_steps)
-        print(f"widening {source.path}'s inputs by the reference window (lookahead {config.lookahead}, lookbehind "
-              f"{config.lookbehind}, where it saw lookahead {source_config.lookahead}, lookbehind "
-              f"{source_config.lookbehind}; zero weights for the new steps' inputs in {window.start}:{window.stop}; "
-              f"statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
+        new_steps = [step for step in config.window_steps if step not in source_config.window_steps]
+        print(f"widening {source.path}'s inputs by the reference window {describe_steps(new_steps)} (it saw "
+              f"{describe_steps(source_config.window_steps)}; the new steps' inputs, among {window.start}:{window.stop}, "
+              f"start at zero weight, their statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
     if not widen and not more_hinges:
         source.check_env(venv)  # raises PolicyError naming the mismatch, unless the spaces match
     fresh = model.policy.state_dict()

@@ -324,7 +324,9 @@ def test_a_warm_start_onto_the_com_offset_observation_acts_as_the_source(tmp_pat
 def test_a_warm_start_onto_the_reference_window_acts_as_the_source_with_the_new_inputs_scaled(tmp_path):
     """--init-from a policy with --lookahead 1 5 --lookbehind 3: the run observes 3 × 66 more
     values, takes the source's actions whatever they hold, and normalises them with its own envs'
-    statistics."""
+    statistics. From that policy, a run with a window of more steps (--lookahead 1 5 10
+    --lookbehind 3 6) keeps the old steps' weights and statistics and acts as it does whatever the
+    new steps hold; one that drops a step is refused, naming it."""
     source = load_policy(WALK_POLICY)
     run = tmp_path / "run"
     main(["--clips", "deepmimic:walk", "--init-from", str(WALK_POLICY), "--lookahead", "1", "5", "--lookbehind", "3",
@@ -348,7 +350,8 @@ def test_a_warm_start_onto_the_reference_window_acts_as_the_source_with_the_new_
     assert 0.02 < stats.mean[window][0] < 0.06  # walk's CoM moves ~1.2 m/s × 1/30 s along +x in one control step
     behind = env.unwrapped.obs_slices["lookbehind"]
     assert -0.18 < stats.mean[behind][0] < -0.06  # and back ~0.12 m in three
-    with pytest.raises(SystemExit, match="A warm start may add window steps, not drop them"):
+    with pytest.raises(SystemExit, match=r"lookahead 1 5, lookbehind 3; this run's \(lookahead 1 5\) lacks lookbehind 3\. "
+                                         r"A warm start may add window steps, not drop them"):
         main(["--clips", "deepmimic:walk", "--init-from", str(run / "best"), "--lookahead", "1", "5",
               "--run-dir", str(tmp_path / "other"), "--no-progress", "--n-envs", "2", "--n-steps", "64",
               "--batch-size", "64", "--total-steps", "128"])
