@@ -1,5 +1,5 @@
 #!/bin/bash
-# Round 31, LU: PV10 (models/mimic_general_fast_critic) with a reference window twice as long each way (lookahead and
+# Round 31, LU: PV10 (models/mimic_general_fast_critic) with a reference window four times as long each way (lookahead and
 # lookbehind 1 2 4 8 16 32 control steps: up to 1.07 s, where PV10 sees 0.27 s) and judged without the stance skate
 # (--judge unslid_pose, round 28's WU judge); everything else is PV10's command (bench/rounds/r29/pv10_cmd.sh). The
 # new window steps start at zero weight, so LU starts acting as PV10 (agents/warm_start.py). Resumable:
