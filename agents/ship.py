@@ -58,7 +58,7 @@ def _checked_size(path: Path, shown: str | None = None) -> int:
     return size
 
 
-def _copy_resumable_run(run_dir: Path, dest: Path) -> None:
+def copy_resumable_run(run_dir: Path, dest: Path) -> None:
     """Copy ``run_dir``'s newest checkpoint (model, observation statistics, sidecar) and its records
     to ``dest`` so that ``train_ppo.py --resume`` continues from it. SB3 stores a checkpoint's
     weights and optimizer state uncompressed; the copy is deflated (:func:`_deflated_copy`), which
@@ -144,7 +144,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         # what ships is checked: a run with a privileged critic ships its actor only
         size = _checked_size(staging / MODEL_FILE, shown=f"{sources[MODEL_FILE]} as shipped")
         if args.resumable:  # before the evaluation, so that a run too large to resume is refused at once
-            _copy_resumable_run(args.run_dir, staging / "run")
+            copy_resumable_run(args.run_dir, staging / "run")
         result = {**evaluate.main(["--policy", str(staging), *eval_args]), "policy": str(out)}
         write_json(staging / "evaluation.json", result)
         sidecar = json.loads((staging / SIDECAR_FILE).read_text())
