@@ -80,6 +80,18 @@ def describe_steps(window_steps: tuple[int, ...] | list[int]) -> str:
     return ", ".join(parts) or "no window"
 
 
+def added_window_steps(source_steps: tuple[int, ...], steps: tuple[int, ...], source: str) -> list[int]:
+    """The steps of a run's reference window ``steps`` that a policy seeing ``source_steps`` does not
+    see (each as ``MimicConfig.window_steps`` gives them), in the run's order; raises
+    :class:`PolicyError`, naming ``source``, if the policy sees a step the run's window lacks."""
+    missing = [step for step in source_steps if step not in steps]
+    if missing:
+        raise PolicyError(f"{source}: observes the reference window {describe_steps(source_steps)}; this run's "
+                          f"({describe_steps(steps)}) lacks {describe_steps(missing)}. A warm start may add window "
+                          f"steps, not drop them")
+    return [step for step in steps if step not in source_steps]
+
+
 def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: np.ndarray, venv: VecEnv,
                     resets: int = LOOKAHEAD_SAMPLE_RESETS, source_steps: tuple[int, ...] = ()
                     ) -> tuple[dict[str, torch.Tensor], np.ndarray, np.ndarray]:
@@ -94,11 +106,7 @@ def widen_by_window(state_dict: dict[str, torch.Tensor], mean: np.ndarray, var: 
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
     steps = venv.get_attr("config", indices=[0])[0].window_steps
     per_step = (window.stop - window.start) // len(steps) if window is not None else 0
-    missing = [step for step in source_steps if step not in steps]
-    if missing:
-        raise PolicyError(f"the policy observes the reference {describe_steps(source_steps)}; the environment's window "
-                          f"({describe_steps(steps)}) lacks {describe_steps(missing)}: a warm start may add window steps, "
-                          f"not drop them")
+    added_window_steps(source_steps, steps, "the policy")
     if (window is None or window.stop != venv.observation_space.shape[0]
             or window.start + per_step * len(source_steps) != len(mean)):
         raise PolicyError(f"the environment's observation ({venv.observation_space.shape[0]} values) is not the "
@@ -295,14 +303,9 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
-    missing = [step for step in source_config.window_steps if step not in config.window_steps]
-    if missing:
-        raise PolicyError(f"{source.path}: observes the reference window {describe_steps(source_config.window_steps)}; "
-                          f"this run's ({describe_steps(config.window_steps)}) lacks {describe_steps(missing)}. A warm "
-                          f"start may add window steps, not drop them")
+    new_steps = added_window_steps(source_config.window_steps, config.window_steps, str(source.path))
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
-    n_new_steps = len(config.window_steps) - len(source_config.window_steps)
-    n_window = (window.stop - window.start) * n_new_steps // len(config.window_steps) if n_new_steps else 0
+    n_window = (window.stop - window.start) * len(new_steps) // len(config.window_steps) if new_steps else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
     more_hinges = venv.action_space.shape != source.model.action_space.shape
     if more_hinges:
@@ -324,7 +327,6 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     if widen and n_window:
         state, rms.mean, rms.var = widen_by_window(state, rms.mean, rms.var, venv,
                                                    source_steps=source_config.window_steps)
-        new_steps = [step for step in config.window_steps if step not in source_config.window_steps]
         print(f"widening {source.path}'s inputs by the reference window {describe_steps(new_steps)} (it saw "
               f"{describe_steps(source_config.window_steps)}; the new steps' inputs, among {window.start}:{window.stop}, "
               f"start at zero weight, their statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
