@@ -95,13 +95,19 @@ def reference_clips(sources: list[str], model: str, config: MimicConfig, kind: s
     """The clips as the policy gets them: loaded for ``model`` (cyclic ones looped to two episodes
     of ``config``; each as long as the environment needs) and optionally corrupted (``kind``, with
     the artefact kinds ``without`` switched off: :meth:`ArtefactRecipe.without`)."""
-    recipe = ArtefactRecipe.named(kind, strength).without(without) if kind else None
     out = []
-    for i, source in enumerate(expand_clips(sources)):
+    for source in expand_clips(sources):
         motion = load_motion(source, model, min_frames=2 * (config.episode_frames + 1), mocap=mocap)
         require_frames(motion, config.min_clip_frames + 1, source, "a mimic episode")
-        out.append(corrupt(motion, recipe, seed + i) if recipe else motion)
-    return out
+        out.append(motion)
+    return corrupted(out, kind, strength, seed, without) if kind else out
+
+
+def corrupted(clips: Sequence[Motion], kind: str, strength: float, seed: int, without: Sequence[str] = ()) -> list[Motion]:
+    """``clips`` corrupted with the artefacts ``kind`` at ``strength`` (those ``without`` names switched
+    off: :meth:`ArtefactRecipe.without`), clip ``i`` with artefact seed ``seed + i``."""
+    recipe = ArtefactRecipe.named(kind, strength).without(without)
+    return [corrupt(motion, recipe, seed + i) for i, motion in enumerate(clips)]
 
 
 def tracked_and_judged(clips: list[Motion], denoiser: IMUDenoiser | DenoiserEnsemble | SlowCorrections | None, *,

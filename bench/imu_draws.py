@@ -2,7 +2,7 @@
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
 [--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
-[--denoise DIR [--denoise-slow [S]] | --no-denoise] [--mirror-average] [--ensemble] [--even-legs]
+[--denoise DIR [--denoise-slow [S]] | --no-denoise] [--mirror-average] [--ensemble] [--style-shifts] [--even-legs]
 [--part-legs [M]] [--ground] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
 ``--denoise-slow`` slows the corrections of the denoiser that ``--denoise`` names, which here defaults to
@@ -18,6 +18,11 @@ rollouts each, after ``--denoise`` and judged against the take as given (as ``ev
 checkpoints, not policy sets. Prints each policy's ELR per draw and over all draws and, for each
 policy after the first, its mean paired difference from the first (± standard error over the
 draws) and on how many draws it scores above, equal to and below it.
+
+``--style-shifts`` tracks every clip in five versions per draw (as given, walked wider, at 0.8x and 1.25x
+its pace, carried with another posture: :func:`reference_motion.library.style_shifted`, the width and
+posture drawn with the draw's seed), so one style's takes also stand for the ways other styles differ
+from it; the JSON then also gives each policy's ELR by version.
 """
 
 from __future__ import annotations
@@ -28,8 +33,8 @@ from pathlib import Path
 import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
-from agents.evaluate import reference_clips, tracked_and_judged, tracked_label
-from agents.evaluation import evaluate_tracking
+from agents.evaluate import corrupted, reference_clips, tracked_and_judged, tracked_label
+from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import load_policy
 from envs.config import FOOT_MODELS, MimicConfig
@@ -42,8 +47,16 @@ from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option
 from reference_motion.leg_gap import add_leg_gap_option
 from reference_motion.leg_symmetry import add_leg_symmetry_option
-from reference_motion.library import expand_clips
+from reference_motion.motion import Motion
+from reference_motion.library import STYLE_SHIFT_NAMES, expand_clips, style_shifted
 from reference_motion.swing_lift import add_swing_lift_options
+
+
+def shift_means(runs: list[Rollout], tracked: list[Motion]) -> dict[str, float]:
+    """Mean ELR of ``runs`` by style-shifted version (:data:`STYLE_SHIFT_NAMES`), the clips ``tracked``
+    being :func:`style_shifted`'s five versions take by take."""
+    version = {clip.name: STYLE_SHIFT_NAMES[i % len(STYLE_SHIFT_NAMES)] for i, clip in enumerate(tracked)}
+    return {name: float(np.mean([r.elr for r in runs if version[r.clip] == name])) for name in STYLE_SHIFT_NAMES}
 
 
 def main() -> None:
@@ -56,6 +69,11 @@ def main() -> None:
     p.add_argument("--stride", type=int, default=None, help="seed step from one draw to the next (default: the "
                                                             "number of clips)")
     p.add_argument("--episodes", type=int, default=2, help="rollouts per clip and draw")
+    p.add_argument("--style-shifts", action="store_true",
+                   help="each draw tracks every clip in five versions, " + ", ".join(STYLE_SHIFT_NAMES) + " (a "
+                        "stance, pace and carriage drawn anew for each draw with its seed: "
+                        "reference_motion.library.style_shifted), so the clips of one style also stand for "
+                        "takes of other styles; the stride defaults to five times the clips")
     p.add_argument("--mirror-average", action="store_true",
                    help="every policy acts mirror-symmetrically (agents/mirror.py); rows name it 'PATH (mirror-averaged)'")
     p.add_argument("--ensemble", action="store_true",
@@ -74,10 +92,11 @@ def main() -> None:
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
     steps = preparation_of(args)
-    n_clips = len(expand_clips(args.clips))
+    n_clips = len(expand_clips(args.clips)) * (len(STYLE_SHIFT_NAMES) if args.style_shifts else 1)
     stride = n_clips if args.stride is None else args.stride
     if stride < n_clips:
-        p.error(f"--stride {stride} is below the {n_clips} clips: draws would share artefact seeds")
+        p.error(f"--stride {stride} is below the {n_clips} clips{' (style-shifted)' if args.style_shifts else ''}: "
+                "draws would share artefact seeds")
     policies = [load_policy(path) for path in args.policies]
     feet = {policy.foot for policy in policies}
     if len(feet) > 1:
@@ -95,8 +114,12 @@ def main() -> None:
           else "IMU takes are tracked as given (--no-denoise)", flush=True)
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
-    draws = [tracked_and_judged(reference_clips(args.clips, model, MimicConfig(), "imu", 1.0, seed), net, **steps)
-             for seed in seeds]
+
+    def corrupted_draw(seed: int) -> list:
+        clips = reference_clips(args.clips, model, MimicConfig(), None, 1.0, seed)
+        return corrupted(style_shifted(clips, seed) if args.style_shifts else clips, "imu", 1.0, seed)
+
+    draws = [tracked_and_judged(corrupted_draw(seed), net, **steps) for seed in seeds]
     if args.ensemble:
         mean = MeanAction(policies)
         actors = [(ensemble_label(args.policies), mean.widest, mean)]
@@ -104,12 +127,16 @@ def main() -> None:
         actors = [(path, policy, policy) for path, policy in zip(args.policies, policies)]
     rows = []
     for path, policy, actor in actors:
-        elr = np.array([evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
-                                          mirror_average=args.mirror_average)[0]["ELR_mean"]
-                        for tracked, judged in draws])
+        scored = [evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
+                                    mirror_average=args.mirror_average) for tracked, judged in draws]
+        elr = np.array([summary["ELR_mean"] for summary, _ in scored])
         label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
+        if args.style_shifts:
+            by_shift = [shift_means(runs, tracked) for (_, runs), (tracked, _) in zip(scored, draws)]
+            rows[-1]["ELR_per_shift"] = {name: float(np.mean([d[name] for d in by_shift])) for name in STYLE_SHIFT_NAMES}
+            print("  by version: " + ", ".join(f"{k} {v:.3f}" for k, v in rows[-1]["ELR_per_shift"].items()), flush=True)
     first = np.array(rows[0]["ELR_per_draw"])
     for row in rows[1:]:
         row["against_first"] = paired(np.array(row["ELR_per_draw"]), first)
@@ -118,7 +145,8 @@ def main() -> None:
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "denoiser": str(denoiser_path) if denoiser_path else None,
+               "episodes": args.episodes, "style_shifts": STYLE_SHIFT_NAMES if args.style_shifts else None,
+               "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
                "mirror_average": args.mirror_average, **preparation_record(steps),
                "rows": rows}, args.json)

@@ -29,7 +29,7 @@ from select_policy import read_draw_file
 @dataclass(frozen=True)
 class DenoiserDraws:
     """One policy's ELR per draw ``(draws,)`` behind ``denoiser``, with the draws' ``settings``
-    ``(seeds, clips, rollouts per clip and draw, the actor's label)``: the label names the policy
+    ``(seeds, clips, rollouts per clip and draw, style shifts, the actor's label)``: the label names the policy
     and what it tracked (``(mirror-averaged)``, ``+ grounded``, ``+ swing lift ...``), so two files
     compare denoisers only if one actor tracked both."""
 
@@ -53,7 +53,8 @@ def read_draws(spec: str) -> DenoiserDraws:
                          + (f" ({policy!r} is there {found.count(policy)} times)" if policy else ""))
     if data["denoiser"] is None:
         raise SystemExit(f"{path}: its draws were tracked without a denoiser")
-    settings = (tuple(data["seeds_of_first_clip"]), tuple(data["clips"]), data["episodes"], rows[0]["policy"])
+    settings = (tuple(data["seeds_of_first_clip"]), tuple(data["clips"]), data["episodes"],
+                tuple(data.get("style_shifts") or ()), rows[0]["policy"])
     return DenoiserDraws(path, str(data["denoiser"]), settings, np.asarray(rows[0]["ELR_per_draw"], dtype=float))
 
 
@@ -62,7 +63,8 @@ def compare(baseline: DenoiserDraws, candidates: list[DenoiserDraws]) -> list[di
     same draws behind different denoisers."""
     for c in candidates:
         if c.settings != baseline.settings:
-            raise SystemExit(f"{c.path} and {baseline.path} hold different draws (seeds, clips or rollouts) or were "
+            raise SystemExit(f"{c.path} and {baseline.path} hold different draws (seeds, clips, rollouts or style "
+                             "shifts) or were "
                              f"tracked by different actors ({c.settings[-1]!r}, {baseline.settings[-1]!r})")
     denoisers = [baseline.denoiser] + [c.denoiser for c in candidates]
     if len(set(denoisers)) != len(denoisers):

@@ -73,7 +73,7 @@ class Draws:
 
     Attributes:
         seeds: the first clip's artefact seed of each draw, ascending.
-        settings: ``(clips, rollouts per clip and draw, denoiser)``, the same in every file.
+        settings: ``(clips, rollouts per clip and draw, denoiser, style shifts)``, the same in every file.
         elr: per policy, its ELR on each draw ``(draws,)``, in the order of ``seeds``.
     """
 
@@ -83,13 +83,14 @@ class Draws:
 
 
 def gather_draws(paths: list[Path]) -> Draws:
-    """The draws in the given ``imu_draws.py`` files. Raises if the files differ in clips, rollouts
-    or denoiser, a seed repeats for a policy, or the policies' seeds differ."""
+    """The draws in the given ``imu_draws.py`` files. Raises if the files differ in clips, rollouts,
+    denoiser or style shifts (``--style-shifts``), a seed repeats for a policy, or the policies' seeds differ."""
     by_policy: dict[str, dict[int, float]] = {}
     settings: dict[str, tuple] = {}
     for path in paths:
         data = read_draw_file(path)
-        settings[str(path)] = (tuple(data["clips"]), data["episodes"], data["denoiser"])
+        settings[str(path)] = (tuple(data["clips"]), data["episodes"], data["denoiser"],
+                               tuple(data.get("style_shifts") or ()))
         for row in data["rows"]:
             draws = by_policy.setdefault(row["policy"], {})
             for seed, elr in zip(data["seeds_of_first_clip"], row["ELR_per_draw"]):
@@ -97,7 +98,7 @@ def gather_draws(paths: list[Path]) -> Draws:
                     raise SystemExit(f"{path}: {row['policy']} has draw seed {seed} twice")
                 draws[seed] = elr
     if len(set(settings.values())) > 1:
-        raise SystemExit(f"the draw files differ in clips, rollouts or denoiser: {settings}")
+        raise SystemExit(f"the draw files differ in clips, rollouts, denoiser or style shifts: {settings}")
     seed_sets = {policy: sorted(draws) for policy, draws in by_policy.items()}
     if len({tuple(s) for s in seed_sets.values()}) > 1:
         raise SystemExit(f"the policies were scored on different draws: {seed_sets}")
@@ -135,10 +136,11 @@ def main() -> None:
     clean = clean_scores(args.clean)
     gathered = gather_draws(args.draws)
     confirmation = gather_draws(args.confirm) if args.confirm else None
-    denoisers = {d.settings[2] for d in (gathered, confirmation) if d is not None}
-    if len(denoisers) > 1:
+    tracking = {d.settings[2:] for d in (gathered, confirmation) if d is not None}
+    if len(tracking) > 1:
         p.error(f"the rule's draws and confirmation draws must be tracked alike (one denoiser, or none for the rows "
-                f"with no denoiser); these files name {sorted(map(str, denoisers))}")
+                f"with no denoiser; style-shifted or not): these files have (denoiser, style shifts) "
+                f"{sorted(map(str, tracking))}")
     draws = gathered.elr
     short = {policy: len(elr) for policy, elr in draws.items() if len(elr) != args.draws_per_policy}
     if short:

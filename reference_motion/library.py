@@ -18,6 +18,7 @@ returned as saved (resampled only if asked), and so is a library take.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -173,6 +174,57 @@ def stance_copies(motions: Sequence[Motion], copies: int, seed: int | Sequence[i
     low, high = check_stance_extra(extra_m, "extra_m")
     rng = np.random.default_rng(seed)
     return [wider_stance(m, round(float(rng.uniform(low, high)), 3)) for m in motions for _ in range(copies)]
+
+
+@dataclass(frozen=True)
+class StyleShifts:
+    """How :func:`style_shifted` re-makes a take the ways the library's styles differ from one another:
+    in the width of the stance, the pace and the carriage. Each range stays within what the training
+    styles span, so a shifted take is one a person of another style could have walked.
+
+    Attributes:
+        stance_extra_m: (low, high) metres further apart the feet walk (:func:`stance_copies`'
+            default range: up to about the widest training stance, chimpira's sideways walks, against a
+            normal walk's), drawn uniformly.
+        slower: speed of the slower copy (a time warp; the training split's forward walks go at median
+            speeds from 0.3 to 1.6 m/s, 1.0 in the middle).
+        faster: speed of the faster copy.
+        posture: ranges of the carriage (stoop, crouch, stance, neck and elbows) the postured copy is
+            drawn from (:class:`~reference_motion.transforms.PostureRanges`).
+    """
+
+    stance_extra_m: tuple[float, float] = (0.1, 0.35)
+    slower: float = 0.8
+    faster: float = 1.25
+    posture: PostureRanges = PostureRanges()
+
+    def __post_init__(self) -> None:
+        check_stance_extra(self.stance_extra_m, "StyleShifts.stance_extra_m")
+        if not (0 < self.slower < 1 < self.faster and np.isfinite(self.faster)):
+            raise ValueError(f"StyleShifts: expected 0 < slower < 1 < faster, got slower {self.slower!r}, "
+                             f"faster {self.faster!r}")
+
+
+STYLE_SHIFT_NAMES = ("as given", "wider", "slower", "faster", "postured")
+"""The versions of a take :func:`style_shifted` returns, in its order."""
+
+
+def style_shifted(motions: Sequence[Motion], seed: int, shifts: StyleShifts = StyleShifts()) -> list[Motion]:
+    """Each of ``motions`` in the five versions of :data:`STYLE_SHIFT_NAMES`, take by take: as given,
+    walked wider (:func:`~reference_motion.stance.wider_stance` by a distance drawn from
+    ``shifts.stance_extra_m``), played at ``shifts.slower`` and at ``shifts.faster`` times its pace
+    (:func:`warped`), and carried with a posture drawn from ``shifts.posture`` (:func:`postured`);
+    ``5 · len(motions)`` clips, the draws made with ``numpy.random.default_rng(seed)``, so the same
+    seed gives the same copies. A validation set of one style seen through these is a set of takes
+    that differ from it as the styles differ, so a policy's choice can see style shift."""
+    rng = np.random.default_rng(seed)
+    out = []
+    for motion in motions:
+        extra = round(float(rng.uniform(*shifts.stance_extra_m)), 3)
+        posture = random_posture(motion.model, rng, shifts.posture)
+        out += [motion, wider_stance(motion, extra), warped(motion, shifts.slower), warped(motion, shifts.faster),
+                postured(motion, posture, "posture")]
+    return out
 
 
 def augmented(motions: Sequence[Motion], mirrored: bool = False, speeds: Sequence[float] = (1.0,)) -> list[Motion]:

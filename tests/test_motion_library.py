@@ -4,7 +4,8 @@ import pytest
 from reference_motion import deepmimic
 from reference_motion import rotations as rot
 from reference_motion.humanoid.model import load_model
-from reference_motion.library import augmented, load_motion, named_set
+from reference_motion.leg_gap import median_foot_gap
+from reference_motion.library import STYLE_SHIFT_NAMES, StyleShifts, augmented, load_motion, named_set, style_shifted
 from reference_motion.motion import Motion
 from reference_motion.quality import motion_quality
 from reference_motion.retarget import bone_direction_error, retarget
@@ -199,6 +200,30 @@ def test_augmented_set_mirrors_and_warps(walk):
     assert motion_quality(clips[0]).foot_skate_mps < 0.08  # re-pinned after warping
     with pytest.raises(ValueError, match="speeds is empty"):
         augmented([walk], speeds=())
+
+
+def test_style_shifted_takes_are_wider_slower_faster_and_carried_otherwise(walk):
+    """Five versions per take, the draws fixed by the seed: the wider copy's feet further apart by
+    its drawn distance, the warped ones as long as their pace says, the postured one another carriage."""
+    clips = style_shifted([walk], seed=3)
+    assert len(clips) == len(STYLE_SHIFT_NAMES) == 5
+    given, wider, slower, faster, postured = clips
+    assert given is walk
+    extra = float(wider.name.split("(stance +")[1].split(" m)")[0])
+    assert 0.1 <= extra <= 0.35
+    gap = median_foot_gap(walk.model, wider.qpos) - median_foot_gap(walk.model, walk.qpos)
+    assert gap == pytest.approx(extra, abs=0.05)
+    assert slower.n_frames == pytest.approx(walk.n_frames / 0.8, abs=2)
+    assert faster.n_frames == pytest.approx(walk.n_frames / 1.25, abs=2)
+    assert np.abs(postured.qpos[:, 7:] - walk.qpos[:, 7:]).max() > np.radians(1)
+    again = style_shifted([walk], seed=3)
+    assert [c.name for c in again] == [c.name for c in clips]
+    assert np.array_equal(again[4].qpos, postured.qpos)
+    assert style_shifted([walk], seed=4)[1].name != wider.name
+    with pytest.raises(ValueError, match="expected 0 < slower < 1 < faster"):
+        StyleShifts(slower=1.2)
+    with pytest.raises(ValueError, match="StyleShifts.stance_extra_m"):
+        StyleShifts(stance_extra_m=(0.3, 0.1))
 
 
 def test_motion_npz_round_trip(tmp_path, walk):

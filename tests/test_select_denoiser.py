@@ -12,9 +12,10 @@ sys.path.append(str(BENCH))
 from select_denoiser import compare, read_draws  # noqa: E402
 
 
-def draws_file(path: Path, denoiser: str | None, elr: dict[str, list[float]], seeds=(100, 107, 114)) -> str:
+def draws_file(path: Path, denoiser: str | None, elr: dict[str, list[float]], seeds=(100, 107, 114),
+               style_shifts: list[str] | None = None) -> str:
     path.write_text(json.dumps({"seeds_of_first_clip": list(seeds), "clips": ["val"], "episodes": 2,
-                                "denoiser": denoiser,
+                                "denoiser": denoiser, "style_shifts": style_shifts,
                                 "rows": [{"policy": p, "ELR_per_draw": e} for p, e in elr.items()]}))
     return str(path)
 
@@ -43,6 +44,9 @@ def test_other_draws_or_the_same_denoiser_are_refused(tmp_path):
         compare(base, [read_draws(draws_file(tmp_path / "c.json", "new", {"pi": [0.9, 0.6, 0.9]}, seeds=(1, 2, 3)))])
     with pytest.raises(SystemExit, match="tracked by different actors .'pi \\+ grounded', 'pi'"):
         compare(base, [read_draws(draws_file(tmp_path / "g.json", "new", {"pi + grounded": [0.9, 0.6, 0.9]}))])
+    shifted = draws_file(tmp_path / "s.json", "new", {"pi": [0.9, 0.6, 0.9]}, style_shifts=["as given", "wider"])
+    with pytest.raises(SystemExit, match="different draws .seeds, clips, rollouts or style shifts"):
+        compare(base, [read_draws(shifted)])
     with pytest.raises(SystemExit, match="another denoiser"):
         compare(base, [read_draws(draws_file(tmp_path / "d.json", "dm", {"pi": [0.9, 0.6, 0.9]}))])
     with pytest.raises(SystemExit, match="without a denoiser"):

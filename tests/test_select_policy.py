@@ -17,8 +17,10 @@ def write(path: Path, data: dict) -> Path:
     return path
 
 
-def draws_file(path: Path, seeds: list[int], elr: dict[str, list[float]], denoiser: str | None = "dm") -> Path:
+def draws_file(path: Path, seeds: list[int], elr: dict[str, list[float]], denoiser: str | None = "dm",
+               style_shifts: list[str] | None = None) -> Path:
     return write(path, {"seeds_of_first_clip": seeds, "clips": ["val"], "episodes": 2, "denoiser": denoiser,
+                        "style_shifts": style_shifts,
                         "rows": [{"policy": p, "ELR_per_draw": e} for p, e in elr.items()]})
 
 
@@ -56,8 +58,11 @@ def test_a_repeated_draw_is_refused(tmp_path):
 def test_draws_with_other_settings_or_missing_fields_are_refused(tmp_path):
     one = draws_file(tmp_path / "a.json", [100], {"a": [0.8]})
     raw = draws_file(tmp_path / "b.json", [107], {"a": [0.6]}, denoiser=None)
-    with pytest.raises(SystemExit, match="differ in clips, rollouts or denoiser"):
+    with pytest.raises(SystemExit, match="differ in clips, rollouts, denoiser or style shifts"):
         gather_draws([one, raw])
+    shifted = draws_file(tmp_path / "s.json", [107], {"a": [0.6]}, style_shifts=["as given", "wider"])
+    with pytest.raises(SystemExit, match="differ in clips, rollouts, denoiser or style shifts"):
+        gather_draws([one, shifted])
     short = draws_file(tmp_path / "c.json", [100, 107], {"a": [0.8]})
     with pytest.raises(SystemExit, match=r"c\.json: rows\[0\] needs 'policy' and one 'ELR_per_draw' per seed"):
         gather_draws([short])
