@@ -1,0 +1,36 @@
+"""bench/imu_draws.py: ELR by style-shifted version, on hand-made rollouts."""
+
+import sys
+from pathlib import Path
+from types import SimpleNamespace
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "bench"
+sys.path.append(str(BENCH))
+from imu_draws import shift_means  # noqa: E402
+
+from agents.evaluation import Rollout  # noqa: E402
+from reference_motion.library import STYLE_SHIFT_NAMES  # noqa: E402
+
+
+def run(clip: str, elr: float) -> Rollout:
+    return Rollout(clip=clip, start_frame=0, elr=elr, sr90=float(elr >= 0.9), rde=0.0, mrr=0.0, ended_by="",
+                   simulated=None, reference=None)
+
+
+def test_rollouts_are_averaged_by_the_version_of_their_take():
+    """Two takes in five versions each (take by take, as style_shifted returns them): each version's
+    mean is over both takes' rollouts of it, whatever order the rollouts come in."""
+    names = [f"{take} v{k}" for take in ("a", "b") for k in range(len(STYLE_SHIFT_NAMES))]
+    tracked = [SimpleNamespace(name=n) for n in names]
+    elr = {"a v0": 1.0, "b v0": 0.8, "a v1": 0.5, "b v1": 0.7, "a v2": 1.0, "b v2": 1.0,
+           "a v3": 0.2, "b v3": 0.4, "a v4": 0.9, "b v4": 0.9}
+    runs = [run(n, elr[n]) for n in reversed(names)] + [run("a v3", 0.6)]
+    means = shift_means(runs, tracked)
+    assert list(means) == list(STYLE_SHIFT_NAMES)
+    assert means["as given"] == pytest.approx(0.9)
+    assert means["wider"] == pytest.approx(0.6)
+    assert means["slower"] == pytest.approx(1.0)
+    assert means["faster"] == pytest.approx(0.4)  # (0.2 + 0.4 + 0.6) / 3
+    assert means["postured"] == pytest.approx(0.9)
