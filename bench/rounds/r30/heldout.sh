@@ -2,12 +2,13 @@
 # usage: bench/rounds/r30/heldout.sh NAME ROW   (ROW: slow or raw)
 # The held-out rows of a row a registered candidate NAME (its checkpoint in runs/r28/NAME_candidate.txt) led on
 # validation and on its confirmation draws, once (seeds 1000-4000, the test split and the DeepMimic walkers), as
-# round 29 scored PV (bench/rounds/r29/heldout_pv.sh); later rounds call this one rather than a copy.
+# round 29 scored PV (bench/rounds/r29/heldout_pv.sh); later rounds call this one rather than a copy. DENOISER=DIR puts
+# another denoiser in front of the slow row (default: imu_denoiser_soles_quint_mirror).
 cd "$(dirname "$0")/../../.."
 N=$1
 W=$(cat "runs/r28/${N}_candidate.txt") || exit 1
 case $2 in
-  slow) QT=models/imu_denoiser_soles_quint_mirror
+  slow) QT=${DENOISER:-models/imu_denoiser_soles_quint_mirror}
         SEEDS="1000 2000" bash bench/rounds/r24/heldout_slow.sh "$N" "$W" $QT --even-legs --part-legs &
         FIRST=$!
         SEEDS="3000 4000" bash bench/rounds/r24/heldout_slow.sh "$N" "$W" $QT --even-legs --part-legs || exit 1
