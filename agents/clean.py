@@ -70,8 +70,8 @@ from agents.search import SearchConfig, search
 from agents.sidecar import repository_relative
 from envs.config import FOOT_MODELS, MODELS_DIR
 from envs.preparation import prepared, preparation_of, preparation_record
-from perception.imu_denoiser import (DEFAULT_DENOISER, SlowCorrections, add_slow_corrections_option, check_slowing,
-                                     slowed)
+from perception.imu_denoiser import (DEFAULT_DENOISER, STANCES_DENOISER, SlowCorrections, add_slow_corrections_option,
+                                     check_slowing, slowed)
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
@@ -462,8 +462,8 @@ class CleanPreset:
 
 
 PRESETS: dict[str, CleanPreset] = {
-    # an IMU-suit take: the row "the same IMU takes with an IMU denoiser in front" (LU, round 31)
-    "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_long_window", denoise=DEFAULT_DENOISER, denoise_slow=0.5,
+    # an IMU-suit take: the row "behind the IMU denoiser" (LU, round 31; its denoiser SQ, round 32)
+    "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_long_window", denoise=STANCES_DENOISER, denoise_slow=0.5,
                        even_legs=True, part_legs=LegGap.min_gap_m),
     # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")
     "optical": CleanPreset(policy=MODELS_DIR / "mimic_general_stance_avg"),

@@ -36,9 +36,14 @@ from reference_motion.motion import Motion
 from reference_motion.transforms import mirror_map, mirror_twin
 
 DEFAULT_DENOISER = Path(__file__).resolve().parents[1] / "models" / "imu_denoiser_soles_quint_mirror"
-"""The IMU denoiser a bare ``--denoise`` uses: validation's choice, five networks trained with
-``python -m perception train-denoiser --sole-weight 4`` and averaged with their mirror images
-(``ensemble-denoisers --mirror-average``; README, "Undoing the IMU suit's joint-angle errors")."""
+"""The IMU denoiser a bare ``--denoise`` uses (validation's choice until stop 75, kept so that earlier
+commands reproduce): five networks trained with ``python -m perception train-denoiser --sole-weight 4``
+and averaged with their mirror images (``ensemble-denoisers --mirror-average``; docs/results.md,
+"Undoing the IMU suit's joint-angle errors")."""
+STANCES_DENOISER = DEFAULT_DENOISER.parent / "imu_denoiser_stances_quint_mirror"
+"""Validation's choice since stop 75 (docs/results.md, "Round 32"), the denoiser of ``clean.py --preset imu``:
+the same five commands, each also trained on every take walked up to 0.35 m wider (``train-denoiser
+--stances 1``), so it gives a wide stance back where :data:`DEFAULT_DENOISER` narrows it."""
 BODY_FEATURES = (("root_z", "up_x", "up_y", "up_z", "vel_forward", "vel_left")
                  + tuple(f"{point}_{axis}" for point in CONTACT_CHANNELS for axis in ("forward", "left"))
                  + tuple(f"{point}_z" for point in CONTACT_CHANNELS))
