@@ -526,8 +526,9 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     if method:
         p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
                        help="an IMU take: undo its joint-angle and height errors with the IMU denoiser "
-                            "(perception/imu_denoiser.py; DIR default: validation's choice, "
-                            "models/imu_denoiser_soles_quint_mirror) before the policy is "
+                            "(perception/imu_denoiser.py; DIR default: models/imu_denoiser_soles_quint_mirror, "
+                            "validation's choice until stop 75; --preset imu uses "
+                            "models/imu_denoiser_stances_quint_mirror) before the policy is "
                             "adapted to it and re-performs it; the input metrics and the video's left side "
                             "stay the take as given")
         add_slow_corrections_option(p)

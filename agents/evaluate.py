@@ -63,7 +63,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     p.add_argument("--seed", type=int, default=1000, help="artefact seed of the first clip (clip i gets seed + i)")
     p.add_argument("--denoise", nargs="?", const=DEFAULT_DENOISER, type=Path, metavar="DIR",
                    help="the policy mimics each clip after the IMU denoiser (perception/imu_denoiser.py; DIR "
-                        "default: validation's choice, models/imu_denoiser_soles_quint_mirror) and is judged against "
+                        "default: models/imu_denoiser_soles_quint_mirror, validation's choice until stop 75; since then "
+                        "models/imu_denoiser_stances_quint_mirror) and is judged against "
                         "the clip as given")
     add_slow_corrections_option(p)
     add_leg_symmetry_option(p, "the policy mimics the clip with its legs evened and is judged against the clip as given")

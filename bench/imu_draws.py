@@ -47,14 +47,16 @@ from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option
 from reference_motion.leg_gap import add_leg_gap_option
 from reference_motion.leg_symmetry import add_leg_symmetry_option
-from reference_motion.motion import Motion
+from reference_motion.cli import require_frames
 from reference_motion.library import STYLE_SHIFT_NAMES, expand_clips, style_shifted
+from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options
 
 
 def shift_means(runs: list[Rollout], tracked: list[Motion]) -> dict[str, float]:
     """Mean ELR of ``runs`` by style-shifted version (:data:`STYLE_SHIFT_NAMES`), the clips ``tracked``
-    being :func:`style_shifted`'s five versions take by take."""
+    being :func:`style_shifted`'s five versions take by take; a rollout's version is read from its
+    clip's name (a take listed twice has the same five names, and so the same versions)."""
     version = {clip.name: STYLE_SHIFT_NAMES[i % len(STYLE_SHIFT_NAMES)] for i, clip in enumerate(tracked)}
     return {name: float(np.mean([r.elr for r in runs if version[r.clip] == name])) for name in STYLE_SHIFT_NAMES}
 
@@ -67,7 +69,7 @@ def main() -> None:
     p.add_argument("--first-seed", type=int, default=20000,
                    help="artefact seed of the first clip's first draw (default: a range no earlier run used)")
     p.add_argument("--stride", type=int, default=None, help="seed step from one draw to the next (default: the "
-                                                            "number of clips)")
+                                                            "number of clips, five times it with --style-shifts)")
     p.add_argument("--episodes", type=int, default=2, help="rollouts per clip and draw")
     p.add_argument("--style-shifts", action="store_true",
                    help="each draw tracks every clip in five versions, " + ", ".join(STYLE_SHIFT_NAMES) + " (a "
@@ -117,7 +119,10 @@ def main() -> None:
 
     def corrupted_draw(seed: int) -> list:
         clips = reference_clips(args.clips, model, MimicConfig(), None, 1.0, seed)
-        return corrupted(style_shifted(clips, seed) if args.style_shifts else clips, "imu", 1.0, seed)
+        if args.style_shifts:  # a faster copy is shorter: each version must still hold an episode
+            clips = [require_frames(c, MimicConfig().min_clip_frames + 1, c.name, "a mimic episode")
+                     for c in style_shifted(clips, seed)]
+        return corrupted(clips, "imu", 1.0, seed)
 
     draws = [tracked_and_judged(corrupted_draw(seed), net, **steps) for seed in seeds]
     if args.ensemble:

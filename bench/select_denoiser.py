@@ -53,8 +53,8 @@ def read_draws(spec: str) -> DenoiserDraws:
                          + (f" ({policy!r} is there {found.count(policy)} times)" if policy else ""))
     if data["denoiser"] is None:
         raise SystemExit(f"{path}: its draws were tracked without a denoiser")
-    settings = (tuple(data["seeds_of_first_clip"]), tuple(data["clips"]), data["episodes"],
-                tuple(data.get("style_shifts") or ()), rows[0]["policy"])
+    settings = (tuple(data["seeds_of_first_clip"]), tuple(data["clips"]), data["episodes"], data["style_shifts"],
+                rows[0]["policy"])
     return DenoiserDraws(path, str(data["denoiser"]), settings, np.asarray(rows[0]["ELR_per_draw"], dtype=float))
 
 

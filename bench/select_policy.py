@@ -58,8 +58,10 @@ DRAW_FIELDS = ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser")
 
 def read_draw_file(path: Path) -> dict:
     """An ``imu_draws.py --json`` file, with a clear error if it lacks one of :data:`DRAW_FIELDS`
-    or a row lacks its ``policy`` or one ``ELR_per_draw`` per seed."""
+    or a row lacks its ``policy`` or one ``ELR_per_draw`` per seed; its ``style_shifts`` as a tuple,
+    empty for plain draws (files from before ``--style-shifts`` have none)."""
     data = read_json(path, DRAW_FIELDS)
+    data["style_shifts"] = tuple(data.get("style_shifts") or ())
     for i, row in enumerate(data["rows"]):
         if "policy" not in row or len(row.get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
             raise SystemExit(f"{path}: rows[{i}] needs 'policy' and one 'ELR_per_draw' per seed in "
@@ -89,8 +91,7 @@ def gather_draws(paths: list[Path]) -> Draws:
     settings: dict[str, tuple] = {}
     for path in paths:
         data = read_draw_file(path)
-        settings[str(path)] = (tuple(data["clips"]), data["episodes"], data["denoiser"],
-                               tuple(data.get("style_shifts") or ()))
+        settings[str(path)] = (tuple(data["clips"]), data["episodes"], data["denoiser"], data["style_shifts"])
         for row in data["rows"]:
             draws = by_policy.setdefault(row["policy"], {})
             for seed, elr in zip(data["seeds_of_first_clip"], row["ELR_per_draw"]):

@@ -56,8 +56,9 @@ def add_denoise_option(parser: argparse.ArgumentParser, what: str) -> None:
     """``--denoise [DIR]`` (a path string, ``None`` when absent; the bare flag gives
     :data:`DEFAULT_DENOISER`); ``what`` ends its help: what passes through the denoiser, and how."""
     parser.add_argument("--denoise", nargs="?", const=str(DEFAULT_DENOISER), default=None, metavar="DIR",
-                        help="pass corrupted takes through the IMU denoiser in DIR (default: validation's choice, "
-                             f"models/{DEFAULT_DENOISER.name}): {what}")
+                        help="pass corrupted takes through the IMU denoiser in DIR (default: "
+                             f"models/{DEFAULT_DENOISER.name}, validation's choice until stop 75; since then "
+                             f"models/{STANCES_DENOISER.name}): {what}")
 
 
 def motion_features(motion: Motion) -> np.ndarray:

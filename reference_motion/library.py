@@ -183,9 +183,10 @@ class StyleShifts:
     styles span, so a shifted take is one a person of another style could have walked.
 
     Attributes:
-        stance_extra_m: (low, high) metres further apart the feet walk (:func:`stance_copies`'
-            default range: up to about the widest training stance, chimpira's sideways walks, against a
-            normal walk's), drawn uniformly.
+        stance_extra_m: (low, high) metres further apart the feet walk, drawn uniformly: within
+            :data:`STANCE_EXTRA_M`, :func:`stance_copies`' default range (up to about the widest
+            training stance, chimpira's sideways walks, against a normal walk's), from 0.1 m so that
+            every copy is a wider walk.
         slower: speed of the slower copy (a time warp; the training split's forward walks go at median
             speeds from 0.3 to 1.6 m/s, 1.0 in the middle).
         faster: speed of the faster copy.

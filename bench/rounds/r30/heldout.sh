@@ -8,10 +8,10 @@ cd "$(dirname "$0")/../../.."
 N=$1
 W=$(cat "runs/r28/${N}_candidate.txt") || exit 1
 case $2 in
-  slow) QT=${DENOISER:-models/imu_denoiser_soles_quint_mirror}
-        SEEDS="1000 2000" bash bench/rounds/r24/heldout_slow.sh "$N" "$W" $QT --even-legs --part-legs &
+  slow) D=${DENOISER:-models/imu_denoiser_soles_quint_mirror}
+        SEEDS="1000 2000" bash bench/rounds/r24/heldout_slow.sh "$N" "$W" "$D" --even-legs --part-legs &
         FIRST=$!
-        SEEDS="3000 4000" bash bench/rounds/r24/heldout_slow.sh "$N" "$W" $QT --even-legs --part-legs || exit 1
+        SEEDS="3000 4000" bash bench/rounds/r24/heldout_slow.sh "$N" "$W" "$D" --even-legs --part-legs || exit 1
         wait $FIRST || exit 1 ;;
   raw)  bash bench/rounds/r23/heldout.sh "$N" "$W" --even-legs || exit 1 ;;
   *) echo "heldout.sh: ROW is slow or raw, got '$2'" >&2; exit 2 ;;

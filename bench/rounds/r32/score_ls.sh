@@ -9,6 +9,7 @@ SQ=models/imu_denoiser_stances_quint_mirror
 while [ ! -f runs/r28/LS_candidate.txt ]; do sleep 20; done
 LS=$(cat runs/r28/LS_candidate.txt)
 LABEL=" (mirror-averaged) + denoiser's hinge corrections slowed to 0.5 s + legs evened + legs parted to 15 cm + grounded + swing lift 15 deg above 3 cm"
+[ -f bench/results/round24_val_clean_LUSQ.json ] || bash bench/rounds/r24/clean_slow.sh LUSQ $LU $SQ --even-legs --part-legs
 [ -f bench/results/round32_shifted_1590000_LU_SQ.json ] || bash bench/rounds/r32/shifted.sh LU_SQ $LU 1590000 $SQ
 bash bench/rounds/r24/clean_slow.sh LS "$LS" $SQ --even-legs --part-legs &
 CLEAN=$!
