@@ -500,9 +500,9 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     if method:
         p.add_argument("--preset", choices=sorted(PRESETS),
                        help="clean with the policy and preparation validation chose for this kind of take: imu, an "
-                            "IMU-suit take (models/mimic_general_style_shifts behind the stance-trained IMU denoiser's slow "
-                            "corrections, legs "
-                            "evened and parted, grounded, swing-lifted, mirror-averaged, zero-shot); optical, a marker "
+                            "IMU-suit take (models/mimic_general_style_shifts behind the stance-trained IMU denoiser's "
+                            "slow corrections, legs evened and parted, grounded, swing-lifted, mirror-averaged, "
+                            "zero-shot); optical, a marker "
                             "take (models/mimic_general_stance_avg, grounded, swing-lifted, mirror-averaged, zero-shot). "
                             "A value given as well wins; what the preset turns on cannot be turned off (give the flags "
                             "instead)")
