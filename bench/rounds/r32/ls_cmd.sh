@@ -5,11 +5,15 @@
 # From LU's run checkpoint as committed (models/mimic_general_long_window/run/). Resumable:
 # train_ppo.py --run-dir runs/r32/ppo_ls --resume.
 # Stop 75: the run was killed for memory (23.3 GiB resident, all the machine had) at 745,472 steps; its last checkpoint,
-# step 500,000, is shipped as models/mimic_general_style_shifts, whose run/ this carries on from on a machine without
-# runs/r32/ppo_ls, with a smaller track cache (--track-cache 300; the references are three times LU's).
+# step 500,000, is shipped as models/mimic_general_style_shifts. On a machine without runs/r32/ppo_ls this carries on
+# from the newest checkpoint kept in models/, with a smaller track cache (--track-cache 300; the references are three
+# times LU's).
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r32
-[ -d runs/r32/ppo_ls ] || [ ! -d models/mimic_general_style_shifts/run ] || cp -r models/mimic_general_style_shifts/run runs/r32/ppo_ls
+# the newest kept checkpoint: the run carried on past the shipped one (ls_run/, bench/rounds/r32/keep_ls.sh), else run/
+for KEPT in models/mimic_general_style_shifts/ls_run models/mimic_general_style_shifts/run; do
+  [ -d runs/r32/ppo_ls ] || [ ! -d $KEPT ] || cp -r $KEPT runs/r32/ppo_ls
+done
 if [ -f runs/r32/ppo_ls/args.json ]; then
   MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r32/ppo_ls --resume --track-cache 300 \
     >> runs/r32/ppo_ls.log 2>&1
