@@ -6,8 +6,10 @@
 # train_ppo.py --run-dir runs/r32/ppo_ls --resume.
 # Stop 75: the run was killed for memory (23.3 GiB resident, all the machine had) at 745,472 steps; its last checkpoint,
 # step 500,000, is shipped as models/mimic_general_style_shifts. On a machine without runs/r32/ppo_ls this carries on
-# from the newest checkpoint kept in models/, with a smaller track cache (--track-cache 300; the references are three
-# times LU's).
+# from the newest checkpoint kept in models/. Each of the 32 envs keeps its own LRU cache of reference tracks (a few MB
+# each; envs share a track only when they hold the very same one), and LS has about four times LU's references, so
+# fewer are shared: resumed with --track-cache 300 its memory grew 0.7 GB a minute to 13 GB in 14 minutes (kept at
+# 791,616 steps, stop 75); --track-cache 80 bounds the caches to about 10 GB (untried).
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r32
 # the newest kept checkpoint: the run carried on past the shipped one (ls_run/, bench/rounds/r32/keep_ls.sh), else run/
@@ -15,7 +17,7 @@ for KEPT in models/mimic_general_style_shifts/ls_run models/mimic_general_style_
   [ -d runs/r32/ppo_ls ] || [ ! -d $KEPT ] || cp -r $KEPT runs/r32/ppo_ls
 done
 if [ -f runs/r32/ppo_ls/args.json ]; then
-  MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r32/ppo_ls --resume --track-cache 300 \
+  MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r32/ppo_ls --resume --track-cache 80 \
     >> runs/r32/ppo_ls.log 2>&1
   exit
 fi
