@@ -7,8 +7,8 @@
 # Stop 75: the run was killed for memory (23.3 GiB resident, all the machine had) at 745,472 steps; its last checkpoint,
 # step 500,000, is shipped as models/mimic_general_style_shifts. On a machine without runs/r32/ppo_ls this carries on
 # from the newest checkpoint kept in models/. Each of the 32 envs keeps its own LRU cache of reference tracks (a few MB
-# each; envs share a track only when they hold the very same one), and LS has about four times LU's references, so
-# fewer are shared: resumed with --track-cache 300 its memory grew 0.7 GB a minute to 13 GB in 14 minutes (kept at
+# each; envs share a track only when they hold the very same one), and LS has about four times LU's references, so,
+# most likely, fewer are shared: resumed with --track-cache 300 its memory grew 0.7 GB a minute to 13 GB in 14 minutes (kept at
 # 791,616 steps, stop 75); --track-cache 80 bounds the caches to about 10 GB (untried).
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r32
