@@ -117,10 +117,12 @@ def main() -> None:
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
 
+    config = MimicConfig()
+
     def corrupted_draw(seed: int) -> list:
-        clips = reference_clips(args.clips, model, MimicConfig(), None, 1.0, seed)
+        clips = reference_clips(args.clips, model, config, None, 1.0, seed)
         if args.style_shifts:  # a faster copy is shorter: each version must still hold an episode
-            clips = [require_frames(c, MimicConfig().min_clip_frames + 1, c.name, "a mimic episode")
+            clips = [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode")
                      for c in style_shifted(clips, seed)]
         return corrupted(clips, "imu", 1.0, seed)
 
