@@ -9,7 +9,7 @@ environment drawing its own variants (``ArtefactMix(seed=None)``, the reset seed
 environment builds and holds its own corrupted tracks (the clean ones are shared either way, so
 the code before sharing, which also built each clean track per environment, was slower still); with a fixed variant seed (``ArtefactMix(seed=0)``, what
 ``train_ppo`` now sets) the environments make the same variants and share one copy
-(``envs.mimic._SHARED_TRACKS``). Measured side by side in one run: wall time to give every
+(``envs.track_cache.TRACKS``). Measured side by side in one run: wall time to give every
 environment every track, and the bytes of distinct tracks held.
 """
 
@@ -23,6 +23,7 @@ import numpy as np
 
 import envs  # noqa: F401  (registers the ids)
 from envs import ArtefactMix
+from envs.track_cache import REFERENCES, TRACKS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from reference_motion.library import expand_clips, load_motion
 
@@ -36,6 +37,8 @@ def track_bytes(track) -> int:
 
 def cold_start(clips: list, n_envs: int, variants: int, seed: int | None) -> dict:
     """Build every track in ``n_envs`` environments; wall time and distinct bytes."""
+    TRACKS.clear()  # as in a new process: nothing kept from the other measurement
+    REFERENCES.clear()
     mix = ArtefactMix(fraction=0.5, variants_per_clip=variants, seed=seed)
     made = [gym.make("MimicIMU-v0", clips=clips, artefacts=mix).unwrapped for _ in range(n_envs)]
     for i, env in enumerate(made):

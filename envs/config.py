@@ -78,8 +78,15 @@ class MimicConfig:
             going unstable, as does any NaN/inf.
         min_clip_frames: shortest clip accepted (frames after the first; 30 = 0.5 s): clips shorter
             than an episode are played to their end.
-        track_cache_size: reference tracks (clip or corrupted variant) kept in memory per env,
-            least recently used dropped first (each is ~10 kB per frame; rebuilt in ~20 ms).
+        track_cache_size: reference tracks (clip or corrupted variant) kept in memory by each
+            process, shared by all its envs, least recently used dropped first (each ~5 kB a frame,
+            ~2 MB for 400 frames; rebuilt in ~25 ms from its kept reference). The largest value
+            asked by any env of a process holds (:mod:`envs.track_cache`).
+        reference_cache_size: prepared references (a clip or corrupted variant as tracked, after
+            corruption, denoising and preparation; ``qpos`` only, ~0.4 kB a frame) kept by each
+            process, so that a dropped track is rebuilt without corrupting and denoising again
+            (~50 ms saved for a 400-frame variant behind a denoiser). Shared and bounded as
+            ``track_cache_size``.
         obs_frame: axes of the observation's vectors (:data:`envs.observations.OBS_FRAMES`):
             ``"world"`` (ADAPT's, adapt §3.2.1), ``"heading"`` (the character's heading frame,
             plus its CoM offset from the reference's; 3 values longer) or ``"reference"``
@@ -154,7 +161,8 @@ class MimicConfig:
     init_clearance_m: float = 0.002
     max_joint_speed: float = 200.0
     min_clip_frames: int = 30
-    track_cache_size: int = 128
+    track_cache_size: int = 256
+    reference_cache_size: int = 4096
     obs_frame: str = "world"
     com_offset: bool = False
     velocity_feedforward: bool = False
@@ -183,7 +191,7 @@ class MimicConfig:
                              f"{self.steer_gain_hz!r}, {self.steer_max_speed_mps!r}")
         for name in ("lookahead", "lookbehind"):
             steps = tuple(getattr(self, name))  # a sidecar's JSON list arrives as a list
-            if any(isinstance(k, bool) or not isinstance(k, (int, np.integer)) for k in steps) or any(
+            if not all(map(_whole, steps)) or any(
                     k < 1 for k in steps) or list(steps) != sorted(set(steps)):
                 raise ValueError(f"{name} must be strictly increasing positive whole control steps, "
                                  f"got {getattr(self, name)!r}")
@@ -201,6 +209,10 @@ class MimicConfig:
         if self.episode_frames < round(ratio):
             raise ValueError(f"episode_frames must be at least one control step ({round(ratio)} frames), "
                              f"got {self.episode_frames}")
+        if not (_whole(self.track_cache_size) and self.track_cache_size >= 1
+                and _whole(self.reference_cache_size) and self.reference_cache_size >= 0):
+            raise ValueError(f"track_cache_size must be a whole number >= 1 and reference_cache_size >= 0, got "
+                             f"{self.track_cache_size!r}, {self.reference_cache_size!r}")
         if not 0.0 < self.action_smoothing <= 1.0:
             raise ValueError(f"action_smoothing must be in (0, 1], got {self.action_smoothing}")
 
@@ -508,3 +520,8 @@ class GaitConfig:
 GAIT_ABLATIONS = ("no_fc", "no_toeref")
 """ContactVision Fig. 12's ablations of ``MimicGait-v0``'s constants (:meth:`GaitConfig.ablated`):
 no contact reward, toe targets 0."""
+
+
+def _whole(value: object) -> bool:
+    """Whether ``value`` is a whole number (a Python or NumPy integer, not a bool)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)

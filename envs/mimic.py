@@ -11,8 +11,6 @@ from __future__ import annotations
 
 import copy
 import hashlib
-import weakref
-from collections import OrderedDict
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -31,6 +29,7 @@ from envs.preparation import no_preparation, prepared
 from envs.privileged import privileged_features, privileged_size
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
+from envs.track_cache import REFERENCES, TRACKS
 from envs.rendering import GhostRenderer
 from envs.rewards import (MAX_STEP_REWARD, RewardTerms, body_points, com_velocity_reward, cube_face_points,
                           cube_face_velocities, fallen, lagging, mimic_reward, still_feet_reward, unstable)
@@ -204,12 +203,16 @@ class MimicEnv(gym.Env):
 
         self.clips = self._load_clips(clips)
         self._clip_keys = [_content_key(c) for c in self.clips]
-        """Per clip: a key of its content (:func:`_content_key`), for :data:`_SHARED_TRACKS`."""
+        """Per clip: a key of its content (:func:`_content_key`), for :mod:`envs.track_cache`."""
         self._judged = None if judged_clips is None else self._load_judged(judged_clips)
         self._judged_keys = [] if self._judged is None else [_content_key(c) for c in self._judged]
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
-        self._tracks: OrderedDict[tuple[int, int, bool, tuple[str, ...]], ReferenceTrack] = OrderedDict()
+        self._contents: dict[tuple[int, int, bool, tuple[str, ...]], tuple] = {}
+        """Per :meth:`track` key ``(clip, variant, as_given, without)``: the content it is kept by in
+        this process's caches (:mod:`envs.track_cache`)."""
+        TRACKS.reserve(config.track_cache_size)
+        REFERENCES.reserve(config.reference_cache_size)
         self._variant_seeds: dict[tuple[int, int], int] = {}
         self._variant_base: int | None = None if artefacts is None else artefacts.seed
         """Base seed of the corrupted variants: ``artefacts.seed`` if fixed, else the last reset seed."""
@@ -284,10 +287,9 @@ class MimicEnv(gym.Env):
     def track(self, clip: int, variant: int = -1, *, as_given: bool = False,
               without: tuple[str, ...] = ()) -> ReferenceTrack:
         """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
-        ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use (or
-        taken from another environment of this process that holds the same one,
-        :data:`_SHARED_TRACKS`). The clip and its corrupted variants are prepared as ``ArtefactMix``
-        says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
+        ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use and
+        kept by this process for all its environments (:mod:`envs.track_cache`). The clip and its
+        corrupted variants are prepared as ``ArtefactMix`` says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
         variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
         (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
         prepared. ``without``: a corrupted variant with these artefact kinds switched off (with
@@ -302,11 +304,18 @@ class MimicEnv(gym.Env):
             raise TypeError(f"track: without takes a sequence of artefact kinds, e.g. ({without!r},), not a string")
         without = tuple(sorted(set(without))) if variant >= 0 else ()  # one cache slot whatever the order
         key = (clip, variant, as_given, without)
-        if key in self._tracks:
-            self._tracks.move_to_end(key)
-            return self._tracks[key]
-        while len(self._tracks) >= self.config.track_cache_size:
-            self._tracks.popitem(last=False)  # least recently used; rebuilt identically when needed
+        content = self._contents.get(key)
+        if content is None:
+            content = self._contents[key] = self._track_content(clip, variant, as_given, without)
+        track = TRACKS.get(content)
+        if track is None:
+            track = TRACKS.put(content, self._built_track(clip, variant, as_given, content))
+        return track
+
+    def _track_content(self, clip: int, variant: int, as_given: bool, without: tuple[str, ...]) -> tuple:
+        """What track ``(clip, variant, as_given, without)`` (:meth:`track`'s, checked) is made of, as
+        the key of :data:`envs.track_cache.TRACKS`: model, clip content, corruption (recipe, seed),
+        denoiser and its slowing, preparation steps, cube size. Draws a variant's seed and strength."""
         corruption = None
         if variant >= 0:
             mix = self.artefacts
@@ -321,24 +330,33 @@ class MimicEnv(gym.Env):
         if variant < JUDGED or (judged and self._judged is None):
             raise ValueError(f"track variant {variant}: expected -1 (the clip), a corrupted variant >= 0, or JUDGED "
                              f"({JUDGED}) on an env made with judged_clips")
-        given = self._judged[clip] if judged else self.clips[clip]
         mix = None if judged or as_given else self.artefacts
         denoiser = mix.denoiser if mix is not None and corruption is not None else None
         slow_s = mix.denoise_slow_s if denoiser is not None else None
         steps = mix.steps if mix is not None else no_preparation()
-        content = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
-                   denoiser, slow_s, *steps.values(), self.config.cube_size_m)
-        track = _SHARED_TRACKS.get(content)
-        if track is None:
+        return (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
+                denoiser, slow_s, *steps.values(), self.config.cube_size_m)
+
+    def _built_track(self, clip: int, variant: int, as_given: bool, content: tuple) -> ReferenceTrack:
+        """The track of ``content`` (:meth:`_track_content` of ``clip``, ``variant``, ``as_given``),
+        from this process's prepared reference when it has it (:data:`envs.track_cache.REFERENCES`),
+        else made; its arrays read only (shared between environments)."""
+        reference_key = content[:-1]  # all but the cube size, which only the track depends on
+        motion = REFERENCES.get(reference_key)
+        if motion is None:
+            judged = variant == JUDGED
+            given = self._judged[clip] if judged else self.clips[clip]
+            corruption, denoiser, slow_s = content[2:5]
+            mix = None if judged or as_given else self.artefacts
+            steps = mix.steps if mix is not None else no_preparation()
             motion = given if corruption is None else corrupt(given, *corruption)
             motion = prepared(motion, None if denoiser is None else mix_denoiser(denoiser, slow_s), **steps)
-            track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
-                                         self.config.cube_size_m)
-            for value in vars(track).values():  # shared between environments: nobody may write to it
-                if isinstance(value, np.ndarray):
-                    value.flags.writeable = False
-            _SHARED_TRACKS[content] = track
-        self._tracks[key] = track
+            REFERENCES.put(reference_key, motion)
+        track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
+                                     self.config.cube_size_m)
+        for value in vars(track).values():
+            if isinstance(value, np.ndarray):
+                value.flags.writeable = False
         return track
 
     # --------------------------------------------------------------- episode
@@ -347,7 +365,7 @@ class MimicEnv(gym.Env):
         fixed = self.artefacts is not None and self.artefacts.seed is not None
         if seed is not None and seed != self._variant_base and not fixed:  # corrupted variants follow the new seed
             self._variant_base = seed
-            self._tracks = OrderedDict((k, t) for k, t in self._tracks.items() if k[1] < 0)
+            self._contents = {k: c for k, c in self._contents.items() if k[1] < 0}
             self._variant_seeds.clear()
         options = dict(options or {})
         clip = self._clip_index(options.pop("clip", None))
@@ -733,14 +751,6 @@ def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfi
     lim = config.action_limit_rad
     raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
     return config.action_smoothing * raw + (1.0 - config.action_smoothing) * previous
-
-
-_SHARED_TRACKS: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
-"""The reference tracks alive in this process, by content (model, clip content, corruption,
-denoiser and its slowing, symmetry, legs, grounding, lift, cube size): environments of one process on the same clips with the same
-variant seeds (the envs of a ``DummyVecEnv`` given ``ArtefactMix(seed=...)``) build each track once
-and share one copy, read only. A track lives while some environment's LRU cache holds it. Clip
-names are not part of the key (the environment reports its own clip's name)."""
 
 
 def _state_parts(state: Sequence, nq: int, nv: int, n_act: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:

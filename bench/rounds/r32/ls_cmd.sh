@@ -10,7 +10,9 @@
 # each; envs share a track only when they hold the very same one), and LS has about four times LU's references, so,
 # most likely, fewer are shared: resumed with --track-cache 300 its memory grew 0.7 GB a minute to 13 GB in 14 minutes (kept at
 # 791,616 steps, stop 75); with --track-cache 80 it holds at 5.6 GB, at about 235 steps/s (tracks are rebuilt, each
-# through the denoiser, more often; stop 75).
+# through the denoiser, more often; stop 75). Stop 76: each process now keeps the tracks and the prepared references
+# they are built from for all its envs (envs/track_cache.py; --track-cache counts per process), so a dropped track is
+# rebuilt without corrupting and denoising again: resumed with --track-cache 1200 --reference-cache 16000.
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r32
 # the newest kept checkpoint: the run carried on past the shipped one (ls_run/, bench/rounds/keep_run.sh), else run/
@@ -18,7 +20,7 @@ for KEPT in models/mimic_general_style_shifts/ls_run models/mimic_general_style_
   [ -d runs/r32/ppo_ls ] || [ ! -d $KEPT ] || cp -r $KEPT runs/r32/ppo_ls
 done
 if [ -f runs/r32/ppo_ls/args.json ]; then
-  MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r32/ppo_ls --resume --track-cache 80 \
+  MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r32/ppo_ls --resume --track-cache 1200 --reference-cache 16000 \
     >> runs/r32/ppo_ls.log 2>&1
   exit
 fi

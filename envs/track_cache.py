@@ -1,0 +1,80 @@
+"""What a process keeps of the reference tracks its environments use, shared by all of them.
+
+A :class:`envs.mimic.MimicEnv` turns each reference it tracks (a clip, or a corrupted variant of one,
+prepared as its :class:`envs.config.ArtefactMix` says) into a :class:`envs.reference.ReferenceTrack`
+in two costly steps: making the reference (corrupting, denoising, setting on the floor: ~50 ms for a
+400-frame variant behind a denoiser) and precomputing the track from it (~25 ms, ~5 kB a frame). A
+process keeps both by content in two least-recently-used caches shared by all its environments, so
+their memory is bounded per process, whatever the number of environments:
+
+- :data:`TRACKS`: the tracks (``MimicConfig.track_cache_size``; ~2 MB for 400 frames);
+- :data:`REFERENCES`: the references they were built from (``MimicConfig.reference_cache_size``;
+  a :class:`reference_motion.motion.Motion`, ``qpos`` only: ~0.16 MB for 400 frames), so that a
+  track dropped for room is rebuilt without corrupting and denoising again.
+
+Values are shared read-only (the tracks' arrays are made unwritable). Environments keep the tracks of
+their running episode themselves, so dropping one never disturbs an episode.
+"""
+
+from __future__ import annotations
+
+from collections import OrderedDict
+from collections.abc import Hashable
+from typing import Generic, TypeVar
+
+V = TypeVar("V")
+
+
+class LruCache(Generic[V]):
+    """At most :attr:`capacity` values by key, the least recently used dropped first.
+
+    The capacity starts at 0 (nothing kept) and only grows (:meth:`reserve`): each environment of a
+    process reserves what its configuration asks for, and the largest request holds."""
+
+    def __init__(self) -> None:
+        self._items: OrderedDict[Hashable, V] = OrderedDict()
+        self.capacity = 0
+        """Most values kept."""
+
+    def reserve(self, capacity: int) -> None:
+        """Keep at least ``capacity`` values from now on (``>= 0``)."""
+        if capacity < 0:
+            raise ValueError(f"LruCache.reserve: capacity must be >= 0, got {capacity}")
+        self.capacity = max(self.capacity, int(capacity))
+
+    def get(self, key: Hashable) -> V | None:
+        """The value kept for ``key`` (now the most recently used), or ``None``."""
+        value = self._items.get(key)
+        if value is not None:
+            self._items.move_to_end(key)
+        return value
+
+    def put(self, key: Hashable, value: V) -> V:
+        """Keep ``value`` for ``key`` as the most recently used, dropping the least recently used
+        beyond :attr:`capacity` (with capacity 0, nothing is kept); returns ``value``."""
+        self._items[key] = value
+        self._items.move_to_end(key)
+        while len(self._items) > self.capacity:
+            self._items.popitem(last=False)
+        return value
+
+    def clear(self) -> None:
+        """Drop every value and every reservation (capacity 0), as in a new process."""
+        self._items.clear()
+        self.capacity = 0
+
+    def __len__(self) -> int:
+        return len(self._items)
+
+    def __contains__(self, key: Hashable) -> bool:
+        return key in self._items
+
+
+TRACKS: LruCache = LruCache()
+"""This process's reference tracks (:class:`envs.reference.ReferenceTrack`) by content: model, clip
+content, corruption, denoiser and its slowing, preparation steps, cube size. Clip names are not part
+of the key (an environment reports its own clip's name)."""
+
+REFERENCES: LruCache = LruCache()
+"""This process's prepared references (:class:`reference_motion.motion.Motion`) by the same content
+as :data:`TRACKS`, less the cube size."""
