@@ -18,7 +18,7 @@ Sidecars written before this layout (a flat dict with ``env_id``, ``env_kwargs``
 from __future__ import annotations
 
 import json
-from dataclasses import asdict, dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 from typing import Any
 
@@ -100,11 +100,19 @@ class EnvSpec:
 
     def make(self, clips: Any, **kwargs: Any) -> gym.Env:
         """``gym.make`` of this task on ``clips`` (any ``clips`` the env takes); ``kwargs`` add or
-        override constructor arguments (``artefacts``, ``render_mode``, ``sampling``, ``contacts`` ...)."""
-        task = {"foot": self.foot, "config": self.mimic_config()}
+        override constructor arguments (``artefacts``, ``render_mode``, ``sampling``, ``contacts`` ...).
+        The env keeps :class:`MimicConfig`'s default cache sizes (:data:`PROCESS_MEMORY_FIELDS`), not
+        the training run's: they are how that process spent its memory, not part of the task."""
+        defaults = MimicConfig()
+        config = replace(self.mimic_config(), **{f: getattr(defaults, f) for f in PROCESS_MEMORY_FIELDS})
+        task = {"foot": self.foot, "config": config}
         if self.env_id == GAIT_ENV_ID:
             task.update(gait=self.gait_config(), contacts=self.contacts)
         return gym.make(self.env_id, clips=clips, **{**task, **kwargs})
+
+
+PROCESS_MEMORY_FIELDS = ("track_cache_size", "reference_cache_size")
+"""The :class:`MimicConfig` fields that say how much a process keeps in memory (:mod:`envs.track_cache`)."""
 
 
 @dataclass(frozen=True)

@@ -118,14 +118,16 @@ def build_parser(prog: str | None = None) -> CliParser:
                    help="distinct corrupted references made per training clip (the same in every "
                         "process and shared by its envs: that many in all; with --vec subproc that many per env)")
     g.add_argument("--track-cache", type=positive_int, default=MimicConfig().track_cache_size,
-                   help="reference tracks each process keeps in memory for all its envs (~5 kB a frame, ~2 MB "
-                        "for 400 frames; more than this are rebuilt on use, which slows training). Per clip: 1, "
-                        "and 1 per variant; each doubles where the episode is judged against another track "
-                        "(--judge given with --denoise, --even-legs, --part-legs, --ground or --swing-lift; "
-                        "--judge clean_pose or unslid_pose)")
+                   help="reference tracks the training process keeps in memory for all its envs (~5 kB a frame, "
+                        "~3 MB for a 602-frame clip; at least 3 per env; more are rebuilt on use, which slows "
+                        "training; before stop 76 this counted per env). Per clip: 1, and 1 per variant; each "
+                        "doubles where the episode is judged against another track (--judge given with "
+                        "--denoise, --even-legs, --part-legs, --ground or --swing-lift; --judge clean_pose or "
+                        "unslid_pose)")
     g.add_argument("--reference-cache", type=non_negative_int, default=MimicConfig().reference_cache_size,
-                   help="prepared references (corrupted, denoised, prepared; ~0.4 kB a frame) each process keeps, "
-                        "so that a dropped track is rebuilt without corrupting and denoising again")
+                   help="prepared references (corrupted, denoised, prepared; ~0.4 kB a frame, each ~12x smaller "
+                        "than a track) the process keeps, so that a dropped track is rebuilt without corrupting "
+                        "and denoising again")
     g.add_argument("--obs-frame", choices=OBS_FRAMES, default="world",
                    help="axes of the observation: world (ADAPT) or the character's heading frame with its CoM "
                         "offset from the reference (envs.observations)")
@@ -451,7 +453,8 @@ def env_config(args: argparse.Namespace) -> MimicConfig:
     ``--obs-frame``, ``--com-offset``, ``--velocity-feedforward``, ``--lookahead``, ``--lookbehind``, ``--steer-gain``,
     ``--action-limit``, ``--physics-rate-hz``, ``--still-feet-*`` and ``--com-velocity-*``)."""
     return MimicConfig(track_cache_size=args.track_cache, reference_cache_size=args.reference_cache,
-                       obs_frame=args.obs_frame, com_offset=args.com_offset, velocity_feedforward=args.velocity_feedforward,
+                       obs_frame=args.obs_frame, com_offset=args.com_offset,
+                       velocity_feedforward=args.velocity_feedforward,
                        lookahead=tuple(args.lookahead), lookbehind=tuple(args.lookbehind),
                        steer_gain_hz=args.steer_gain,
                        physics_rate_hz=args.physics_rate_hz, action_limit_rad=args.action_limit,

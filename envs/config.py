@@ -80,12 +80,16 @@ class MimicConfig:
             than an episode are played to their end.
         track_cache_size: reference tracks (clip or corrupted variant) kept in memory by each
             process, shared by all its envs, least recently used dropped first (each ~5 kB a frame,
-            ~2 MB for 400 frames; rebuilt in ~25 ms from its kept reference). The largest value
-            asked by any env of a process holds (:mod:`envs.track_cache`).
+            ~3 MB for a 602-frame training clip; at the default ~0.8 GB). The largest value asked by
+            any env of a process holds (:mod:`envs.track_cache`). Give it at least three per env of
+            the process (the tracked, judged and clean track of each running episode), or tracks
+            are rebuilt during episodes. Not part of the task: envs made from a policy's sidecar
+            keep the defaults (:meth:`agents.sidecar.EnvSpec.make`).
         reference_cache_size: prepared references (a clip or corrupted variant as tracked, after
-            corruption, denoising and preparation; ``qpos`` only, ~0.4 kB a frame) kept by each
-            process, so that a dropped track is rebuilt without corrupting and denoising again
-            (~50 ms saved for a 400-frame variant behind a denoiser). Shared and bounded as
+            corruption, denoising and preparation; ``qpos`` only, ~0.4 kB a frame, each ~12x smaller
+            than its track; at the default ~1 GB) kept by each process, so that a dropped track is
+            rebuilt without corrupting and denoising again (a reset on a training run's references
+            3.4x faster with 8 tracks kept, ``bench/track_rebuild.py``). Shared and bounded as
             ``track_cache_size``.
         obs_frame: axes of the observation's vectors (:data:`envs.observations.OBS_FRAMES`):
             ``"world"`` (ADAPT's, adapt §3.2.1), ``"heading"`` (the character's heading frame,
@@ -209,10 +213,9 @@ class MimicConfig:
         if self.episode_frames < round(ratio):
             raise ValueError(f"episode_frames must be at least one control step ({round(ratio)} frames), "
                              f"got {self.episode_frames}")
-        if not (_whole(self.track_cache_size) and self.track_cache_size >= 1
-                and _whole(self.reference_cache_size) and self.reference_cache_size >= 0):
-            raise ValueError(f"track_cache_size must be a whole number >= 1 and reference_cache_size >= 0, got "
-                             f"{self.track_cache_size!r}, {self.reference_cache_size!r}")
+        for name, least in (("track_cache_size", 1), ("reference_cache_size", 0)):
+            if not (_whole(getattr(self, name)) and getattr(self, name) >= least):
+                raise ValueError(f"{name} must be a whole number >= {least}, got {getattr(self, name)!r}")
         if not 0.0 < self.action_smoothing <= 1.0:
             raise ValueError(f"action_smoothing must be in (0, 1], got {self.action_smoothing}")
 

@@ -289,8 +289,8 @@ class MimicEnv(gym.Env):
         """The reference track of clip ``clip``: as given (``variant=-1``), its corrupted variant
         ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use and
         kept by this process for all its environments (:mod:`envs.track_cache`). The clip and its
-        corrupted variants are prepared as ``ArtefactMix`` says (:func:`envs.preparation.prepared`: a corrupted variant denoised; then the clip or
-        variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
+        corrupted variants are prepared as ``ArtefactMix`` says (:func:`envs.preparation.prepared`: a
+        corrupted variant denoised; then the clip or variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
         (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
         prepared. ``without``: a corrupted variant with these artefact kinds switched off (with
         ``as_given``, what ``ArtefactMix.judge == "clean_pose"`` or ``"unslid_pose"`` compares with,

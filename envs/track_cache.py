@@ -5,19 +5,25 @@ prepared as its :class:`envs.config.ArtefactMix` says) into a :class:`envs.refer
 in two costly steps: making the reference (corrupting, denoising, setting on the floor: ~50 ms for a
 400-frame variant behind a denoiser) and precomputing the track from it (~25 ms, ~5 kB a frame). A
 process keeps both by content in two least-recently-used caches shared by all its environments, so
-their memory is bounded per process, whatever the number of environments:
+what they keep is bounded per process, whatever the number of environments:
 
-- :data:`TRACKS`: the tracks (``MimicConfig.track_cache_size``; ~2 MB for 400 frames);
+- :data:`TRACKS`: the tracks (``MimicConfig.track_cache_size``; ~5 kB a frame, ~3 MB for a
+  602-frame training clip);
 - :data:`REFERENCES`: the references they were built from (``MimicConfig.reference_cache_size``;
-  a :class:`reference_motion.motion.Motion`, ``qpos`` only: ~0.16 MB for 400 frames), so that a
-  track dropped for room is rebuilt without corrupting and denoising again.
+  a :class:`reference_motion.motion.Motion`, ``qpos`` only: ~0.4 kB a frame, each ~12x smaller
+  than its track), so that a track dropped for room is rebuilt without corrupting and denoising
+  again (``bench/track_rebuild.py``).
 
-Values are shared read-only (the tracks' arrays are made unwritable). Environments keep the tracks of
-their running episode themselves, so dropping one never disturbs an episode.
+A value dropped for room that some environment still holds (the tracks of its running episode) is
+still found by content until nobody holds it, so environments never hold two copies of one; memory
+is the cache's capacity plus what the running episodes hold (about two tracks per environment). The
+tracks' arrays are read only; the references are read by the tracks built from them and must not be
+written to.
 """
 
 from __future__ import annotations
 
+import weakref
 from collections import OrderedDict
 from collections.abc import Hashable
 from typing import Generic, TypeVar
@@ -26,13 +32,16 @@ V = TypeVar("V")
 
 
 class LruCache(Generic[V]):
-    """At most :attr:`capacity` values by key, the least recently used dropped first.
+    """At most :attr:`capacity` values by key, the least recently used dropped first; a dropped
+    value is still found while something else holds it (values must be weak-referenceable).
 
     The capacity starts at 0 (nothing kept) and only grows (:meth:`reserve`): each environment of a
     process reserves what its configuration asks for, and the largest request holds."""
 
     def __init__(self) -> None:
         self._items: OrderedDict[Hashable, V] = OrderedDict()
+        self._alive: weakref.WeakValueDictionary = weakref.WeakValueDictionary()
+        """Every value put, while anything holds it."""
         self.capacity = 0
         """Most values kept."""
 
@@ -43,25 +52,29 @@ class LruCache(Generic[V]):
         self.capacity = max(self.capacity, int(capacity))
 
     def get(self, key: Hashable) -> V | None:
-        """The value kept for ``key`` (now the most recently used), or ``None``."""
+        """The value kept for ``key``, or still held elsewhere (either way now the most recently
+        used), or ``None``."""
         value = self._items.get(key)
         if value is not None:
             self._items.move_to_end(key)
-        return value
+            return value
+        value = self._alive.get(key)
+        return None if value is None else self.put(key, value)
 
     def put(self, key: Hashable, value: V) -> V:
         """Keep ``value`` for ``key`` as the most recently used, dropping the least recently used
         beyond :attr:`capacity` (with capacity 0, nothing is kept); returns ``value``."""
         self._items[key] = value
         self._items.move_to_end(key)
+        self._alive[key] = value
         while len(self._items) > self.capacity:
             self._items.popitem(last=False)
         return value
 
     def clear(self) -> None:
-        """Drop every value and every reservation (capacity 0), as in a new process."""
+        """Drop every value kept (the capacity reserved stays), as a measurement that starts cold needs."""
         self._items.clear()
-        self.capacity = 0
+        self._alive.clear()
 
     def __len__(self) -> int:
         return len(self._items)

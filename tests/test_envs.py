@@ -580,7 +580,7 @@ def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_cl
     assert sorted(unprepared._contents) == [(0, 0, False, ()), (0, 0, False, tuple(sorted(HINGE_KINDS)))]
     np.testing.assert_array_equal(unprepared.judging_track.motion.qpos[:, 7:], walk.qpos[:len(judged), 7:])
     unprepared.reset(seed=11, options={"clip": 0, "start_frame": 0, "corrupted": False})
-    assert sorted(unprepared._contents) == [(0, -1, False, ())]  # a new seed drops every variant's tracks
+    assert sorted(unprepared._contents) == [(0, -1, False, ())]  # a new seed forgets every variant drawn with the old one
 
 
 def test_unslid_pose_judges_a_corrupted_episode_against_its_root_path_without_the_stance_skate(walk):
