@@ -6,7 +6,7 @@ Usage::
     python agents/ship.py --run-dir runs/data_mix/mixed --name mimic_imu --clips HELD_OUT... --corrupt imu --seed 1000
 
 Copies ``RUN/best`` (model, observation statistics, sidecar; with ``--newest`` the run's newest
-checkpoint instead, for a choice registered on that one), evaluates it with
+checkpoint instead, with ``--checkpoint STEP_ZIP`` that one, for a choice registered on it), evaluates it with
 ``agents/evaluate.py`` (the extra arguments are passed on) and records the evaluation, its command
 and the run's training steps and wall time in all (at its newest checkpoint) in
 ``models/NAME/sidecar.json``. Refuses a model over 20 MB. The policy
@@ -104,11 +104,19 @@ def _best_files(run_dir: Path) -> dict[str, Path]:
 
 
 def _newest_files(run_dir: Path) -> dict[str, Path]:
-    """The policy files of ``run_dir``'s newest checkpoint (``step_N.zip``, ``step_N_vecnormalize.pkl``,
-    ``step_N_sidecar.json``), by the name each takes in ``models/NAME``."""
+    """The policy files of ``run_dir``'s newest checkpoint (:func:`_checkpoint_files`)."""
     checkpoint = newest_checkpoint(run_dir)
     if checkpoint is None:
         raise FileNotFoundError(f"{run_dir / CHECKPOINTS_DIR}: no step_*.zip checkpoint to ship (--newest)")
+    return _checkpoint_files(checkpoint)
+
+
+def _checkpoint_files(checkpoint: Path) -> dict[str, Path]:
+    """The policy files of ``checkpoint`` (``step_N.zip``, ``step_N_vecnormalize.pkl``,
+    ``step_N_sidecar.json``), by the name each takes in ``models/NAME``."""
+    if not (checkpoint.is_file() and checkpoint.name.startswith("step_") and checkpoint.suffix == ".zip"):
+        raise FileNotFoundError(f"{checkpoint}: not a checkpoint (expected an existing step_N.zip of a run's "
+                                f"{CHECKPOINTS_DIR}/)")
     files = {MODEL_FILE: checkpoint, STATS_FILE: checkpoint.with_name(f"{checkpoint.stem}_vecnormalize.pkl"),
              SIDECAR_FILE: checkpoint.with_name(f"{checkpoint.stem}_{SIDECAR_FILE}")}
     missing = [path.name for path in files.values() if not path.exists()]
@@ -129,10 +137,14 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     p.add_argument("--models", type=output_dir, default=Path("models"))
     p.add_argument("--resumable", action="store_true",
                    help="also copy the run's newest checkpoint and records to models/NAME/run/")
-    p.add_argument("--newest", action="store_true",
-                   help="ship the run's newest checkpoint instead of its best by its own evaluation")
+    which = p.add_mutually_exclusive_group()
+    which.add_argument("--newest", action="store_true",
+                       help="ship the run's newest checkpoint instead of its best by its own evaluation")
+    which.add_argument("--checkpoint", type=Path, metavar="STEP_ZIP",
+                       help="ship this checkpoint of the run (its step_N.zip), e.g. a registered candidate")
     args, eval_args = p.parse_known_args(argv)
-    sources = _newest_files(args.run_dir) if args.newest else _best_files(args.run_dir)
+    sources = (_checkpoint_files(args.checkpoint) if args.checkpoint else
+               _newest_files(args.run_dir) if args.newest else _best_files(args.run_dir))
     out = args.models / args.name
     staging = args.models / f".{args.name}.partial"  # becomes `out` only once evaluated: never half-shipped
     shutil.rmtree(staging, ignore_errors=True)

@@ -360,3 +360,8 @@ def test_ship_newest_ships_the_newest_checkpoint_whole(tmp_path, capsys):
     line = _error_line(ship.main, [*common, "--name", "other", "--newest"], capsys)
     assert "step_40_vecnormalize.pkl, step_40_sidecar.json missing beside it" in line
     assert not (models / "other").exists()
+    ship.main([*common, "--name", "registered", "--checkpoint", str(checkpoints / "step_10.zip")])  # not the newest
+    assert json.loads((models / "registered" / "sidecar.json").read_text())["steps"] == 10
+    line = _error_line(ship.main, [*common, "--name", "other", "--checkpoint", str(checkpoints / "step_99.zip")], capsys)
+    assert "step_99.zip: not a checkpoint (expected an existing step_N.zip" in line
+    assert not (models / "other").exists()
