@@ -1,7 +1,7 @@
 """Probe: how much does the IMU draw decide? Policies scored on many IMU-corrupted draws of each take.
 
 Usage: ``python bench/imu_draws.py --policies models/mimic_general_taught models/mimic_general_fastback
-[--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2]
+[--clips library:data/library/val] [--draws 10] [--first-seed 20000] [--stride N] [--episodes 2] [--strength 1]
 [--denoise DIR [--denoise-slow [S]] | --no-denoise] [--mirror-average] [--ensemble] [--style-shifts] [--even-legs]
 [--part-legs [M]] [--ground] [--swing-lift [DEG] [--swing-from speed]] [--json [OUT]]``
 
@@ -47,7 +47,7 @@ from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option
 from reference_motion.leg_gap import add_leg_gap_option
 from reference_motion.leg_symmetry import add_leg_symmetry_option
-from reference_motion.cli import require_frames
+from reference_motion.cli import non_negative_float, require_frames
 from reference_motion.library import STYLE_SHIFT_NAMES, expand_clips, style_shifted
 from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options
@@ -71,6 +71,9 @@ def main() -> None:
     p.add_argument("--stride", type=int, default=None, help="seed step from one draw to the next (default: the "
                                                             "number of clips, five times it with --style-shifts)")
     p.add_argument("--episodes", type=int, default=2, help="rollouts per clip and draw")
+    p.add_argument("--strength", type=non_negative_float, default=1.0,
+                   help="IMU artefact strength of the draws (default 1, the IMU rows'; 0: the takes clean, the "
+                        "--style-shifts versions still drawn with each seed, to tell what a version costs clean)")
     p.add_argument("--style-shifts", action="store_true",
                    help="each draw tracks every clip in five versions, " + ", ".join(STYLE_SHIFT_NAMES) + " (a "
                         "stance, pace and carriage drawn anew for each draw with its seed: "
@@ -124,7 +127,7 @@ def main() -> None:
         if args.style_shifts:  # a faster copy is shorter: each version must still hold an episode
             clips = [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode")
                      for c in style_shifted(clips, seed)]
-        return corrupted(clips, "imu", 1.0, seed)
+        return corrupted(clips, "imu", args.strength, seed) if args.strength > 0 else clips
 
     draws = [tracked_and_judged(corrupted_draw(seed), net, **steps) for seed in seeds]
     if args.ensemble:
@@ -152,7 +155,7 @@ def main() -> None:
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "style_shifts": STYLE_SHIFT_NAMES if args.style_shifts else None,
+               "episodes": args.episodes, "strength": args.strength, "style_shifts": STYLE_SHIFT_NAMES if args.style_shifts else None,
                "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
                "mirror_average": args.mirror_average, **preparation_record(steps),

@@ -59,9 +59,13 @@ DRAW_FIELDS = ("seeds_of_first_clip", "rows", "clips", "episodes", "denoiser")
 def read_draw_file(path: Path) -> dict:
     """An ``imu_draws.py --json`` file, with a clear error if it lacks one of :data:`DRAW_FIELDS`
     or a row lacks its ``policy`` or one ``ELR_per_draw`` per seed; its ``style_shifts`` as a tuple,
-    empty for plain draws (files from before ``--style-shifts`` have none)."""
+    empty for plain draws (files from before ``--style-shifts`` have none). Only draws at the IMU rows'
+    strength 1 are read (files from before ``--strength`` have none, and were)."""
     data = read_json(path, DRAW_FIELDS)
     data["style_shifts"] = tuple(data.get("style_shifts") or ())
+    if data.get("strength", 1.0) != 1.0:
+        raise SystemExit(f"{path}: draws at IMU strength {data['strength']:g}; the selection rules read the IMU "
+                         "rows' draws, at strength 1 (imu_draws.py's default)")
     for i, row in enumerate(data["rows"]):
         if "policy" not in row or len(row.get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
             raise SystemExit(f"{path}: rows[{i}] needs 'policy' and one 'ELR_per_draw' per seed in "

@@ -63,6 +63,10 @@ def test_draws_with_other_settings_or_missing_fields_are_refused(tmp_path):
     shifted = draws_file(tmp_path / "s.json", [107], {"a": [0.6]}, style_shifts=["as given", "wider"])
     with pytest.raises(SystemExit, match="differ in clips, rollouts, denoiser or style shifts"):
         gather_draws([one, shifted])
+    clean_takes = write(tmp_path / "z.json", {**json.loads(one.read_text()), "strength": 0.0})
+    with pytest.raises(SystemExit, match=r"z\.json: draws at IMU strength 0; the selection rules read .* strength 1"):
+        gather_draws([clean_takes])
+    assert gather_draws([write(tmp_path / "one.json", {**json.loads(one.read_text()), "strength": 1.0})]).seeds == [100]
     short = draws_file(tmp_path / "c.json", [100, 107], {"a": [0.8]})
     with pytest.raises(SystemExit, match=r"c\.json: rows\[0\] needs 'policy' and one 'ELR_per_draw' per seed"):
         gather_draws([short])
