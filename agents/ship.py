@@ -1,9 +1,10 @@
-"""Ship a training run's best policy (or its newest checkpoint) to ``models/NAME`` with its evaluation in the sidecar.
+"""Ship a training run's best policy (or its newest, or a given, checkpoint) to ``models/NAME`` with its evaluation in the sidecar.
 
 Usage::
 
     python agents/ship.py --run-dir runs/mimic_walk --name mimic_walk --clips deepmimic:walk
     python agents/ship.py --run-dir runs/data_mix/mixed --name mimic_imu --clips HELD_OUT... --corrupt imu --seed 1000
+    python agents/ship.py --run-dir runs/r32/ppo_ls --name NAME --checkpoint runs/r32/ppo_ls/checkpoints/step_500000.zip ...
 
 Copies ``RUN/best`` (model, observation statistics, sidecar; with ``--newest`` the run's newest
 checkpoint instead, with ``--checkpoint STEP_ZIP`` that one, for a choice registered on it), evaluates it with
@@ -40,7 +41,7 @@ if __package__ in (None, ""):  # `python agents/ship.py`: make the repository im
 from agents import evaluate
 from agents.policy import CHECKPOINTS_DIR, MODEL_FILE, SIDECAR_FILE, STATS_FILE
 from agents.privileged_critic import PrivilegedCriticPolicy, actor_only
-from agents.train_ppo import newest_checkpoint, recorded_progress
+from agents.train_ppo import CHECKPOINT, newest_checkpoint, recorded_progress
 from reference_motion.atomic import write_json
 from reference_motion.cli import CliParser, one_line_errors, output_dir
 
@@ -111,12 +112,17 @@ def _newest_files(run_dir: Path) -> dict[str, Path]:
     return _checkpoint_files(checkpoint)
 
 
-def _checkpoint_files(checkpoint: Path) -> dict[str, Path]:
+def _checkpoint_files(checkpoint: Path, run_dir: Path | None = None) -> dict[str, Path]:
     """The policy files of ``checkpoint`` (``step_N.zip``, ``step_N_vecnormalize.pkl``,
-    ``step_N_sidecar.json``), by the name each takes in ``models/NAME``."""
-    if not (checkpoint.is_file() and checkpoint.name.startswith("step_") and checkpoint.suffix == ".zip"):
-        raise FileNotFoundError(f"{checkpoint}: not a checkpoint (expected an existing step_N.zip of a run's "
-                                f"{CHECKPOINTS_DIR}/)")
+    ``step_N_sidecar.json``), by the name each takes in ``models/NAME``; with ``run_dir``, refused
+    unless the checkpoint is that run's (its records go into the sidecar)."""
+    if not checkpoint.is_file():
+        raise FileNotFoundError(f"{checkpoint}: no such checkpoint")
+    if not CHECKPOINT.fullmatch(checkpoint.name):
+        raise ValueError(f"{checkpoint}: not a checkpoint: expected a step_N.zip of a run's {CHECKPOINTS_DIR}/")
+    if run_dir is not None and checkpoint.resolve().parent != (run_dir / CHECKPOINTS_DIR).resolve():
+        raise ValueError(f"{checkpoint}: not a checkpoint of --run-dir {run_dir} (its {CHECKPOINTS_DIR}/): the "
+                         "sidecar records that run's training")
     files = {MODEL_FILE: checkpoint, STATS_FILE: checkpoint.with_name(f"{checkpoint.stem}_vecnormalize.pkl"),
              SIDECAR_FILE: checkpoint.with_name(f"{checkpoint.stem}_{SIDECAR_FILE}")}
     missing = [path.name for path in files.values() if not path.exists()]
@@ -143,7 +149,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
     which.add_argument("--checkpoint", type=Path, metavar="STEP_ZIP",
                        help="ship this checkpoint of the run (its step_N.zip), e.g. a registered candidate")
     args, eval_args = p.parse_known_args(argv)
-    sources = (_checkpoint_files(args.checkpoint) if args.checkpoint else
+    sources = (_checkpoint_files(args.checkpoint, args.run_dir) if args.checkpoint else
                _newest_files(args.run_dir) if args.newest else _best_files(args.run_dir))
     out = args.models / args.name
     staging = args.models / f".{args.name}.partial"  # becomes `out` only once evaluated: never half-shipped

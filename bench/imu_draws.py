@@ -23,6 +23,10 @@ draws) and on how many draws it scores above, equal to and below it.
 its pace, carried with another posture: :func:`reference_motion.library.style_shifted`, the width and
 posture drawn with the draw's seed), so one style's takes also stand for the ways other styles differ
 from it; the JSON then also gives each policy's ELR by version.
+
+``--strength`` sets the draws' IMU strength (default 1, the IMU rows'); at 0 the takes are tracked clean, each
+version still drawn with its seed, which tells what a version costs the policy clean from what the IMU costs it.
+The selection rules (``select_policy.py``, ``select_denoiser.py``) read only strength-1 files.
 """
 
 from __future__ import annotations
@@ -115,8 +119,9 @@ def main() -> None:
             print(note)
     net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
     slowly = f" ({net.label})" if isinstance(net, SlowCorrections) else ""
-    print(f"IMU takes pass through the denoiser {denoiser_path}{slowly} first (--no-denoise: as given)" if denoiser_path
-          else "IMU takes are tracked as given (--no-denoise)", flush=True)
+    takes = "IMU takes" if args.strength > 0 else "the clean takes (--strength 0)"
+    print(f"{takes} pass through the denoiser {denoiser_path}{slowly} first (--no-denoise: as given)" if denoiser_path
+          else f"{takes} are tracked as given (--no-denoise)", flush=True)
     model = FOOT_MODELS[feet.pop()]
     seeds = [args.first_seed + j * stride for j in range(args.draws)]
 

@@ -3,7 +3,7 @@
 Usage: ``python bench/track_rebuild.py [--clips SOURCE ...] [--resets 300] [--track-cache 8] [--json [OUT]]``
 
 A run on many references (every training take mirrored, time-warped, reposed, each with six corrupted
-variants, each judged against another track) cannot keep every reference track in memory (~2 MB each),
+variants, each judged against another track) cannot keep every reference track in memory (~3 MB each),
 so an environment often rebuilds the tracks of the episode it starts. A process also keeps the prepared
 references the tracks were built from (``MimicConfig.reference_cache_size``; ~12x smaller), so a rebuild
 skips corrupting, denoising and preparing (:mod:`envs.track_cache`). Measured side by side in one run,
@@ -25,6 +25,7 @@ from agents.train_ppo import build_parser, env_kwargs
 from envs.track_cache import REFERENCES, TRACKS
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
 from perception.imu_denoiser import DEFAULT_DENOISER
+from reference_motion.cli import positive_int
 
 CLIPS = ("deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0", "deepmimic:walker/turn_right0")
 TRAINING = ("--corrupted-fraction", "0.75", "--variants-per-clip", "6", "--denoise-slow", "0.5", "--even-legs",
@@ -32,10 +33,11 @@ TRAINING = ("--corrupted-fraction", "0.75", "--variants-per-clip", "6", "--denoi
 
 
 def reset_wall(clips: list[str], resets: int, track_cache: int, reference_cache: int) -> dict:
-    """Seconds per reset over ``resets`` resets that follow ``resets`` warming ones, in a process
+    """Milliseconds per reset over ``resets`` resets that follow ``resets`` warming ones, in a process
     whose caches start empty and keep ``track_cache`` tracks and ``reference_cache`` references."""
-    TRACKS.clear()  # as in a new process
-    REFERENCES.clear()
+    for cache in (TRACKS, REFERENCES):  # as in a new process: empty, nothing reserved
+        cache.clear()
+        cache.capacity = 0
     args = build_parser().parse_args(["--clips", *clips, *TRAINING, "--denoise", str(DEFAULT_DENOISER),
                                       "--track-cache", str(track_cache), "--reference-cache", str(reference_cache),
                                       "--run-dir", "unused"])  # env settings only: nothing is trained
@@ -53,8 +55,8 @@ def reset_wall(clips: list[str], resets: int, track_cache: int, reference_cache:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--clips", nargs="+", default=list(CLIPS))
-    p.add_argument("--resets", type=int, default=300, help="resets timed (after as many warming ones)")
-    p.add_argument("--track-cache", type=int, default=8, help="tracks the process keeps")
+    p.add_argument("--resets", type=positive_int, default=300, help="resets timed (after as many warming ones)")
+    p.add_argument("--track-cache", type=positive_int, default=8, help="tracks the process keeps")
     p.add_argument("--json", nargs="?", const="-", default=None)
     args = p.parse_args()
     scratch = reset_wall(args.clips, args.resets, args.track_cache, 0)

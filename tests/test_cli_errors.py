@@ -363,5 +363,12 @@ def test_ship_newest_ships_the_newest_checkpoint_whole(tmp_path, capsys):
     ship.main([*common, "--name", "registered", "--checkpoint", str(checkpoints / "step_10.zip")])  # not the newest
     assert json.loads((models / "registered" / "sidecar.json").read_text())["steps"] == 10
     line = _error_line(ship.main, [*common, "--name", "other", "--checkpoint", str(checkpoints / "step_99.zip")], capsys)
-    assert "step_99.zip: not a checkpoint (expected an existing step_N.zip" in line
+    assert "step_99.zip: no such checkpoint" in line
+    elsewhere = tmp_path / "other_run" / "checkpoints"
+    elsewhere.mkdir(parents=True)
+    shutil.copy2(checkpoints / "step_10.zip", elsewhere / "step_10.zip")
+    line = _error_line(ship.main, [*common, "--name", "other", "--checkpoint", str(elsewhere / "step_10.zip")], capsys)
+    assert f"not a checkpoint of --run-dir {run}" in line
+    with pytest.raises(SystemExit):  # one checkpoint or the other, not both
+        ship.main([*common, "--name", "other", "--newest", "--checkpoint", str(checkpoints / "step_10.zip")])
     assert not (models / "other").exists()

@@ -6,6 +6,10 @@
 # (bench/rounds/score_shifted.sh). The baseline's rows do not depend on the candidate: `score_ls2.sh base` makes them
 # while the run trains.
 cd "$(dirname "$0")/../../.."
-[ "$1" = base ] && export BASE_ONLY=1
-exec bash bench/rounds/score_shifted.sh runs/r32/ppo_ls/checkpoints/step_500000.zip LS LS_SQ LS2 1610000 1620000 \
-  round33_select_LS2
+case "$1" in
+  "") MODE=() ;;
+  base) MODE=(--base-only) ;;
+  *) echo "score_ls2.sh: expected no argument or 'base', got '$1'" >&2; exit 2 ;;
+esac
+exec bash bench/rounds/score_shifted.sh "${MODE[@]}" runs/r32/ppo_ls/checkpoints/step_500000.zip LS LS_SQ LS2 1610000 \
+  1620000 round33_select_LS2
