@@ -290,14 +290,14 @@ class MimicEnv(gym.Env):
         ``variant``, or the motion it is judged against (``variant=JUDGED``), built on first use and
         kept by this process for all its environments (:mod:`envs.track_cache`). The clip and its
         corrupted variants are prepared as ``ArtefactMix`` says (:func:`envs.preparation.prepared`: a
-        corrupted variant denoised; then the clip or variant set on the floor and swing-lifted) unless ``as_given``, which gives them as made
-        (what ``ArtefactMix.judge == "given"`` compares with); ``JUDGED`` motions are never
-        prepared. ``without``: a corrupted variant with these artefact kinds switched off (with
-        ``as_given``, what ``ArtefactMix.judge == "clean_pose"`` or ``"unslid_pose"`` compares with,
-        :data:`envs.config.JUDGED_WITHOUT`; without, prepared as the variant is; ignored for the clip
-        and ``JUDGED``). A variant's artefact seed and strength depend only
-        on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip; variant), so the
-        same seed always gives the same references whatever order episodes come in."""
+        corrupted variant denoised; then the clip or variant set on the floor and swing-lifted) unless
+        ``as_given``, which gives them as made (what ``ArtefactMix.judge == "given"`` compares with);
+        ``JUDGED`` motions are never prepared. ``without``: a corrupted variant with these artefact
+        kinds switched off (with ``as_given``, what ``ArtefactMix.judge == "clean_pose"`` or
+        ``"unslid_pose"`` compares with, :data:`envs.config.JUDGED_WITHOUT`; without, prepared as the
+        variant is; ignored for the clip and ``JUDGED``). A variant's artefact seed and strength
+        depend only on (``artefacts.seed``, or else the last seed given to :meth:`reset`; clip;
+        variant), so the same seed always gives the same references whatever order episodes come in."""
         as_given = (as_given and variant != JUDGED and self.artefacts is not None
                     and self.artefacts.prepares(variant >= 0))  # else the same track: one cache slot
         if isinstance(without, str):

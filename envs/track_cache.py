@@ -2,8 +2,8 @@
 
 A :class:`envs.mimic.MimicEnv` turns each reference it tracks (a clip, or a corrupted variant of one,
 prepared as its :class:`envs.config.ArtefactMix` says) into a :class:`envs.reference.ReferenceTrack`
-in two costly steps: making the reference (corrupting, denoising, setting on the floor: ~50 ms for a
-400-frame variant behind a denoiser) and precomputing the track from it (~25 ms, ~5 kB a frame). A
+in two costly steps: making the reference (corrupting, denoising, setting on the floor: most of the
+cost, ``bench/track_rebuild.py``) and precomputing the track from it (~25 ms, ~5 kB a frame). A
 process keeps both by content in two least-recently-used caches shared by all its environments, so
 what they keep is bounded per process, whatever the number of environments:
 
