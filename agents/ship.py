@@ -1,4 +1,4 @@
-"""Ship a training run's best policy (or its newest, or a given, checkpoint) to ``models/NAME`` with its evaluation in the sidecar.
+"""Ship a training run's best policy (or its newest, or a given, checkpoint) to ``models/NAME``, evaluated.
 
 Usage::
 

@@ -160,7 +160,8 @@ def main() -> None:
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "strength": args.strength, "style_shifts": STYLE_SHIFT_NAMES if args.style_shifts else None,
+               "episodes": args.episodes, "strength": args.strength,
+               "style_shifts": STYLE_SHIFT_NAMES if args.style_shifts else None,
                "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
                "mirror_average": args.mirror_average, **preparation_record(steps),

@@ -12,7 +12,7 @@ from __future__ import annotations
 import copy
 import hashlib
 from collections.abc import Callable, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from pathlib import Path
 
 import gymnasium as gym
@@ -25,7 +25,7 @@ from envs.config import (ACTION_BODIES, ACTION_MODES, DRECON_BODIES, FOOT_MODELS
 from envs.observations import (heading_rotation, lookahead_observation, mimic_observation, observation_slices,
                                steered_velocities, steering_pull)
 from envs.physics import PhysicsDraw, apply_physics, at_physics_rate, draw_physics
-from envs.preparation import no_preparation, prepared
+from envs.preparation import PreparationSteps, no_preparation, prepared
 from envs.privileged import privileged_features, privileged_size
 from envs.reference import ReferenceFrame, ReferenceTrack, pd_targets
 from envs.sampling import FailureSampler, SamplingConfig
@@ -208,9 +208,9 @@ class MimicEnv(gym.Env):
         self._judged_keys = [] if self._judged is None else [_content_key(c) for c in self._judged]
         self._sampler = FailureSampler([self._last_start_frame(c.n_frames) for c in self.clips], sampling)
         """Where episodes start (:mod:`envs.sampling`)."""
-        self._contents: dict[tuple[int, int, bool, tuple[str, ...]], tuple] = {}
-        """Per :meth:`track` key ``(clip, variant, as_given, without)``: the content it is kept by in
-        this process's caches (:mod:`envs.track_cache`)."""
+        self._plans: dict[tuple[int, int, bool, tuple[str, ...]], _TrackPlan] = {}
+        """Per :meth:`track` key ``(clip, variant, as_given, without)``: how that track is made, and
+        the content it is kept by in this process's caches (:mod:`envs.track_cache`)."""
         TRACKS.reserve(config.track_cache_size)
         REFERENCES.reserve(config.reference_cache_size)
         self._variant_seeds: dict[tuple[int, int], int] = {}
@@ -304,18 +304,17 @@ class MimicEnv(gym.Env):
             raise TypeError(f"track: without takes a sequence of artefact kinds, e.g. ({without!r},), not a string")
         without = tuple(sorted(set(without))) if variant >= 0 else ()  # one cache slot whatever the order
         key = (clip, variant, as_given, without)
-        content = self._contents.get(key)
-        if content is None:
-            content = self._contents[key] = self._track_content(clip, variant, as_given, without)
-        track = TRACKS.get(content)
+        plan = self._plans.get(key)
+        if plan is None:
+            plan = self._plans[key] = self._track_plan(clip, variant, as_given, without)
+        track = TRACKS.get(plan.track_key)
         if track is None:
-            track = TRACKS.put(content, self._built_track(clip, variant, as_given, content))
+            track = TRACKS.put(plan.track_key, self._built_track(plan))
         return track
 
-    def _track_content(self, clip: int, variant: int, as_given: bool, without: tuple[str, ...]) -> tuple:
-        """What track ``(clip, variant, as_given, without)`` (:meth:`track`'s, checked) is made of, as
-        the key of :data:`envs.track_cache.TRACKS`: model, clip content, corruption (recipe, seed),
-        denoiser and its slowing, preparation steps, cube size. Draws a variant's seed and strength."""
+    def _track_plan(self, clip: int, variant: int, as_given: bool, without: tuple[str, ...]) -> _TrackPlan:
+        """How track ``(clip, variant, as_given, without)`` (:meth:`track`'s, checked) is made. Draws a
+        variant's seed and strength."""
         corruption = None
         if variant >= 0:
             mix = self.artefacts
@@ -334,24 +333,21 @@ class MimicEnv(gym.Env):
         denoiser = mix.denoiser if mix is not None and corruption is not None else None
         slow_s = mix.denoise_slow_s if denoiser is not None else None
         steps = mix.steps if mix is not None else no_preparation()
-        return (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
-                denoiser, slow_s, *steps.values(), self.config.cube_size_m)
+        reference_key = (self.humanoid.name, (self._judged_keys if judged else self._clip_keys)[clip], corruption,
+                         denoiser, slow_s, *steps.values())
+        return _TrackPlan(given=self._judged[clip] if judged else self.clips[clip], corruption=corruption,
+                          denoiser=denoiser, slow_s=slow_s, steps=steps, reference_key=reference_key,
+                          track_key=(*reference_key, self.config.cube_size_m))
 
-    def _built_track(self, clip: int, variant: int, as_given: bool, content: tuple) -> ReferenceTrack:
-        """The track of ``content`` (:meth:`_track_content` of ``clip``, ``variant``, ``as_given``),
-        from this process's prepared reference when it has it (:data:`envs.track_cache.REFERENCES`),
-        else made; its arrays read only (shared between environments)."""
-        reference_key = content[:-1]  # all but the cube size, which only the track depends on
-        motion = REFERENCES.get(reference_key)
+    def _built_track(self, plan: _TrackPlan) -> ReferenceTrack:
+        """The track ``plan`` says, from this process's prepared reference when it has it
+        (:data:`envs.track_cache.REFERENCES`), else made; its arrays read only (shared between
+        environments)."""
+        motion = REFERENCES.get(plan.reference_key)
         if motion is None:
-            judged = variant == JUDGED
-            given = self._judged[clip] if judged else self.clips[clip]
-            corruption, denoiser, slow_s = content[2:5]
-            mix = None if judged or as_given else self.artefacts
-            steps = mix.steps if mix is not None else no_preparation()
-            motion = given if corruption is None else corrupt(given, *corruption)
-            motion = prepared(motion, None if denoiser is None else mix_denoiser(denoiser, slow_s), **steps)
-            REFERENCES.put(reference_key, motion)
+            motion = plan.given if plan.corruption is None else corrupt(plan.given, *plan.corruption)
+            denoiser = None if plan.denoiser is None else mix_denoiser(plan.denoiser, plan.slow_s)
+            motion = REFERENCES.put(plan.reference_key, prepared(motion, denoiser, **plan.steps))
         track = ReferenceTrack.build(motion, self.humanoid, self.actuator_qpos, self.jointed, self.parent,
                                      self.config.cube_size_m)
         for value in vars(track).values():
@@ -365,7 +361,7 @@ class MimicEnv(gym.Env):
         fixed = self.artefacts is not None and self.artefacts.seed is not None
         if seed is not None and seed != self._variant_base and not fixed:  # corrupted variants follow the new seed
             self._variant_base = seed
-            self._contents = {k: c for k, c in self._contents.items() if k[1] < 0}
+            self._plans = {k: plan for k, plan in self._plans.items() if k[1] < 0}
             self._variant_seeds.clear()
         options = dict(options or {})
         clip = self._clip_index(options.pop("clip", None))
@@ -751,6 +747,26 @@ def smoothed_action(action: np.ndarray, previous: np.ndarray, config: MimicConfi
     lim = config.action_limit_rad
     raw = np.minimum(np.maximum(np.asarray(action, dtype=float), -lim), lim)
     return config.action_smoothing * raw + (1.0 - config.action_smoothing) * previous
+
+
+@dataclass(frozen=True)
+class _TrackPlan:
+    """How one reference track of a :class:`MimicEnv` is made (:meth:`MimicEnv.track`): ``given`` (a
+    clip, or the motion it is judged against) corrupted with ``corruption`` (``(recipe, seed)``, or
+    ``None``), passed through ``denoiser`` (its corrections slowed to ``slow_s`` s) and prepared with
+    ``steps``. ``reference_key`` is the content that prepared reference is kept by in
+    :data:`envs.track_cache.REFERENCES` (model, clip content, corruption, denoiser and its slowing,
+    preparation steps; clip names are not part of it: an env reports its own clip's name);
+    ``track_key``, that plus the cube size, which only the track depends on, in
+    :data:`envs.track_cache.TRACKS`."""
+
+    given: Motion
+    corruption: tuple | None
+    denoiser: str | None
+    slow_s: float | None
+    steps: PreparationSteps
+    reference_key: tuple
+    track_key: tuple
 
 
 def _state_parts(state: Sequence, nq: int, nv: int, n_act: int) -> tuple[np.ndarray, np.ndarray, np.ndarray | None]:

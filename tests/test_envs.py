@@ -433,7 +433,7 @@ def test_a_corrupted_episode_can_be_judged_against_the_clean_clip(walk):
     assert info_j["corrupted"] and info_a["corrupted"]
     np.testing.assert_array_equal(obs_j, obs_a)  # the same corrupted reference is observed ...
     assert judged.judging_track is judged.track(0, -1) and judged.current_track is judged.track(0, 0)
-    assert sorted(judged._contents) == [(0, -1, False, ()), (0, 0, False, ())]  # nothing prepared: one slot each
+    assert sorted(judged._plans) == [(0, -1, False, ()), (0, 0, False, ())]  # nothing prepared: one slot each
     assert adapt.judging_track is adapt.current_track
     action = np.zeros(adapt.action_space.shape)
     for _ in range(10):
@@ -577,10 +577,10 @@ def test_clean_pose_judges_a_corrupted_episode_against_its_root_path_with_the_cl
     unprepared = gym.make("MimicIMU-v0", clips=[walk], artefacts=replace(mix, grounding=None, seed=None)).unwrapped
     unprepared.reset(seed=3, options={"clip": 0, "start_frame": 0, "corrupted": True})
     assert unprepared.judging_track is not unprepared.current_track  # nothing prepared, yet another track
-    assert sorted(unprepared._contents) == [(0, 0, False, ()), (0, 0, False, tuple(sorted(HINGE_KINDS)))]
+    assert sorted(unprepared._plans) == [(0, 0, False, ()), (0, 0, False, tuple(sorted(HINGE_KINDS)))]
     np.testing.assert_array_equal(unprepared.judging_track.motion.qpos[:, 7:], walk.qpos[:len(judged), 7:])
     unprepared.reset(seed=11, options={"clip": 0, "start_frame": 0, "corrupted": False})
-    assert sorted(unprepared._contents) == [(0, -1, False, ())]  # a new seed forgets every variant drawn with the old one
+    assert sorted(unprepared._plans) == [(0, -1, False, ())]  # a new seed forgets every variant drawn with the old one
 
 
 def test_unslid_pose_judges_a_corrupted_episode_against_its_root_path_without_the_stance_skate(walk):

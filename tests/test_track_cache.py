@@ -77,7 +77,7 @@ def test_a_process_keeps_its_budget_of_tracks_whatever_its_envs_and_episodes_run
     a.reset(seed=0, options=start)
     b.reset(seed=0, options={**start, "corrupted": False})
     assert len(tracks) == 1 and tracks.capacity == 1
-    assert a._contents[(0, a.variant_index, False, ())] not in tracks  # a's track is no longer kept ...
+    assert a._plans[(0, a.variant_index, False, ())].track_key not in tracks  # a's track is no longer kept ...
     twin = gym.make("MimicIMU-v0", clips=["deepmimic:walk"], artefacts=mix).unwrapped
     twin.reset(seed=0, options=start)
     assert twin.current_track is a.current_track  # found while a holds it: one copy, not two
