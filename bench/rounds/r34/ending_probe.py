@@ -1,0 +1,101 @@
+"""How the style-shifted validation rollouts end (round 34's probe; validation's takes only, no held-out take).
+
+A policy tracks the IMU-corrupted style-shifted draws of validation's takes as the shifted rows do (behind a
+denoiser's slowed corrections and the IMU rows' preparation), and every rollout that ends early is recorded by
+version: how it ended (``fallen`` or ``lagging``, the head 0.91 m from the take's), where (share of the episode), and,
+at its last frame, three distances (m): the simulated pelvis's height below the judged take's; its horizontal distance
+from the judged take's, and the part of that along the judged take's direction of travel (positive: behind it);
+and the IMU's own horizontal drift there (the judged take's pelvis from the clean shifted take's).
+
+usage: python bench/rounds/r34/ending_probe.py POLICY DENOISER FIRST_SEED DRAWS OUT.json [GAIN_HZ CAP_MPS]
+(the preparation of the IMU rows: mirror-averaged, slowed 0.5 s, legs evened and parted, grounded, swing lift).
+GAIN_HZ and CAP_MPS set the steering of the observed reference velocities (``MimicConfig.steer_gain_hz`` and
+``steer_max_speed_mps``) in place of the policy's own.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+
+import numpy as np
+
+sys.path.insert(0, ".")
+import envs  # noqa: E402,F401  (registers the ids)
+from agents.evaluate import corrupted, reference_clips, tracked_and_judged  # noqa: E402
+from agents.evaluation import evaluate_tracking  # noqa: E402
+from agents.policy import load_policy  # noqa: E402
+from envs.config import MimicConfig  # noqa: E402
+from envs.preparation import preparation_of  # noqa: E402
+from perception.imu_denoiser import slowed  # noqa: E402
+from perception.weights import load_network  # noqa: E402
+from reference_motion.cli import require_frames  # noqa: E402
+from reference_motion.grounding import add_grounding_option  # noqa: E402
+from reference_motion.leg_gap import add_leg_gap_option  # noqa: E402
+from reference_motion.leg_symmetry import add_leg_symmetry_option  # noqa: E402
+from reference_motion.library import STYLE_SHIFT_NAMES, style_shifted  # noqa: E402
+from reference_motion.swing_lift import add_swing_lift_options  # noqa: E402
+
+
+def ending(run, clean_root: np.ndarray) -> dict:
+    """The distances at a failed rollout's last frame (see the module's docstring)."""
+    sim, ref = run.simulated.qpos[:, :3], run.reference.qpos[:, :3]
+    last = len(sim) - 1
+    back = max(0, last - 30)
+    travel = ref[last, :2] - ref[back, :2]
+    direction = travel / max(np.linalg.norm(travel), 1e-6)
+    gap = ref[last, :2] - sim[last, :2]
+    return {"ended_by": run.ended_by, "share": float(run.elr), "height_below_m": float(ref[last, 2] - sim[last, 2]),
+            "horizontal_m": float(np.linalg.norm(gap)), "behind_m": float(gap @ direction),
+            "imu_drift_m": float(np.linalg.norm(ref[last, :2] - clean_root[run.start_frame + last, :2]))}
+
+
+def main() -> None:
+    policy_path, denoiser_path, first_seed, draws, out = sys.argv[1:6]
+    p = argparse.ArgumentParser()
+    add_leg_symmetry_option(p, "")
+    add_leg_gap_option(p, "")
+    add_grounding_option(p, "")
+    add_swing_lift_options(p, "")
+    steps = preparation_of(p.parse_args(["--even-legs", "--part-legs", "--ground", "--swing-lift"]))
+    policy = load_policy(policy_path)
+    if len(sys.argv) > 6:
+        policy = policy.steering(float(sys.argv[6]))._reconfigured("steer_max_speed_mps", float(sys.argv[7]),
+                                                                    "steer_cap_at")
+    net = slowed(load_network(denoiser_path, "denoiser"), 0.5)
+    config = MimicConfig()
+    n = len(STYLE_SHIFT_NAMES)
+    records = []
+    for j in range(int(draws)):
+        seed = int(first_seed) + j * 35
+        clips = reference_clips(["library:data/library/val"], "humanoid_1seg", config, None, 1.0, seed)
+        shifted = [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode")
+                   for c in style_shifted(clips, seed)]
+        tracked, judged = tracked_and_judged(corrupted(shifted, "imu", 1.0, seed), net, **steps)
+        _, runs = evaluate_tracking(policy, tracked, judged, episodes=2, mirror_average=True)
+        index = {clip.name: i for i, clip in enumerate(tracked)}
+        for run in runs:
+            i = index[run.clip]
+            record = {"seed": seed, "version": STYLE_SHIFT_NAMES[i % n], "clip": run.clip, "elr": float(run.elr)}
+            if run.elr < 1.0:
+                record |= ending(run, shifted[i].qpos[:, :3])
+            records.append(record)
+        print(f"draw {j}: ELR {np.mean([r['elr'] for r in records]):.3f} so far", flush=True)
+    summary = {}
+    for version in STYLE_SHIFT_NAMES:
+        mine = [r for r in records if r["version"] == version]
+        failed = [r for r in mine if r["elr"] < 1.0]
+        summary[version] = {"rollouts": len(mine), "ELR": float(np.mean([r["elr"] for r in mine])),
+                            "ended": {k: sum(r.get("ended_by") == k for r in failed) for k in ("fallen", "lagging")}}
+        for key in ("height_below_m", "behind_m", "imu_drift_m", "share"):
+            if failed:
+                summary[version][f"median_{key}"] = float(np.median([r[key] for r in failed]))
+        print(version, json.dumps(summary[version]), flush=True)
+    with open(out, "w") as f:
+        json.dump({"policy": policy_path, "denoiser": denoiser_path, "first_seed": int(first_seed),
+                   "steering": sys.argv[6:8],
+                   "summary": summary, "records": records}, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()
