@@ -5,7 +5,10 @@ denoiser's slowed corrections and the IMU rows' preparation), and every rollout 
 version: how it ended (``fallen`` or ``lagging``, the head 0.91 m from the take's), where (share of the episode), and,
 at its last frame, three distances (m): the simulated pelvis's height below the judged take's; its horizontal distance
 from the judged take's, and the part of that along the judged take's direction of travel (positive: behind it);
-and the IMU's own horizontal drift there (the judged take's pelvis from the clean shifted take's).
+and the IMU's own horizontal drift there (the judged take's pelvis from the clean shifted take's). Every early end is
+ADAPT's head-distance termination before the fall rule sees a fall, so each is classed by those distances: *fallen*
+(the pelvis more than FALLEN_BELOW_M below the take's), else *behind* or *ahead* (more than ALONG_M of the distance
+along the take's way), else *aside*.
 
 usage: python bench/rounds/r34/ending_probe.py POLICY DENOISER FIRST_SEED DRAWS OUT.json [GAIN_HZ CAP_MPS]
 (the preparation of the IMU rows: mirror-averaged, slowed 0.5 s, legs evened and parted, grounded, swing lift).
@@ -50,6 +53,35 @@ def ending(run, clean_root: np.ndarray) -> dict:
             "imu_drift_m": float(np.linalg.norm(ref[last, :2] - clean_root[run.start_frame + last, :2]))}
 
 
+FALLEN_BELOW_M = 0.25
+"""A rollout ended early with its pelvis more than this below the take's (m) has fallen."""
+ALONG_M = 0.3
+"""An upright one more than this behind or ahead of the take's pelvis along its way (m) walked too slowly or too fast."""
+
+
+def end_class(record: dict) -> str:
+    """``"fallen"``, ``"behind"``, ``"ahead"`` or ``"aside"``: how a rollout that ended early ended (its record)."""
+    if record["height_below_m"] > FALLEN_BELOW_M:
+        return "fallen"
+    return "behind" if record["behind_m"] > ALONG_M else "ahead" if record["behind_m"] < -ALONG_M else "aside"
+
+
+def summarize(records: list[dict]) -> dict[str, dict]:
+    """Per version: rollouts, mean ELR, how many ended early and how (:func:`end_class`), and the medians of the
+    early ends' distances."""
+    summary = {}
+    for version in STYLE_SHIFT_NAMES:
+        mine = [r for r in records if r["version"] == version]
+        failed = [r for r in mine if r["elr"] < 1.0]
+        row = {"rollouts": len(mine), "ELR": float(np.mean([r["elr"] for r in mine])), "ended_early": len(failed),
+               "ended": {k: sum(end_class(r) == k for r in failed) for k in ("fallen", "behind", "ahead", "aside")}}
+        for key in ("height_below_m", "behind_m", "imu_drift_m", "share"):
+            if failed:
+                row[f"median_{key}"] = float(np.median([r[key] for r in failed]))
+        summary[version] = row
+    return summary
+
+
 def main() -> None:
     policy_path, denoiser_path, first_seed, draws, out = sys.argv[1:6]
     p = argparse.ArgumentParser()
@@ -81,16 +113,9 @@ def main() -> None:
                 record |= ending(run, shifted[i].qpos[:, :3])
             records.append(record)
         print(f"draw {j}: ELR {np.mean([r['elr'] for r in records]):.3f} so far", flush=True)
-    summary = {}
-    for version in STYLE_SHIFT_NAMES:
-        mine = [r for r in records if r["version"] == version]
-        failed = [r for r in mine if r["elr"] < 1.0]
-        summary[version] = {"rollouts": len(mine), "ELR": float(np.mean([r["elr"] for r in mine])),
-                            "ended": {k: sum(r.get("ended_by") == k for r in failed) for k in ("fallen", "lagging")}}
-        for key in ("height_below_m", "behind_m", "imu_drift_m", "share"):
-            if failed:
-                summary[version][f"median_{key}"] = float(np.median([r[key] for r in failed]))
-        print(version, json.dumps(summary[version]), flush=True)
+    summary = summarize(records)
+    for version, row in summary.items():
+        print(version, json.dumps(row), flush=True)
     with open(out, "w") as f:
         json.dump({"policy": policy_path, "denoiser": denoiser_path, "first_seed": int(first_seed),
                    "steering": sys.argv[6:8],
