@@ -10,10 +10,12 @@ ADAPT's head-distance termination before the fall rule sees a fall, so each is c
 (the pelvis more than FALLEN_BELOW_M below the take's), else *behind* or *ahead* (more than ALONG_M of the distance
 along the take's way), else *aside*.
 
-usage: python bench/rounds/r34/ending_probe.py POLICY DENOISER FIRST_SEED DRAWS OUT.json [GAIN_HZ CAP_MPS]
+usage: python bench/rounds/r34/ending_probe.py POLICY DENOISER FIRST_SEED DRAWS OUT.json [--steer GAIN_HZ CAP_MPS]
+[--torque-scale PART FACTOR]
 (the preparation of the IMU rows: mirror-averaged, slowed 0.5 s, legs evened and parted, grounded, swing lift).
-GAIN_HZ and CAP_MPS set the steering of the observed reference velocities (``MimicConfig.steer_gain_hz`` and
-``steer_max_speed_mps``) in place of the policy's own.
+``--steer`` sets the steering of the observed reference velocities (``MimicConfig.steer_gain_hz`` and
+``steer_max_speed_mps``) in place of the policy's own; ``--torque-scale`` multiplies the torque limit of every actuator
+whose name contains PART (e.g. ``foot_y``, the ankles' pitch) by FACTOR, the policy acting as trained.
 """
 from __future__ import annotations
 
@@ -26,8 +28,9 @@ import numpy as np
 sys.path.insert(0, ".")
 import envs  # noqa: E402,F401  (registers the ids)
 from agents.evaluate import corrupted, reference_clips, tracked_and_judged  # noqa: E402
-from agents.evaluation import evaluate_tracking  # noqa: E402
-from agents.policy import load_policy  # noqa: E402
+from agents.evaluation import evaluate, evaluate_tracking  # noqa: E402
+from agents.mirror import MirrorAveraged, MirrorMaps  # noqa: E402
+from agents.policy import MimicPolicy, load_policy  # noqa: E402
 from envs.config import MimicConfig  # noqa: E402
 from envs.preparation import preparation_of  # noqa: E402
 from perception.imu_denoiser import slowed  # noqa: E402
@@ -37,6 +40,7 @@ from reference_motion.grounding import add_grounding_option  # noqa: E402
 from reference_motion.leg_gap import add_leg_gap_option  # noqa: E402
 from reference_motion.leg_symmetry import add_leg_symmetry_option  # noqa: E402
 from reference_motion.library import STYLE_SHIFT_NAMES, style_shifted  # noqa: E402
+from reference_motion.motion import Motion  # noqa: E402
 from reference_motion.swing_lift import add_swing_lift_options  # noqa: E402
 
 
@@ -82,29 +86,54 @@ def summarize(records: list[dict]) -> dict[str, dict]:
     return summary
 
 
+def performed(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion], torque_scale: tuple[str, float] | None):
+    """:func:`evaluate_tracking` (2 rollouts per clip, mirror-averaged), the actuators whose names contain
+    ``torque_scale[0]`` given ``torque_scale[1]`` times their torque limits."""
+    if torque_scale is None:
+        return evaluate_tracking(policy, tracked, judged, episodes=2, mirror_average=True)
+    env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
+    model = env.unwrapped.model
+    part, factor = torque_scale
+    scaled = [i for i in range(model.nu) if part in model.actuator(i).name]
+    if not scaled:
+        raise SystemExit(f"--torque-scale: no actuator's name contains {part!r}")
+    model.actuator_forcerange[scaled] *= factor
+    env.reset(seed=0)
+    return evaluate(env, MirrorAveraged(policy, MirrorMaps.of(env)), episodes=2)
+
+
 def main() -> None:
-    policy_path, denoiser_path, first_seed, draws, out = sys.argv[1:6]
-    p = argparse.ArgumentParser()
-    add_leg_symmetry_option(p, "")
-    add_leg_gap_option(p, "")
-    add_grounding_option(p, "")
-    add_swing_lift_options(p, "")
-    steps = preparation_of(p.parse_args(["--even-legs", "--part-legs", "--ground", "--swing-lift"]))
+    p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    p.add_argument("policy")
+    p.add_argument("denoiser")
+    p.add_argument("first_seed", type=int)
+    p.add_argument("draws", type=int)
+    p.add_argument("out")
+    p.add_argument("--steer", nargs=2, type=float, metavar=("GAIN_HZ", "CAP_MPS"))
+    p.add_argument("--torque-scale", nargs=2, metavar=("PART", "FACTOR"))
+    args = p.parse_args()
+    policy_path, denoiser_path, first_seed, draws, out = args.policy, args.denoiser, args.first_seed, args.draws, args.out
+    torque_scale = None if args.torque_scale is None else (args.torque_scale[0], float(args.torque_scale[1]))
+    prep = argparse.ArgumentParser()
+    add_leg_symmetry_option(prep, "")
+    add_leg_gap_option(prep, "")
+    add_grounding_option(prep, "")
+    add_swing_lift_options(prep, "")
+    steps = preparation_of(prep.parse_args(["--even-legs", "--part-legs", "--ground", "--swing-lift"]))
     policy = load_policy(policy_path)
-    if len(sys.argv) > 6:
-        policy = policy.steering(float(sys.argv[6]))._reconfigured("steer_max_speed_mps", float(sys.argv[7]),
-                                                                    "steer_cap_at")
+    if args.steer is not None:
+        policy = policy.steering(args.steer[0])._reconfigured("steer_max_speed_mps", args.steer[1], "steer_cap_at")
     net = slowed(load_network(denoiser_path, "denoiser"), 0.5)
     config = MimicConfig()
     n = len(STYLE_SHIFT_NAMES)
     records = []
-    for j in range(int(draws)):
-        seed = int(first_seed) + j * 35
+    for j in range(draws):
+        seed = first_seed + j * 35
         clips = reference_clips(["library:data/library/val"], "humanoid_1seg", config, None, 1.0, seed)
         shifted = [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode")
                    for c in style_shifted(clips, seed)]
         tracked, judged = tracked_and_judged(corrupted(shifted, "imu", 1.0, seed), net, **steps)
-        _, runs = evaluate_tracking(policy, tracked, judged, episodes=2, mirror_average=True)
+        _, runs = performed(policy, tracked, judged, torque_scale)
         index = {clip.name: i for i, clip in enumerate(tracked)}
         for run in runs:
             i = index[run.clip]
@@ -117,8 +146,8 @@ def main() -> None:
     for version, row in summary.items():
         print(version, json.dumps(row), flush=True)
     with open(out, "w") as f:
-        json.dump({"policy": policy_path, "denoiser": denoiser_path, "first_seed": int(first_seed),
-                   "steering": sys.argv[6:8],
+        json.dump({"policy": policy_path, "denoiser": denoiser_path, "first_seed": first_seed,
+                   "steering": args.steer, "torque_scale": args.torque_scale,
                    "summary": summary, "records": records}, f, indent=1)
 
 
