@@ -197,15 +197,20 @@ class MimicPolicy:
             return self
         return self._reconfigured("physics_rate_hz", float(rate_hz), "simulated_at")
 
-    def steering(self, gain_hz: float) -> MimicPolicy:
+    def steering(self, gain_hz: float, max_speed_mps: float | None = None) -> MimicPolicy:
         """This policy, the reference velocities its task observes steered back onto the reference's
         position at ``gain_hz`` (1/s, :attr:`envs.config.MimicConfig.steer_gain_hz`; the layout is
-        the same, so any policy runs with it): the same weights, but :meth:`make_env` builds its
-        task with that gain, and adapting the copy fine-tunes it there. The sidecar records the
-        change (``steered_at``: the gain it was given with first); the files on disk are not touched."""
-        if self.record.env.mimic_config().steer_gain_hz == gain_hz:
-            return self
-        return self._reconfigured("steer_gain_hz", float(gain_hz), "steered_at")
+        the same, so any policy runs with it), the pull capped at ``max_speed_mps`` (m/s,
+        :attr:`~envs.config.MimicConfig.steer_max_speed_mps`; ``None``: the cap its task has): the same
+        weights, but :meth:`make_env` builds its task with them, and adapting the copy fine-tunes it
+        there. The sidecar records each change (``steered_at`` and ``steer_capped_at``: the values it was
+        given with first); the files on disk are not touched."""
+        config = self.record.env.mimic_config()
+        policy = self if config.steer_gain_hz == gain_hz else self._reconfigured(
+            "steer_gain_hz", float(gain_hz), "steered_at")
+        if max_speed_mps is None or config.steer_max_speed_mps == max_speed_mps:
+            return policy
+        return policy._reconfigured("steer_max_speed_mps", float(max_speed_mps), "steer_capped_at")
 
     def _reconfigured(self, name: str, value: Any, given_as: str) -> MimicPolicy:
         """This policy, its task's :class:`~envs.config.MimicConfig` field ``name`` set to ``value``

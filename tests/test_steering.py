@@ -82,6 +82,12 @@ def test_a_shipped_policy_steered_keeps_closer_to_the_reference():
     policy = load_policy(MODELS / "mimic_general_robust")
     steered = policy.steering(1.0)
     assert steered.record.extra["steered_at"] == 0.0 and policy.steering(0.0) is policy
+    capped = policy.steering(1.0, 0.8)
+    assert capped.record.env.mimic_config().steer_max_speed_mps == 0.8
+    assert capped.record.extra["steer_capped_at"] == 0.5 and capped.record.extra["steered_at"] == 0.0
+    assert policy.steering(0.0, 0.5) is policy
+    with pytest.raises(ValueError, match="steer_max_speed_mps"):
+        policy.steering(1.0, -1.0)
     results = {}
     for name, p in (("plain", policy), ("steered", steered)):
         env = p.make_env(["deepmimic:walker/turn_left1"], artefacts=None)
