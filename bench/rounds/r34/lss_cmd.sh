@@ -1,7 +1,10 @@
 #!/bin/bash
 # Round 34, LSS: LS (round 32) at 0.5 M steps, the shipped mimic_general_style_shifts, trained on by PPO with LS's
 # settings and data but behind SQ (models/imu_denoiser_stances_quint_mirror), the denoiser it is scored and shipped
-# behind since round 32, in place of QT, which LS trained behind. Resumable: train_ppo.py --run-dir runs/r34/ppo_lss --resume.
+# behind since round 32, in place of QT, which LS trained behind. --total-steps 2000000 (LS's run asked for 4000000)
+# only bounds the run: round 34's candidate is its newest checkpoint at 14:55 UTC (step_500000).
+# Resumable: train_ppo.py --run-dir runs/r34/ppo_lss --resume.
+set -eo pipefail
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r34
 if [ -f runs/r34/ppo_lss/args.json ]; then
