@@ -7,6 +7,8 @@
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r34
+# on a machine without runs/r34/ppo_lss, carry on from the newest checkpoint shipped with mimic_general_style_shifts_sq
+[ -d runs/r34/ppo_lss ] || [ ! -d models/mimic_general_style_shifts_sq/run ] || cp -r models/mimic_general_style_shifts_sq/run runs/r34/ppo_lss
 if [ -f runs/r34/ppo_lss/args.json ]; then
   MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r34/ppo_lss --resume >> runs/r34/ppo_lss.log 2>&1
   exit
