@@ -35,9 +35,8 @@ TRAINING = ("--corrupted-fraction", "0.75", "--variants-per-clip", "6", "--denoi
 def reset_wall(clips: list[str], resets: int, track_cache: int, reference_cache: int) -> dict:
     """Milliseconds per reset over ``resets`` resets that follow ``resets`` warming ones, in a process
     whose caches start empty and keep ``track_cache`` tracks and ``reference_cache`` references."""
-    for cache in (TRACKS, REFERENCES):  # as in a new process: empty, nothing reserved
-        cache.clear()
-        cache.capacity = 0
+    for cache in (TRACKS, REFERENCES):
+        cache.clear(release=True)  # as in a new process: empty, nothing reserved
     args = build_parser().parse_args(["--clips", *clips, *TRAINING, "--denoise", str(DEFAULT_DENOISER),
                                       "--track-cache", str(track_cache), "--reference-cache", str(reference_cache),
                                       "--run-dir", "unused"])  # env settings only: nothing is trained

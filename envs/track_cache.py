@@ -36,7 +36,8 @@ class LruCache(Generic[V]):
     value is still found while something else holds it (values must be weak-referenceable).
 
     The capacity starts at 0 (nothing kept) and only grows (:meth:`reserve`): each environment of a
-    process reserves what its configuration asks for, and the largest request holds."""
+    process reserves what its configuration asks for, and the largest request holds; only
+    :meth:`clear` with ``release`` gives it back."""
 
     def __init__(self) -> None:
         self._items: OrderedDict[Hashable, V] = OrderedDict()
@@ -71,10 +72,13 @@ class LruCache(Generic[V]):
             self._items.popitem(last=False)
         return value
 
-    def clear(self) -> None:
-        """Drop every value kept (the capacity reserved stays), as a measurement that starts cold needs."""
+    def clear(self, release: bool = False) -> None:
+        """Drop every value kept, as a measurement that starts cold needs; the capacity reserved stays,
+        unless ``release``, which leaves the cache as a new process has it (capacity 0)."""
         self._items.clear()
         self._alive.clear()
+        if release:
+            self.capacity = 0
 
     def __len__(self) -> int:
         return len(self._items)

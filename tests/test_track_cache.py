@@ -39,6 +39,9 @@ def test_lru_cache_drops_the_least_recently_used_beyond_its_capacity():
     assert len(cache) == 3 and [cache.get(k) for k in "acd"] == [a, c, d]
     cache.clear()
     assert len(cache) == 0 and cache.capacity == 3 and "a" not in cache
+    cache.put("a", a)
+    cache.clear(release=True)  # as a new process has it
+    assert len(cache) == 0 and cache.capacity == 0 and cache.put("a", a) is a and "a" not in cache
     with pytest.raises(ValueError, match="capacity must be >= 0"):
         cache.reserve(-1)
 
