@@ -57,6 +57,17 @@ from reference_motion.motion import Motion
 from reference_motion.swing_lift import add_swing_lift_options
 
 
+def drawn_clips(sources: list[str], model: str, config: MimicConfig, seed: int, style_shifts: bool) -> list[Motion]:
+    """The clean clips of the draw with seed ``seed``: ``sources`` loaded for ``model`` as the policy gets them
+    (:func:`agents.evaluate.reference_clips`), with ``style_shifts`` each in its five versions
+    (:func:`style_shifted` with that seed; a faster copy is shorter, so each is checked to still hold an
+    episode of ``config``)."""
+    clips = reference_clips(sources, model, config, None, 1.0, seed)
+    if not style_shifts:
+        return clips
+    return [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode") for c in style_shifted(clips, seed)]
+
+
 def shift_means(runs: list[Rollout], tracked: list[Motion]) -> dict[str, float]:
     """Mean ELR of ``runs`` by style-shifted version (:data:`STYLE_SHIFT_NAMES`), the clips ``tracked``
     being :func:`style_shifted`'s five versions take by take; a rollout's version is read from its
@@ -128,10 +139,7 @@ def main() -> None:
     config = MimicConfig()
 
     def corrupted_draw(seed: int) -> list:
-        clips = reference_clips(args.clips, model, config, None, 1.0, seed)
-        if args.style_shifts:  # a faster copy is shorter: each version must still hold an episode
-            clips = [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode")
-                     for c in style_shifted(clips, seed)]
+        clips = drawn_clips(args.clips, model, config, seed, args.style_shifts)
         return corrupted(clips, "imu", args.strength, seed) if args.strength > 0 else clips
 
     draws = [tracked_and_judged(corrupted_draw(seed), net, **steps) for seed in seeds]

@@ -28,9 +28,10 @@ from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[3]))
+ROOT = Path(__file__).resolve().parents[3]
+sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 import envs  # noqa: E402,F401  (registers the ids)
-from agents.evaluate import corrupted, reference_clips, tracked_and_judged  # noqa: E402
+from agents.evaluate import corrupted, tracked_and_judged  # noqa: E402
 from agents.evaluation import Rollout, evaluate, evaluate_tracking  # noqa: E402
 from agents.mirror import MirrorAveraged, MirrorMaps  # noqa: E402
 from agents.policy import MimicPolicy, load_policy  # noqa: E402
@@ -38,11 +39,12 @@ from envs.config import MimicConfig  # noqa: E402
 from envs.preparation import PreparationSteps  # noqa: E402
 from perception.imu_denoiser import slowed  # noqa: E402
 from perception.weights import load_network  # noqa: E402
-from reference_motion.cli import positive_float, require_frames  # noqa: E402
+from imu_draws import drawn_clips  # noqa: E402  (bench/imu_draws.py)
+from reference_motion.cli import positive_float  # noqa: E402
 from reference_motion.grounding import Grounding  # noqa: E402
 from reference_motion.leg_gap import LegGap  # noqa: E402
 from reference_motion.leg_symmetry import LegSymmetry  # noqa: E402
-from reference_motion.library import STYLE_SHIFT_NAMES, expand_clips, style_shifted  # noqa: E402
+from reference_motion.library import STYLE_SHIFT_NAMES, expand_clips  # noqa: E402
 from reference_motion.motion import Motion  # noqa: E402
 from reference_motion.swing_lift import SwingLift  # noqa: E402
 
@@ -144,9 +146,7 @@ def main() -> None:
     records = []
     for j in range(args.draws):
         seed = args.first_seed + j * stride
-        clips = reference_clips(VAL_CLIPS, "humanoid_1seg", config, None, 1.0, seed)
-        shifted = [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode")
-                   for c in style_shifted(clips, seed)]
+        shifted = drawn_clips(VAL_CLIPS, "humanoid_1seg", config, seed, style_shifts=True)
         tracked, judged = tracked_and_judged(corrupted(shifted, "imu", 1.0, seed), net, **steps)
         index = {clip.name: i for i, clip in enumerate(tracked)}
         for run in performed(policy, tracked, judged, torque_scale):
