@@ -8,18 +8,23 @@ clip, whose name adds its transforms to the clip's (``"NAME (mirrored) (x1.5 spe
 reversed and posture copies with it (a glob may name a copy to route it apart: ``"*(reversed)*"``,
 listed first); else a clip whose root moves
 backwards relative to the pelvis heading (median speed along the heading below
-``-backward_speed_mps``) goes to the ``backward`` policy, every other clip to ``default``. The rule
-reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion
-library it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s) from every
-other take (≥ 0.00 m/s).
+``-backward_speed_mps``) goes to the ``backward`` policy; else, if the set has a ``fast`` policy, a
+clip whose root's median horizontal speed is above ``fast_speed_mps`` goes to it (an expert for
+running, in the manner of PHC's primitives, Luo et al. 2023); every other clip goes to
+``default``. The rule reads the clip as given (corrupted or not), so it needs no ground truth, and
+on the motion library it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s)
+from every other take (≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
+(1.96 at the 1.25× pace training plays them at), its runs at 1.49–3.22 m/s and its dashes at
+2.49–4.45 m/s.
 
 On disk a policy set is a directory holding ``policy_set.json``::
 
     {"format": "physmimic.policy_set/1", "default": "../mimic_general",
      "backward": "../mimic_walk_back", "backward_speed_mps": 0.2,
+     "fast": "../mimic_fast", "fast_speed_mps": 2.0,
      "clips": {"*dash_active_001*": "../dash_active"}}
 
-with the policy directories relative to it (``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
+with the policy directories relative to it (``fast`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
 policy set wherever they take a policy.
 """
 
@@ -75,6 +80,14 @@ def walks_backward(motion: Motion, backward_speed_mps: float) -> bool:
     return bool(np.median(heading_speeds(motion.qpos, motion.fps)) < -backward_speed_mps)
 
 
+def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
+    """The median horizontal speed (m/s) of the root over the frames of ``qpos (T, nq)`` (world, z up;
+    at least 2 frames)."""
+    if len(qpos) < 2:
+        raise ValueError(f"median_ground_speed needs at least 2 frames, got {len(qpos)}")
+    return float(np.median(np.linalg.norm(np.gradient(qpos[:, :2], 1.0 / fps, axis=0), axis=1)))
+
+
 @dataclass(frozen=True)
 class PolicySet:
     """Policies by motion class.
@@ -86,6 +99,10 @@ class PolicySet:
         backward_speed_mps: a clip whose median heading speed is below minus this is walked backwards.
         clips: ``((glob, directory), ...)``: a clip whose name matches a glob goes to its policy,
             before the other rules (the first glob that matches).
+        fast: directory of the policy for clips whose root moves faster than ``fast_speed_mps``
+            (median horizontal speed, :func:`median_ground_speed`), after the backward rule;
+            ``None``: no such rule.
+        fast_speed_mps: that speed (m/s).
     """
 
     path: Path
@@ -93,6 +110,14 @@ class PolicySet:
     backward: Path
     backward_speed_mps: float = 0.2
     clips: tuple[tuple[str, Path], ...] = ()
+    fast: Path | None = None
+    fast_speed_mps: float = 2.0
+
+    def __post_init__(self) -> None:
+        for name in ("backward_speed_mps", "fast_speed_mps"):
+            value = getattr(self, name)
+            if not (isinstance(value, (int, float)) and np.isfinite(value) and value >= 0):
+                raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 (m/s), got {value!r}")
 
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""
@@ -100,12 +125,17 @@ class PolicySet:
         named = next((policy for glob, policy in self.clips if any(fnmatch.fnmatchcase(n, glob) for n in names)), None)
         if named is not None:
             return named
-        return self.backward if walks_backward(motion, self.backward_speed_mps) else self.default
+        if walks_backward(motion, self.backward_speed_mps):
+            return self.backward
+        if self.fast is not None and median_ground_speed(motion.qpos, motion.fps) > self.fast_speed_mps:
+            return self.fast
+        return self.default
 
     @property
     def policies(self) -> list[Path]:
-        """Every policy directory of the set, each once: default, backward, then the clips' policies."""
-        return list(dict.fromkeys([self.default, self.backward, *(policy for _, policy in self.clips)]))
+        """Every policy directory of the set, each once: default, backward, fast, then the clips' policies."""
+        fast = [] if self.fast is None else [self.fast]
+        return list(dict.fromkeys([self.default, self.backward, *fast, *(policy for _, policy in self.clips)]))
 
     def save(self) -> Path:
         """Write ``policy_set.json`` (policy paths relative to the set's directory)."""
@@ -116,6 +146,8 @@ class PolicySet:
 
         spec = {"format": FORMAT, "default": rel(self.default), "backward": rel(self.backward),
                 "backward_speed_mps": self.backward_speed_mps}
+        if self.fast is not None:
+            spec |= {"fast": rel(self.fast), "fast_speed_mps": self.fast_speed_mps}
         if self.clips:
             spec["clips"] = {glob: rel(policy) for glob, policy in self.clips}
         out = self.path / SET_FILE
@@ -143,15 +175,16 @@ def load_policy_set(path: str | Path) -> PolicySet:
     missing = [k for k in ("default", "backward") if not isinstance(spec.get(k), str)]
     if missing:
         raise PolicyError(f"{file}: field(s) {', '.join(missing)} missing; expected policy directories relative to {path}")
-    threshold = spec.get("backward_speed_mps", 0.2)
-    if not (isinstance(threshold, (int, float)) and threshold >= 0):
-        raise PolicyError(f"{file}: backward_speed_mps must be a number >= 0, got {threshold!r}")
     clips = spec.get("clips", {})
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "
                           f"{path}, got {clips!r}")
-    return PolicySet(path, path / spec["default"], path / spec["backward"], float(threshold),
-                     tuple((glob, path / policy) for glob, policy in clips.items()))
+    fast = spec.get("fast")
+    if fast is not None and not isinstance(fast, str):
+        raise PolicyError(f"{file}: fast must be a policy directory relative to {path}, got {fast!r}")
+    return PolicySet(path, path / spec["default"], path / spec["backward"], spec.get("backward_speed_mps", 0.2),
+                     tuple((glob, path / policy) for glob, policy in clips.items()),
+                     None if fast is None else path / fast, spec.get("fast_speed_mps", PolicySet.fast_speed_mps))
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:

@@ -14,8 +14,9 @@ one draw costs its whole share. Here every policy tracks ``--draws`` corrupted d
 (draw ``j`` of clip ``i`` has artefact seed ``first_seed + j * stride + i``; ``--stride`` defaults
 to the number of clips and may not be smaller, so no two references share a seed), ``--episodes``
 rollouts each, after ``--denoise`` and judged against the take as given (as ``evaluate.py
---denoise``). Same clips, seeds and start frames for every policy; policy directories or run
-checkpoints, not policy sets. Prints each policy's ELR per draw and over all draws and, for each
+--denoise``). Same clips, seeds and start frames for every policy; policy directories, run
+checkpoints or policy sets (each take routed as given, before the denoiser, as ``evaluate.py`` routes
+it; not with ``--ensemble``). Prints each policy's ELR per draw and over all draws and, for each
 policy after the first, its mean paired difference from the first (± standard error over the
 draws) and on how many draws it scores above, equal to and below it.
 
@@ -40,7 +41,8 @@ import envs  # noqa: F401  (registers the ids)
 from agents.evaluate import corrupted, reference_clips, tracked_and_judged, tracked_label
 from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
-from agents.policy import load_policy
+from agents.policy import MimicPolicy, load_policy
+from agents.policy_set import is_policy_set, load_policy_set
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.preparation import preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
@@ -66,6 +68,44 @@ def drawn_clips(sources: list[str], model: str, config: MimicConfig, seed: int, 
     if not style_shifts:
         return clips
     return [require_frames(c, config.min_clip_frames + 1, c.name, "a mimic episode") for c in style_shifted(clips, seed)]
+
+
+class Routed:
+    """A policy set's actor over a draw: each take goes to the policy the set routes it to
+    (:meth:`agents.policy_set.PolicySet.route`, on the take as given), loaded once.
+
+    Args:
+        path: the policy-set directory.
+    """
+
+    def __init__(self, path: str):
+        self.set = load_policy_set(path)
+        self.policies = {p: load_policy(p) for p in self.set.policies}
+
+    def groups(self, tracked: list[Motion], judged: list[Motion] | None) -> list[tuple[MimicPolicy, list[int]]]:
+        """``[(policy, indices of its takes), ...]``: the takes of a draw (``judged``, the takes as given, or
+        ``tracked`` where they are tracked as given), grouped by the policy that performs them."""
+        given = tracked if judged is None else judged
+        out: dict[Path, list[int]] = {}
+        for i, take in enumerate(given):
+            out.setdefault(self.set.route(take), []).append(i)
+        return [(self.policies[p], indices) for p, indices in out.items()]
+
+
+def evaluate_draw(policy: MimicPolicy | Routed, tracked: list[Motion], judged: list[Motion] | None, episodes: int,
+                  actor: object, mirror_average: bool) -> tuple[float, list[Rollout]]:
+    """The mean ELR and the rollouts of ``policy`` (acting as ``actor``), or of each policy of a set for the takes
+    routed to it, tracking ``tracked`` judged against ``judged`` (:func:`agents.evaluation.evaluate_tracking`)."""
+    if not isinstance(policy, Routed):
+        summary, runs = evaluate_tracking(policy, tracked, judged, episodes=episodes, actor=actor,
+                                          mirror_average=mirror_average)
+        return summary["ELR_mean"], runs
+    runs = []
+    for member, indices in policy.groups(tracked, judged):
+        runs += evaluate_tracking(member, [tracked[i] for i in indices],
+                                  None if judged is None else [judged[i] for i in indices], episodes=episodes,
+                                  mirror_average=mirror_average)[1]
+    return float(np.mean([r.elr for r in runs])), runs
 
 
 def shift_means(runs: list[Rollout], tracked: list[Motion]) -> dict[str, float]:
@@ -117,14 +157,18 @@ def main() -> None:
     if stride < n_clips:
         p.error(f"--stride {stride} is below the {n_clips} clips{' (style-shifted)' if args.style_shifts else ''}: "
                 "draws would share artefact seeds")
-    policies = [load_policy(path) for path in args.policies]
-    feet = {policy.foot for policy in policies}
+    sets = [path for path in args.policies if is_policy_set(path)]
+    if sets and args.ensemble:
+        p.error(f"--ensemble averages policies, not policy sets: {', '.join(sets)}")
+    policies = [Routed(path) if path in sets else load_policy(path) for path in args.policies]
+    members = [m for policy in policies for m in (policy.policies.values() if isinstance(policy, Routed) else [policy])]
+    feet = {policy.foot for policy in members}
     if len(feet) > 1:
         p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
     denoiser_path = None if args.no_denoise else args.denoise
     if args.denoise_slow is not None and denoiser_path is None:
         p.error(f"--denoise-slow {args.denoise_slow:g} slows the denoiser's corrections: drop --no-denoise")
-    for policy in policies:
+    for policy in members:
         note = policy.preparation_note(denoiser_path, **steps, denoise_slow_s=args.denoise_slow)
         if note:
             print(note)
@@ -150,9 +194,9 @@ def main() -> None:
         actors = [(path, policy, policy) for path, policy in zip(args.policies, policies)]
     rows = []
     for path, policy, actor in actors:
-        scored = [evaluate_tracking(policy, tracked, judged, episodes=args.episodes, actor=actor,
-                                    mirror_average=args.mirror_average) for tracked, judged in draws]
-        elr = np.array([summary["ELR_mean"] for summary, _ in scored])
+        scored = [evaluate_draw(policy, tracked, judged, args.episodes, actor, args.mirror_average)
+                  for tracked, judged in draws]
+        elr = np.array([mean for mean, _ in scored])
         label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)

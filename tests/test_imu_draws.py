@@ -1,4 +1,4 @@
-"""bench/imu_draws.py: ELR by style-shifted version, on hand-made rollouts."""
+"""bench/imu_draws.py: ELR by style-shifted version, on hand-made rollouts; a policy set's draw, routed."""
 
 import sys
 from pathlib import Path
@@ -8,9 +8,12 @@ import pytest
 
 BENCH = Path(__file__).resolve().parents[1] / "bench"
 sys.path.append(str(BENCH))
-from imu_draws import shift_means  # noqa: E402
+from imu_draws import Routed, evaluate_draw, shift_means  # noqa: E402
 
-from agents.evaluation import Rollout  # noqa: E402
+from agents.evaluation import Rollout, evaluate_tracking  # noqa: E402
+from agents.policy import load_policy  # noqa: E402
+from agents.policy_set import PolicySet  # noqa: E402
+from reference_motion.library import load_motion  # noqa: E402
 from reference_motion.library import STYLE_SHIFT_NAMES  # noqa: E402
 
 
@@ -34,3 +37,20 @@ def test_rollouts_are_averaged_by_the_version_of_their_take():
     assert means["slower"] == pytest.approx(1.0)
     assert means["faster"] == pytest.approx(0.4)  # (0.2 + 0.4 + 0.6) / 3
     assert means["postured"] == pytest.approx(0.9)
+
+
+def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to(tmp_path):
+    """A set sending DeepMimic's run to its fast policy (mimic_imu) and the walk to its default (mimic_walk): the
+    draw's walk rollouts are mimic_walk's own, the run's mimic_imu's, and the mean is over both takes' rollouts."""
+    models = Path(__file__).resolve().parents[1] / "models"
+    PolicySet(tmp_path / "set", models / "mimic_walk", models / "mimic_walk", fast=models / "mimic_imu").save()
+    routed = Routed(str(tmp_path / "set"))
+    walk, run_clip = (load_motion(f"deepmimic:{name}", "humanoid_1seg") for name in ("walk", "run"))
+    groups = routed.groups([walk, run_clip, walk], None)
+    assert [(policy.path.name, indices) for policy, indices in groups] == [("mimic_walk", [0, 2]), ("mimic_imu", [1])]
+    mean, runs = evaluate_draw(routed, [walk, run_clip], None, episodes=1, actor=None, mirror_average=False)
+    alone = {name: evaluate_tracking(load_policy(models / name), [clip], episodes=1)[1][0].elr
+             for name, clip in (("mimic_walk", walk), ("mimic_imu", run_clip))}
+    by_clip = {r.clip: r.elr for r in runs}
+    assert by_clip == {walk.name: alone["mimic_walk"], run_clip.name: alone["mimic_imu"]}
+    assert mean == pytest.approx((alone["mimic_walk"] + alone["mimic_imu"]) / 2)

@@ -1,4 +1,4 @@
-"""agents/policy_set.py: the backward-walking rule by hand and on real clips, the set file, routing."""
+"""agents/policy_set.py: the backward-walking and fast rules by hand and on real clips, the set file, routing."""
 
 import json
 import math
@@ -9,7 +9,8 @@ import pytest
 
 from agents import evaluate
 from agents.policy import PolicyError
-from agents.policy_set import PolicySet, heading_speeds, load_policy_set, route_clips, source_name, walks_backward
+from agents.policy_set import (PolicySet, heading_speeds, load_policy_set, median_ground_speed, route_clips, source_name,
+                               walks_backward)
 from reference_motion.library import load_motion
 from reference_motion.library import posture_copies, stance_copies
 from reference_motion.transforms import mirror, reversed_in_time, time_warp, turned
@@ -119,3 +120,43 @@ def test_a_glob_naming_a_take_exactly_routes_its_copies_with_it(tmp_path):
     assert [apart.route(m).name for m in (walk, *copies)] == ["mimic_walk", "mimic_walk", "mimic_walk", "mimic_imu"]
     other = walk.with_qpos(walk.qpos, name="deepmimic:walking (mirrored)")
     assert exact.route(other) == MODELS / "mimic_imu"  # "walking" is not "walk"
+
+
+def test_median_ground_speed_by_hand():
+    """A root going 3 m/s along x and 4 along y, bobbing up and down: 5 m/s on the ground."""
+    fps = 60.0
+    t = np.arange(40) / fps
+    qpos = np.zeros((40, 7))
+    qpos[:, 0], qpos[:, 1], qpos[:, 2] = 3 * t, 4 * t, 0.9 + 0.1 * np.sin(20 * t)
+    assert median_ground_speed(qpos, fps) == pytest.approx(5.0)
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        median_ground_speed(qpos[:1], fps)
+
+
+def test_the_fast_rule_routes_a_run_after_the_backward_rule_and_round_trips(tmp_path):
+    """DeepMimic's run (median 3.9 m/s on the ground) goes to the fast policy, its walk (1.0 m/s) to the
+    default; the run played backwards walks backwards, so the backward rule takes it first. Without a
+    fast policy the run stays with the default; the file keeps the rule, and a bad speed is refused."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    run = load_motion("deepmimic:run", "humanoid_1seg")
+    assert median_ground_speed(walk.qpos, walk.fps) < 1.5 < 2.5 < median_ground_speed(run.qpos, run.fps)
+    backwards = run.with_qpos(run.qpos[::-1].copy(), loop=False)
+    fast = PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_general",
+                     fast_speed_mps=2.0)
+    assert [fast.route(m).name for m in (walk, run, backwards)] == ["mimic_walk", "mimic_general", "mimic_imu"]
+    assert [p.name for p in fast.policies] == ["mimic_walk", "mimic_imu", "mimic_general"]
+    assert PolicySet(tmp_path / "plain", MODELS / "mimic_walk", MODELS / "mimic_imu").route(run).name == "mimic_walk"
+    spec = json.loads(fast.save().read_text())
+    assert spec["fast_speed_mps"] == 2.0 and not Path(spec["fast"]).is_absolute()
+    loaded = load_policy_set(tmp_path / "set")
+    assert loaded.fast.resolve() == (MODELS / "mimic_general").resolve() and loaded.route(run).name == "mimic_general"
+    assert "fast" not in json.loads(PolicySet(tmp_path / "plain", MODELS / "mimic_walk", MODELS / "mimic_imu")
+                                    .save().read_text())
+    spec["fast_speed_mps"] = -1
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="fast_speed_mps must be a finite number >= 0"):
+        load_policy_set(tmp_path / "set")
+    spec["fast_speed_mps"], spec["fast"] = 2.0, 7
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="fast must be a policy directory"):
+        load_policy_set(tmp_path / "set")
