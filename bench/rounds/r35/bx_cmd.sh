@@ -7,6 +7,8 @@
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
 mkdir -p runs/r35
+# on a machine without runs/r35/ppo_bx, carry on from the newest checkpoint committed with mimic_general_back_wip
+[ -d runs/r35/ppo_bx ] || [ ! -d models/mimic_general_back_wip/run ] || cp -r models/mimic_general_back_wip/run runs/r35/ppo_bx
 if [ -f runs/r35/ppo_bx/args.json ]; then
   MUJOCO_GL=egl OMP_NUM_THREADS=1 .venv/bin/python agents/train_ppo.py --run-dir runs/r35/ppo_bx --resume >> runs/r35/ppo_bx.log 2>&1
   exit
