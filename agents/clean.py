@@ -500,7 +500,7 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     if method:
         p.add_argument("--preset", choices=sorted(PRESETS),
                        help="clean with the policy and preparation validation chose for this kind of take: imu, an "
-                            "IMU-suit take (the policy set models/mimic_general_fast_set, takes faster than 2 m/s to its fast "
+                            "IMU-suit take (the policy set models/mimic_general_fast_set, its fast takes to its fast "
                             "expert, behind the stance-trained IMU denoiser's "
                             "slow corrections, legs evened and parted, grounded, swing-lifted, mirror-averaged, "
                             "zero-shot); optical, a marker "

@@ -15,7 +15,7 @@ running, in the manner of PHC's primitives, Luo et al. 2023); every other clip g
 on the motion library it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s)
 from every other take (≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
 (1.96 at the 1.25× pace training plays them at), its runs at 1.49–3.22 m/s and its dashes at
-2.49–4.45 m/s.
+2.49–4.41 m/s.
 
 On disk a policy set is a directory holding ``policy_set.json``::
 
@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import fnmatch
 import json
+import math
+import numbers
 import os
 import re
 from collections.abc import Callable
@@ -46,6 +48,8 @@ from reference_motion.motion import Motion
 
 SET_FILE = "policy_set.json"
 FORMAT = "physmimic.policy_set/1"
+SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips", "fast", "fast_speed_mps"}
+"""The fields ``policy_set.json`` may hold."""
 
 
 def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
@@ -96,7 +100,7 @@ class PolicySet:
         path: the set's directory.
         default: directory of the policy for every clip not routed elsewhere.
         backward: directory of the policy for clips walked backwards.
-        backward_speed_mps: a clip whose median heading speed is below minus this is walked backwards.
+        backward_speed_mps: a clip whose median heading speed is below minus this (m/s) is walked backwards.
         clips: ``((glob, directory), ...)``: a clip whose name matches a glob goes to its policy,
             before the other rules (the first glob that matches).
         fast: directory of the policy for clips whose root moves faster than ``fast_speed_mps``
@@ -116,8 +120,9 @@ class PolicySet:
     def __post_init__(self) -> None:
         for name in ("backward_speed_mps", "fast_speed_mps"):
             value = getattr(self, name)
-            if not (isinstance(value, (int, float)) and np.isfinite(value) and value >= 0):
+            if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
                 raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 (m/s), got {value!r}")
+            object.__setattr__(self, name, float(value))
 
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""
@@ -175,6 +180,11 @@ def load_policy_set(path: str | Path) -> PolicySet:
     missing = [k for k in ("default", "backward") if not isinstance(spec.get(k), str)]
     if missing:
         raise PolicyError(f"{file}: field(s) {', '.join(missing)} missing; expected policy directories relative to {path}")
+    unknown = sorted(set(spec) - SET_FIELDS)
+    if unknown:
+        raise PolicyError(f"{file}: unknown field(s) {', '.join(unknown)}; expected only {', '.join(sorted(SET_FIELDS))}")
+    if "fast_speed_mps" in spec and "fast" not in spec:
+        raise PolicyError(f"{file}: fast_speed_mps is given without fast, the policy directory it sends fast clips to")
     clips = spec.get("clips", {})
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "

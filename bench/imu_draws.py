@@ -118,7 +118,8 @@ def shift_means(runs: list[Rollout], tracked: list[Motion]) -> dict[str, float]:
 
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    p.add_argument("--policies", nargs="+", required=True, help="policy directories or run checkpoints")
+    p.add_argument("--policies", nargs="+", required=True,
+                   help="policy directories, run checkpoints or policy sets (policy_set.json)")
     p.add_argument("--clips", nargs="+", default=["library:data/library/val"])
     p.add_argument("--draws", type=int, default=10, help="IMU-corrupted draws of each clip")
     p.add_argument("--first-seed", type=int, default=20000,

@@ -41,7 +41,8 @@ def test_rollouts_are_averaged_by_the_version_of_their_take():
 
 def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to(tmp_path):
     """A set sending DeepMimic's run to its fast policy (mimic_imu) and the walk to its default (mimic_walk): the
-    draw's walk rollouts are mimic_walk's own, the run's mimic_imu's, and the mean is over both takes' rollouts."""
+    draw's walk rollouts are mimic_walk's own, the run's mimic_imu's (which mimic_walk would not score), and the mean
+    is over both takes' rollouts."""
     models = Path(__file__).resolve().parents[1] / "models"
     PolicySet(tmp_path / "set", models / "mimic_walk", models / "mimic_walk", fast=models / "mimic_imu").save()
     routed = Routed(str(tmp_path / "set"))
@@ -51,6 +52,7 @@ def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to
     mean, runs = evaluate_draw(routed, [walk, run_clip], None, episodes=1, actor=None, mirror_average=False)
     alone = {name: evaluate_tracking(load_policy(models / name), [clip], episodes=1)[1][0].elr
              for name, clip in (("mimic_walk", walk), ("mimic_imu", run_clip))}
+    assert alone["mimic_imu"] != evaluate_tracking(load_policy(models / "mimic_walk"), [run_clip], episodes=1)[1][0].elr
     by_clip = {r.clip: r.elr for r in runs}
     assert by_clip == {walk.name: alone["mimic_walk"], run_clip.name: alone["mimic_imu"]}
     assert mean == pytest.approx((alone["mimic_walk"] + alone["mimic_imu"]) / 2)

@@ -156,7 +156,20 @@ def test_the_fast_rule_routes_a_run_after_the_backward_rule_and_round_trips(tmp_
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="fast_speed_mps must be a finite number >= 0"):
         load_policy_set(tmp_path / "set")
+    for bad in (float("nan"), float("inf"), "2", True):
+        with pytest.raises(PolicyError, match="fast_speed_mps must be a finite number >= 0"):
+            PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", fast_speed_mps=bad)
+    with pytest.raises(PolicyError, match="backward_speed_mps must be a finite number >= 0"):
+        PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", backward_speed_mps=-0.1)
     spec["fast_speed_mps"], spec["fast"] = 2.0, 7
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="fast must be a policy directory"):
+        load_policy_set(tmp_path / "set")
+    del spec["fast"]
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="fast_speed_mps is given without fast"):
+        load_policy_set(tmp_path / "set")
+    spec["fast_speed"] = 2.0
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="unknown field.s. fast_speed;"):
         load_policy_set(tmp_path / "set")

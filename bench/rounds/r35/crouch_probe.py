@@ -27,7 +27,7 @@ import envs  # noqa: E402,F401  (registers the ids)
 from agents.evaluate import reference_clips, tracked_and_judged  # noqa: E402
 from agents.evaluation import Rollout, evaluate_tracking  # noqa: E402
 from agents.policy import load_policy  # noqa: E402
-from envs.config import MimicConfig  # noqa: E402
+from envs.config import FOOT_MODELS, MimicConfig  # noqa: E402
 from reference_motion.grounding import Grounding  # noqa: E402
 from reference_motion.library import postured  # noqa: E402
 from reference_motion.swing_lift import SwingLift  # noqa: E402
@@ -37,7 +37,8 @@ LIBRARY = "data/library"
 
 
 def pace(run: Rollout) -> float:
-    """The simulated pelvis's horizontal path length over the tracked take's, over the frames ``run`` performed."""
+    """The simulated pelvis's horizontal path length over the take's (as judged; the tracked take's path is the same),
+    over the frames ``run`` performed."""
     def length(q: np.ndarray) -> float:
         return float(np.linalg.norm(np.diff(q[:, :2], axis=0), axis=1).sum())
     return length(run.simulated.qpos) / max(length(run.reference.qpos), 1e-6)
@@ -58,7 +59,7 @@ def main() -> None:
         manifest = json.loads((ROOT / LIBRARY / "manifest.json").read_text())
         args.clips = [f"library:{LIBRARY}#{t['name']}" for t in manifest["takes"]
                       if t["content"] == "dash" and t["split"] in ("train", "val")]
-    takes = reference_clips(args.clips, "humanoid_1seg", config, None, 1.0, 0)
+    takes = reference_clips(args.clips, FOOT_MODELS[policy.foot], config, None, 1.0, 0)
     rows = []
     for deg in args.crouch_deg:
         clips = [postured(t, posture_offsets(t.model, crouch=np.radians(deg)), f"crouch {deg:g}") if deg else t
