@@ -76,6 +76,7 @@ def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
     assert plain[0].path.name == "mimic_walk" and len(plain[1]) == 2
     result = evaluate.main(["--policy", str(tmp_path / "set"), "--clips", "deepmimic:walk", "--episodes", "2"])
     assert result["rollouts"] == 2 and result["ELR_mean"] == 1.0  # mimic_walk walks its own clip whole
+    assert {name: Path(policy).name for name, policy in result["routed_to"].items()} == {"deepmimic:walk": "mimic_walk"}
 
 
 def test_clip_globs_route_before_the_backward_rule_and_round_trip(tmp_path):
