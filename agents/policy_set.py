@@ -136,6 +136,14 @@ class PolicySet:
             return self.fast
         return self.default
 
+    def grouped(self, motions: list[Motion]) -> dict[Path, list[int]]:
+        """The indices of ``motions`` grouped by the directory of the policy that performs each
+        (:meth:`route`), the groups in order of first use and the indices in order."""
+        groups: dict[Path, list[int]] = {}
+        for i, motion in enumerate(motions):
+            groups.setdefault(self.route(motion), []).append(i)
+        return groups
+
     @property
     def policies(self) -> list[Path]:
         """Every policy directory of the set, each once: default, backward, fast, then the clips' policies."""
@@ -210,7 +218,5 @@ def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[t
     if len(feet) > 1:
         raise PolicyError(f"{policy_set.path / SET_FILE}: its policies drive different humanoids ({sorted(feet)}); "
                           "a policy set needs one foot model")
-    groups: dict[Path, list[Motion]] = {}
-    for motion in load(feet.pop()):
-        groups.setdefault(policy_set.route(motion), []).append(motion)
-    return [(policies[p], clips) for p, clips in groups.items()]
+    motions = load(feet.pop())
+    return [(policies[p], [motions[i] for i in indices]) for p, indices in policy_set.grouped(motions).items()]

@@ -86,10 +86,7 @@ class Routed:
         """``[(policy, indices of its takes), ...]``: the takes of a draw (``judged``, the takes as given, or
         ``tracked`` where they are tracked as given), grouped by the policy that performs them."""
         given = tracked if judged is None else judged
-        out: dict[Path, list[int]] = {}
-        for i, take in enumerate(given):
-            out.setdefault(self.set.route(take), []).append(i)
-        return [(self.policies[p], indices) for p, indices in out.items()]
+        return [(self.policies[p], indices) for p, indices in self.set.grouped(given).items()]
 
 
 def evaluate_draw(policy: MimicPolicy | Routed, tracked: list[Motion], judged: list[Motion] | None, episodes: int,
