@@ -30,6 +30,7 @@ from agents.policy import load_policy  # noqa: E402
 from envs.config import FOOT_MODELS, MimicConfig  # noqa: E402
 from reference_motion.grounding import Grounding  # noqa: E402
 from reference_motion.library import postured  # noqa: E402
+from reference_motion.motion_library import library_set  # noqa: E402
 from reference_motion.swing_lift import SwingLift  # noqa: E402
 from reference_motion.transforms import posture_offsets  # noqa: E402
 
@@ -55,10 +56,9 @@ def main() -> None:
     args = p.parse_args()
     policy = load_policy(args.policy)
     config = MimicConfig()
-    if args.clips is None:
-        manifest = json.loads((ROOT / LIBRARY / "manifest.json").read_text())
-        args.clips = [f"library:{LIBRARY}#{t['name']}" for t in manifest["takes"]
-                      if t["content"] == "dash" and t["split"] in ("train", "val")]
+    if args.clips is None:  # every dash of the library but the held-out ones, in the manifest's order
+        held_out = set(library_set(f"library:{LIBRARY}/test", ("dash",)))
+        args.clips = [take for take in library_set(f"library:{LIBRARY}", ("dash",)) if take not in held_out]
     takes = reference_clips(args.clips, FOOT_MODELS[policy.foot], config, None, 1.0, 0)
     rows = []
     for deg in args.crouch_deg:
