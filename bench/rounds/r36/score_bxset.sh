@@ -1,0 +1,20 @@
+#!/bin/bash
+# Round 36, as registered in round 35: BX (the backward expert, its committed candidate step_1441120) made the
+# backward policy of FXSET, the set of that time (models/mimic_general_fast_set: LSS by default, FX above 2.0 m/s);
+# BXSET scored against FXSET behind SQ on validation clean and the style-shifted draws 1750000+, confirmed on
+# 1760000+ if it leads (bench/rounds/score_shifted.sh), and if it leads both, its held-out rows once.
+set -eo pipefail
+cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r36
+BX=models/mimic_general_back_wip/run/checkpoints/step_1441120.zip
+BASE=models/mimic_general_fast_set
+.venv/bin/python -c "
+import sys; from pathlib import Path; from agents.policy_set import load_policy_set, PolicySet
+base = load_policy_set(sys.argv[1])
+PolicySet(Path('runs/r36/BXSET'), base.default, Path(sys.argv[2]), fast=base.fast, fast_speed_mps=base.fast_speed_mps).save()
+" "$BASE" "$BX"
+echo runs/r36/BXSET > runs/r28/BXSET_candidate.txt
+bash bench/rounds/score_shifted.sh "$BASE" FXSET FXSET_SQ BXSET 1750000 1760000 round36_select_BXSET
+if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
+    bench/results/round36_select_BXSET.json 2> /dev/null; then
+  DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh BXSET slow
+fi

@@ -1,0 +1,28 @@
+#!/bin/bash
+# Round 36, as registered: FX's run carried on (bench/rounds/r36/fx2_cmd.sh), its newest checkpoint at 20:15 UTC
+# (FX2), made the fast policy of the set of that time: BXSET if round 36's BXSET replaced FXSET
+# (bench/results/round36_select_BXSET.json's replaces_baseline), otherwise FXSET (models/mimic_general_fast_set).
+# FX2SET scored against that set behind SQ on validation clean and the style-shifted draws 1770000+, confirmed on
+# 1780000+ if it leads (bench/rounds/score_shifted.sh), and if it leads both, its held-out rows once.
+set -eo pipefail
+cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r36
+bash bench/rounds/r28/candidate.sh runs/r35/ppo_fx 2015 FX2
+while pgrep -f "bench/rounds/r36/score_bxset.sh" > /dev/null; do sleep 20; done  # the set of that time
+if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
+    bench/results/round36_select_BXSET.json 2> /dev/null; then
+  BASE=runs/r36/BXSET; NAME=BXSET
+else
+  BASE=models/mimic_general_fast_set; NAME=FXSET
+fi
+.venv/bin/python -c "
+import sys; from pathlib import Path; from agents.policy_set import load_policy_set, PolicySet
+base = load_policy_set(sys.argv[1])
+PolicySet(Path('runs/r36/FX2SET'), base.default, base.backward, base.backward_speed_mps, fast=Path(sys.argv[2]),
+          fast_speed_mps=base.fast_speed_mps).save()
+" "$BASE" "$(cat runs/r28/FX2_candidate.txt)"
+echo runs/r36/FX2SET > runs/r28/FX2SET_candidate.txt
+bash bench/rounds/score_shifted.sh "$BASE" "$NAME" "${NAME}_SQ" FX2SET 1770000 1780000 round36_select_FX2SET
+if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
+    bench/results/round36_select_FX2SET.json 2> /dev/null; then
+  DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh FX2SET slow
+fi
