@@ -16,7 +16,8 @@ to the number of clips and may not be smaller, so no two references share a seed
 rollouts each, after ``--denoise`` and judged against the take as given (as ``evaluate.py
 --denoise``). Same clips, seeds and start frames for every policy; policy directories, run
 checkpoints or policy sets (each take routed as given, before the denoiser, as ``evaluate.py`` routes
-it; not with ``--ensemble``). Prints each policy's ELR per draw and over all draws and, for each
+it; not with ``--ensemble``; a set's JSON row gives, under ``routed_to``, each take's policies and how
+often each performed it). Prints each policy's ELR per draw and over all draws and, for each
 policy after the first, its mean paired difference from the first (± standard error over the
 draws) and on how many draws it scores above, equal to and below it.
 
@@ -82,11 +83,26 @@ class Routed:
         self.set = load_policy_set(path)
         self.policies = {p: load_policy(p) for p in self.set.policies}
 
+    def routes(self, tracked: list[Motion], judged: list[Motion] | None) -> dict[Path, list[int]]:
+        """``{policy directory: indices of its takes}``: the takes of a draw (``judged``, the takes as given, or
+        ``tracked`` where they are tracked as given) grouped by the policy that performs them
+        (:meth:`agents.policy_set.PolicySet.grouped`)."""
+        return self.set.grouped(tracked if judged is None else judged)
+
     def groups(self, tracked: list[Motion], judged: list[Motion] | None) -> list[tuple[MimicPolicy, list[int]]]:
-        """``[(policy, indices of its takes), ...]``: the takes of a draw (``judged``, the takes as given, or
-        ``tracked`` where they are tracked as given), grouped by the policy that performs them."""
-        given = tracked if judged is None else judged
-        return [(self.policies[p], indices) for p, indices in self.set.grouped(given).items()]
+        """``[(policy, indices of its takes), ...]``: :meth:`routes` with each policy loaded."""
+        return [(self.policies[p], indices) for p, indices in self.routes(tracked, judged).items()]
+
+    def routing(self, draws: list[tuple[list[Motion], list[Motion] | None]]) -> dict[str, dict[str, int]]:
+        """``{take's name: {policy directory: count}}``: how many times, over the ``(tracked, judged)`` draws, each
+        take was routed to each policy of the set (a take near a rule's speed can go either way, by its IMU draw)."""
+        counts: dict[str, dict[str, int]] = {}
+        for tracked, judged in draws:
+            for policy, indices in self.routes(tracked, judged).items():
+                for i in indices:
+                    per_policy = counts.setdefault(tracked[i].name, {})
+                    per_policy[str(policy)] = per_policy.get(str(policy), 0) + 1
+        return counts
 
 
 def evaluate_draw(policy: MimicPolicy | Routed, tracked: list[Motion], judged: list[Motion] | None, episodes: int,
@@ -197,6 +213,8 @@ def main() -> None:
         elr = np.array([mean for mean, _ in scored])
         label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
+        if isinstance(policy, Routed):
+            rows[-1]["routed_to"] = policy.routing(draws)
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
         if args.style_shifts:
             by_shift = [shift_means(runs, tracked) for (_, runs), (tracked, _) in zip(scored, draws)]
