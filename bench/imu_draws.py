@@ -34,6 +34,7 @@ The selection rules (``select_policy.py``, ``select_denoiser.py``) read only str
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 
 import numpy as np
@@ -94,14 +95,15 @@ class Routed:
         return [(self.policies[p], indices) for p, indices in self.routes(tracked, judged).items()]
 
     def routing(self, draws: list[tuple[list[Motion], list[Motion] | None]]) -> dict[str, dict[str, int]]:
-        """``{take's name: {policy directory: count}}``: how many times, over the ``(tracked, judged)`` draws, each
+        """``{take's name: {policy directory (normalised): count}}``: how many times, over the ``(tracked, judged)`` draws, each
         take was routed to each policy of the set (a take near a rule's speed can go either way, by its IMU draw)."""
         counts: dict[str, dict[str, int]] = {}
         for tracked, judged in draws:
             for policy, indices in self.routes(tracked, judged).items():
+                name = os.path.normpath(policy)
                 for i in indices:
                     per_policy = counts.setdefault(tracked[i].name, {})
-                    per_policy[str(policy)] = per_policy.get(str(policy), 0) + 1
+                    per_policy[name] = per_policy.get(name, 0) + 1
         return counts
 
 

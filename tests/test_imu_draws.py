@@ -50,8 +50,8 @@ def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to
     groups = routed.groups([walk, run_clip, walk], None)
     assert [(policy.path.name, indices) for policy, indices in groups] == [("mimic_walk", [0, 2]), ("mimic_imu", [1])]
     routing = routed.routing([([walk, run_clip, walk], None), ([run_clip], [walk])])  # the second judged as a walk
-    assert routing == {walk.name: {str(routed.set.default): 2}, run_clip.name: {str(routed.set.fast): 1,
-                                                                                 str(routed.set.default): 1}}
+    walker, runner = str(models / "mimic_walk"), str(models / "mimic_imu")
+    assert routing == {walk.name: {walker: 2}, run_clip.name: {runner: 1, walker: 1}}
     mean, runs = evaluate_draw(routed, [walk, run_clip], None, episodes=1, actor=None, mirror_average=False)
     alone = {name: evaluate_tracking(load_policy(models / name), [clip], episodes=1)[1][0].elr
              for name, clip in (("mimic_walk", walk), ("mimic_imu", run_clip))}
