@@ -1,8 +1,9 @@
 #!/bin/bash
 # usage: bench/rounds/r28/candidate.sh RUN_DIR HHMM NAME
 # A registered candidate of a training run: its newest checkpoint at HHMM UTC, the same day (or its last, if the run
-# ends first; a run not yet up is given 2 minutes to appear, so one started just before is not taken for ended). The run is then stopped with a checkpoint (resumable: train_ppo.py --run-dir RUN_DIR --resume), and the
-# checkpoint's path is written to runs/r28/NAME_candidate.txt, which the round's scoring reads.
+# ends first; a run not yet up is given 2 minutes to appear, so one started just before is not taken for ended). The
+# run is then stopped with a checkpoint (resumable: train_ppo.py --run-dir RUN_DIR --resume), and the checkpoint's
+# path is written to runs/r28/NAME_candidate.txt, which the round's scoring reads.
 set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r28
 R=$1; T=$2; N=$3
