@@ -1,6 +1,6 @@
 #!/bin/bash
 # Round 36, as registered: BX's run carried on (nice -n 10 bash bench/rounds/r35/bx_cmd.sh, from the committed
-# models/mimic_general_back_wip/run), its newest checkpoint at 20:30 UTC (BX2), made the backward policy of the set of
+# models/mimic_general_back_wip/run, now models/mimic_general_back/run), its newest checkpoint at 20:30 UTC (BX2), made the backward policy of the set of
 # that time, once score_fx2set.sh has finished: FX2SET if it replaced its baseline, otherwise BXSET if BXSET replaced
 # FXSET, otherwise FXSET (models/mimic_general_fast_set). BX2SET scored against that set behind SQ on validation clean
 # and the style-shifted draws 1790000+, confirmed on 1800000+ if it leads (bench/rounds/score_shifted.sh), and if it

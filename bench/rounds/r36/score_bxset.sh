@@ -5,7 +5,9 @@
 # 1760000+ if it leads (bench/rounds/score_shifted.sh), and if it leads both, its held-out rows once.
 set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r36
-BX=models/mimic_general_back_wip/run/checkpoints/step_1441120.zip
+# BX as shipped (round 36): the actor of step_1441120, which the round scored from the committed checkpoint
+# models/mimic_general_back_wip/run/checkpoints/step_1441120.zip (since removed); the same per take on validation clean
+BX=models/mimic_general_back
 BASE=models/mimic_general_fast_set
 .venv/bin/python -c "
 import sys; from pathlib import Path; from agents.policy_set import load_policy_set, PolicySet
