@@ -10,21 +10,25 @@ listed first); else a clip whose root moves
 backwards relative to the pelvis heading (median speed along the heading below
 ``-backward_speed_mps``) goes to the ``backward`` policy; else, if the set has a ``fast`` policy, a
 clip whose root's median horizontal speed is above ``fast_speed_mps`` goes to it (an expert for
-running, in the manner of PHC's primitives, Luo et al. 2023); every other clip goes to
-``default``. The rule reads the clip as given (corrupted or not), so it needs no ground truth, and
+running, in the manner of PHC's primitives, Luo et al. 2023); else, if the set has a ``sideways``
+policy, a clip whose root's median speed across the pelvis heading is above ``sideways_speed_mps``
+(either way, :func:`walks_sideways`) goes to it; every other clip goes to ``default``. The rule reads the clip as given (corrupted or not), so it needs no ground truth, and
 on the motion library it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s)
 from every other take (≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
 (1.96 at the 1.25× pace training plays them at), its runs at 1.49–3.22 m/s and its dashes at
-2.49–4.41 m/s.
+2.49–4.41 m/s. Across the heading its forward walks, and its runs and DeepMimic's clips slower than
+2 m/s, go at median speeds of at most 0.14 m/s either way, its sideways walks at 0.07–0.53 m/s
+(17 of its 22 above 0.15).
 
 On disk a policy set is a directory holding ``policy_set.json``::
 
     {"format": "physmimic.policy_set/1", "default": "../mimic_general",
      "backward": "../mimic_walk_back", "backward_speed_mps": 0.2,
      "fast": "../mimic_fast", "fast_speed_mps": 2.0,
+     "sideways": "../mimic_sideways", "sideways_speed_mps": 0.15,
      "clips": {"*dash_active_001*": "../dash_active"}}
 
-with the policy directories relative to it (``fast`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
+with the policy directories relative to it (``fast``, ``sideways`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
 policy set wherever they take a policy.
 """
 
@@ -48,20 +52,29 @@ from reference_motion.motion import Motion
 
 SET_FILE = "policy_set.json"
 FORMAT = "physmimic.policy_set/1"
-SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips", "fast", "fast_speed_mps"}
+OPTIONAL_RULES = ("fast", "sideways")
+"""The optional rules: each a policy directory field and its speed field ``NAME_speed_mps``."""
+SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips",
+              *OPTIONAL_RULES, *(f"{rule}_speed_mps" for rule in OPTIONAL_RULES)}
 """The fields ``policy_set.json`` may hold."""
 
 
-def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
-    """``(T,)`` the root's horizontal velocity (m/s) along the pelvis heading (its x axis projected on
-    the ground) in each frame of ``qpos (T, nq)`` (free joint first: position, then w-x-y-z
-    quaternion; world, z up); negative while moving backwards."""
+def heading_frame_velocity(qpos: np.ndarray, fps: float) -> np.ndarray:
+    """``(T, 2)`` the root's horizontal velocity (m/s) in each frame of ``qpos (T, nq)`` (free joint
+    first: position, then w-x-y-z quaternion; world, z up), in the pelvis heading's frame: along the
+    heading (its x axis projected on the ground; negative while moving backwards), then across it
+    (positive to the left)."""
     if len(qpos) < 2:
-        raise ValueError(f"heading_speeds needs at least 2 frames, got {len(qpos)}")
+        raise ValueError(f"the root's velocity needs at least 2 frames, got {len(qpos)}")
     heading_angle = rot.yaw(qpos[:, 3:7])
-    heading = np.stack([np.cos(heading_angle), np.sin(heading_angle)], axis=1)
+    cos, sin = np.cos(heading_angle), np.sin(heading_angle)
     velocity = np.gradient(qpos[:, :2], 1.0 / fps, axis=0)
-    return np.sum(velocity * heading, axis=1)
+    return np.stack([velocity[:, 0] * cos + velocity[:, 1] * sin, velocity[:, 1] * cos - velocity[:, 0] * sin], axis=1)
+
+
+def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:
+    """``(T,)`` the root's horizontal velocity (m/s) along the pelvis heading (:func:`heading_frame_velocity`)."""
+    return heading_frame_velocity(qpos, fps)[:, 0]
 
 
 TRANSFORM_SUFFIXES = re.compile(
@@ -82,6 +95,12 @@ def source_name(name: str) -> str:
 def walks_backward(motion: Motion, backward_speed_mps: float) -> bool:
     """Whether ``motion``'s median heading speed (:func:`heading_speeds`) is below ``-backward_speed_mps``."""
     return bool(np.median(heading_speeds(motion.qpos, motion.fps)) < -backward_speed_mps)
+
+
+def walks_sideways(motion: Motion, sideways_speed_mps: float) -> bool:
+    """Whether the median of ``motion``'s root velocity across the pelvis heading
+    (:func:`heading_frame_velocity`, either way) is above ``sideways_speed_mps``."""
+    return bool(abs(np.median(heading_frame_velocity(motion.qpos, motion.fps)[:, 1])) > sideways_speed_mps)
 
 
 def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
@@ -107,6 +126,9 @@ class PolicySet:
             (median horizontal speed, :func:`median_ground_speed`), after the backward rule;
             ``None``: no such rule.
         fast_speed_mps: that speed (m/s).
+        sideways: directory of the policy for clips walked sideways (:func:`walks_sideways` with
+            ``sideways_speed_mps``), after the fast rule; ``None``: no such rule.
+        sideways_speed_mps: that speed (m/s).
     """
 
     path: Path
@@ -116,9 +138,11 @@ class PolicySet:
     clips: tuple[tuple[str, Path], ...] = ()
     fast: Path | None = None
     fast_speed_mps: float = 2.0
+    sideways: Path | None = None
+    sideways_speed_mps: float = 0.15
 
     def __post_init__(self) -> None:
-        for name in ("backward_speed_mps", "fast_speed_mps"):
+        for name in ("backward_speed_mps", "fast_speed_mps", "sideways_speed_mps"):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
                 raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 (m/s), got {value!r}")
@@ -134,6 +158,8 @@ class PolicySet:
             return self.backward
         if self.fast is not None and median_ground_speed(motion.qpos, motion.fps) > self.fast_speed_mps:
             return self.fast
+        if self.sideways is not None and walks_sideways(motion, self.sideways_speed_mps):
+            return self.sideways
         return self.default
 
     def grouped(self, motions: list[Motion]) -> dict[Path, list[int]]:
@@ -146,9 +172,9 @@ class PolicySet:
 
     @property
     def policies(self) -> list[Path]:
-        """Every policy directory of the set, each once: default, backward, fast, then the clips' policies."""
-        fast = [] if self.fast is None else [self.fast]
-        return list(dict.fromkeys([self.default, self.backward, *fast, *(policy for _, policy in self.clips)]))
+        """Every policy directory of the set, each once: default, backward, fast, sideways, then the clips' policies."""
+        optional = [getattr(self, rule) for rule in OPTIONAL_RULES if getattr(self, rule) is not None]
+        return list(dict.fromkeys([self.default, self.backward, *optional, *(policy for _, policy in self.clips)]))
 
     def save(self) -> Path:
         """Write ``policy_set.json`` (policy paths relative to the set's directory)."""
@@ -159,8 +185,9 @@ class PolicySet:
 
         spec = {"format": FORMAT, "default": rel(self.default), "backward": rel(self.backward),
                 "backward_speed_mps": self.backward_speed_mps}
-        if self.fast is not None:
-            spec |= {"fast": rel(self.fast), "fast_speed_mps": self.fast_speed_mps}
+        for rule in OPTIONAL_RULES:
+            if getattr(self, rule) is not None:
+                spec |= {rule: rel(getattr(self, rule)), f"{rule}_speed_mps": getattr(self, f"{rule}_speed_mps")}
         if self.clips:
             spec["clips"] = {glob: rel(policy) for glob, policy in self.clips}
         out = self.path / SET_FILE
@@ -191,18 +218,23 @@ def load_policy_set(path: str | Path) -> PolicySet:
     unknown = sorted(set(spec) - SET_FIELDS)
     if unknown:
         raise PolicyError(f"{file}: unknown field(s) {', '.join(unknown)}; expected only {', '.join(sorted(SET_FIELDS))}")
-    if "fast_speed_mps" in spec and "fast" not in spec:
-        raise PolicyError(f"{file}: fast_speed_mps is given without fast, the policy directory it sends fast clips to")
+    optional = {}
+    for rule in OPTIONAL_RULES:
+        if f"{rule}_speed_mps" in spec and rule not in spec:
+            raise PolicyError(f"{file}: {rule}_speed_mps is given without {rule}, the policy directory it sends "
+                              f"{rule} clips to")
+        policy = spec.get(rule)
+        if policy is not None and not isinstance(policy, str):
+            raise PolicyError(f"{file}: {rule} must be a policy directory relative to {path}, got {policy!r}")
+        if policy is not None:
+            optional |= {rule: path / policy, f"{rule}_speed_mps": spec.get(f"{rule}_speed_mps",
+                                                                            getattr(PolicySet, f"{rule}_speed_mps"))}
     clips = spec.get("clips", {})
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "
                           f"{path}, got {clips!r}")
-    fast = spec.get("fast")
-    if fast is not None and not isinstance(fast, str):
-        raise PolicyError(f"{file}: fast must be a policy directory relative to {path}, got {fast!r}")
     return PolicySet(path, path / spec["default"], path / spec["backward"], spec.get("backward_speed_mps", 0.2),
-                     tuple((glob, path / policy) for glob, policy in clips.items()),
-                     None if fast is None else path / fast, spec.get("fast_speed_mps", PolicySet.fast_speed_mps))
+                     tuple((glob, path / policy) for glob, policy in clips.items()), **optional)
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:

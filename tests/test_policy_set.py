@@ -1,4 +1,5 @@
-"""agents/policy_set.py: the backward-walking and fast rules by hand and on real clips, the set file, routing."""
+"""agents/policy_set.py: the backward-walking, fast and sideways rules by hand and on real clips, the set file,
+routing."""
 
 import json
 import math
@@ -9,10 +10,11 @@ import pytest
 
 from agents import evaluate
 from agents.policy import PolicyError
-from agents.policy_set import (PolicySet, heading_speeds, load_policy_set, median_ground_speed, route_clips, source_name,
-                               walks_backward)
+from agents.policy_set import (PolicySet, heading_frame_velocity, heading_speeds, load_policy_set, median_ground_speed,
+                               route_clips, source_name, walks_backward, walks_sideways)
 from reference_motion.library import load_motion
 from reference_motion.library import posture_copies, stance_copies
+from reference_motion import rotations as rot
 from reference_motion.transforms import mirror, reversed_in_time, time_warp, turned
 
 MODELS = Path(__file__).parents[1] / "models"
@@ -173,4 +175,58 @@ def test_the_fast_rule_routes_a_run_after_the_backward_rule_and_round_trips(tmp_
     spec["fast_speed"] = 2.0
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="unknown field.s. fast_speed;"):
+        load_policy_set(tmp_path / "set")
+
+
+def test_heading_frame_velocity_by_hand():
+    """A root facing +y (yaw 90°) moving at 0.5 m/s along +x moves 0.5 m/s to its right (−0.5 across its
+    heading), none along it; along −x, to its left."""
+    fps = 60.0
+    t = np.arange(30) / fps
+    qpos = np.zeros((30, 7))
+    qpos[:, 3:7] = _quat_yaw(math.pi / 2)
+    qpos[:, 0] = 0.5 * t
+    assert np.allclose(heading_frame_velocity(qpos, fps), [0.0, -0.5])
+    qpos[:, 0] = -0.5 * t
+    assert np.allclose(heading_frame_velocity(qpos, fps), [0.0, 0.5])
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        heading_frame_velocity(qpos[:1], fps)
+
+
+def _facing_turned(motion, yaw: float):
+    """``motion`` with its pelvis turned by ``yaw`` (rad) about the vertical, its path unchanged."""
+    qpos = motion.qpos.copy()
+    qpos[:, 3:7] = rot.multiply(np.broadcast_to(_quat_yaw(yaw), qpos[:, 3:7].shape), qpos[:, 3:7])
+    return motion.with_qpos(qpos, name=f"{motion.name} facing {yaw:.2f}")
+
+
+def test_the_sideways_rule_routes_a_walk_facing_across_its_path_after_the_fast_rule_and_round_trips(tmp_path):
+    """DeepMimic's walk with its pelvis turned 90° either way (its path unchanged) goes at about 1 m/s across its
+    heading and to the sideways policy; as given, or turned 5°, it stays with the default. Its run turned 90° is
+    fast, and the fast rule takes it first. The file keeps the rule; a bad speed or a lone speed is refused."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    run = load_motion("deepmimic:run", "humanoid_1seg")
+    left, right, slightly = (_facing_turned(walk, yaw) for yaw in (-math.pi / 2, math.pi / 2, math.radians(5)))
+    assert np.median(heading_frame_velocity(left.qpos, left.fps)[:, 1]) > 0.8
+    assert np.median(heading_frame_velocity(right.qpos, right.fps)[:, 1]) < -0.8
+    assert [walks_sideways(m, 0.15) for m in (walk, left, right, slightly)] == [False, True, True, False]
+    sideways = PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_general",
+                         sideways=MODELS / "mimic_walk_back")
+    routed = [sideways.route(m).name for m in (walk, left, right, slightly, _facing_turned(run, math.pi / 2))]
+    assert routed == ["mimic_walk", "mimic_walk_back", "mimic_walk_back", "mimic_walk", "mimic_general"]
+    assert [p.name for p in sideways.policies] == ["mimic_walk", "mimic_imu", "mimic_general", "mimic_walk_back"]
+    spec = json.loads(sideways.save().read_text())
+    assert spec["sideways_speed_mps"] == 0.15 and not Path(spec["sideways"]).is_absolute()
+    loaded = load_policy_set(tmp_path / "set")
+    assert loaded.sideways.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(left).name == "mimic_walk_back"
+    assert loaded.fast.resolve() == (MODELS / "mimic_general").resolve()
+    with pytest.raises(PolicyError, match="sideways_speed_mps must be a finite number >= 0"):
+        PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", sideways_speed_mps=float("nan"))
+    del spec["sideways"]
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="sideways_speed_mps is given without sideways"):
+        load_policy_set(tmp_path / "set")
+    spec["sideways"] = ["../x"]
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="sideways must be a policy directory"):
         load_policy_set(tmp_path / "set")
