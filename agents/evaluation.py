@@ -10,6 +10,7 @@ averaged over all rollouts.
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
@@ -92,14 +93,18 @@ def evaluate(env: gym.Env, policy: Policy, clips: list[int | str] | None = None,
 
 def evaluate_tracking(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion] | None = None,
                       episodes: int = 20, offset_step: int = 3, actor: Policy | None = None,
-                      mirror_average: bool = False) -> tuple[dict[str, float], list[Rollout]]:
+                      mirror_average: bool = False, prepare_env: Callable[[gym.Env], None] | None = None
+                      ) -> tuple[dict[str, float], list[Rollout]]:
     """:func:`evaluate` of ``policy`` in the environment it was trained in, tracking the clips
     ``tracked`` (no artefacts added) and judged, rewarded and terminated, against ``judged`` (the
     same clips in the same order, e.g. the IMU takes as given, which a denoiser cleaned; default:
     ``tracked``). ``actor`` acts instead of ``policy`` in that environment (e.g. an ensemble with
     ``policy`` among its members); default: ``policy``. ``mirror_average``: that actor made mirror
-    symmetric (:class:`agents.mirror.MirrorAveraged`)."""
+    symmetric (:class:`agents.mirror.MirrorAveraged`). ``prepare_env`` is called on the environment
+    before its first reset (e.g. to change its MuJoCo model for a probe)."""
     env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
+    if prepare_env is not None:
+        prepare_env(env)
     env.reset(seed=0)
     actor = policy if actor is None else actor
     if mirror_average:

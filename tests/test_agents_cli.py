@@ -77,6 +77,14 @@ def test_evaluate_through_the_denoiser_judges_against_the_clip_as_given(policy_d
     assert [r.elr for r in acted] == [r.elr for r in by_hand]
     np.testing.assert_array_equal(acted[0].simulated.qpos, by_hand[0].simulated.qpos)
     assert not np.array_equal(acted[0].simulated.qpos, runs[0].simulated.qpos[:acted[0].simulated.n_frames])
+    prepared = []
+
+    def weaken(env):  # prepare_env: the environment's body given 5% of its torques before the first reset
+        env.unwrapped.model.actuator_forcerange[:] *= 0.05
+        prepared.append(env)
+
+    _, weak = evaluate_tracking(policy, [performed], [given], episodes=2, prepare_env=weaken)
+    assert len(prepared) == 1 and all(w.elr < r.elr for w, r in zip(weak, runs, strict=True))
 
 
 def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):

@@ -32,8 +32,7 @@ ROOT = Path(__file__).resolve().parents[3]
 sys.path[:0] = [str(ROOT), str(ROOT / "bench")]
 import envs  # noqa: E402,F401  (registers the ids)
 from agents.evaluate import corrupted, tracked_and_judged  # noqa: E402
-from agents.evaluation import Rollout, evaluate, evaluate_tracking  # noqa: E402
-from agents.mirror import MirrorAveraged, MirrorMaps  # noqa: E402
+from agents.evaluation import Rollout, evaluate_tracking  # noqa: E402
 from agents.policy import MimicPolicy, load_policy  # noqa: E402
 from envs.config import MimicConfig  # noqa: E402
 from envs.preparation import PreparationSteps  # noqa: E402
@@ -103,20 +102,16 @@ def performed(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion],
               torque_scale: tuple[str, float] | None) -> list[Rollout]:
     """The rollouts of :func:`evaluate_tracking` (mirror-averaged), the actuators whose names contain
     ``torque_scale[0]`` given ``torque_scale[1]`` times their torque limits."""
-    if torque_scale is None:
-        return evaluate_tracking(policy, tracked, judged, episodes=EPISODES, mirror_average=True)[1]
-    env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
-    model = env.unwrapped.model
-    part, factor = torque_scale
-    scaled = [i for i in range(model.nu) if part in model.actuator(i).name]
-    if not scaled:
-        raise SystemExit(f"--torque-scale: no actuator's name contains {part!r}")
-    model.actuator_forcerange[scaled] *= factor
-    env.reset(seed=0)
-    try:
-        return evaluate(env, MirrorAveraged(policy, MirrorMaps.of(env)), episodes=EPISODES)[1]
-    finally:
-        env.close()
+    def scale_torques(env) -> None:
+        model = env.unwrapped.model
+        part, factor = torque_scale
+        scaled = [i for i in range(model.nu) if part in model.actuator(i).name]
+        if not scaled:
+            raise SystemExit(f"--torque-scale: no actuator's name contains {part!r}")
+        model.actuator_forcerange[scaled] *= factor
+
+    return evaluate_tracking(policy, tracked, judged, episodes=EPISODES, mirror_average=True,
+                             prepare_env=None if torque_scale is None else scale_torques)[1]
 
 
 def main() -> None:
