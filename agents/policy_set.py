@@ -12,20 +12,22 @@ backwards relative to the pelvis heading (median speed along the heading below
 clip whose root's median horizontal speed is above ``fast_speed_mps`` goes to it (an expert for
 running, in the manner of PHC's primitives, Luo et al. 2023); else, if the set has a ``sideways``
 policy, a clip whose root's median speed across the pelvis heading is above ``sideways_speed_mps``
-(either way, :func:`walks_sideways`) goes to it; every other clip goes to ``default``. The rule reads the clip as given (corrupted or not), so it needs no ground truth, and
-on the motion library it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s)
-from every other take (≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
+(either way, :func:`walks_sideways`) goes to it; every other clip goes to ``default``. The rule
+reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion library
+it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s) from every other take
+(≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
 (1.96 at the 1.25× pace training plays them at), its runs at 1.49–3.22 m/s and its dashes at
-2.49–4.41 m/s. Across the heading its forward walks, and its runs and DeepMimic's clips slower than
-2 m/s, go at median speeds of at most 0.14 m/s either way, its sideways walks at 0.07–0.53 m/s
-(17 of its 22 above 0.15).
+2.49–4.41 m/s. Across the heading its takes other than sideways walks and slower than 2 m/s go at
+median speeds of at most 0.14 m/s either way clean and 0.18 m/s in any of 10 IMU draws (the IMU's
+heading drift turns the heading against the path), its sideways walks at 0.07–0.53 m/s, 15 of its
+22 above 0.2 m/s clean (``bench/rounds/r36/route_speeds.py``, ``bench/results/round36_route_speeds.json``).
 
 On disk a policy set is a directory holding ``policy_set.json``::
 
     {"format": "physmimic.policy_set/1", "default": "../mimic_general",
      "backward": "../mimic_walk_back", "backward_speed_mps": 0.2,
      "fast": "../mimic_fast", "fast_speed_mps": 2.0,
-     "sideways": "../mimic_sideways", "sideways_speed_mps": 0.15,
+     "sideways": "../mimic_sideways", "sideways_speed_mps": 0.2,
      "clips": {"*dash_active_001*": "../dash_active"}}
 
 with the policy directories relative to it (``fast``, ``sideways`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
@@ -53,7 +55,8 @@ from reference_motion.motion import Motion
 SET_FILE = "policy_set.json"
 FORMAT = "physmimic.policy_set/1"
 OPTIONAL_RULES = ("fast", "sideways")
-"""The optional rules: each a policy directory field and its speed field ``NAME_speed_mps``."""
+"""The optional rules, in the order they route: each a policy directory field, its speed field
+``NAME_speed_mps`` and its test (:data:`RULE_TESTS`)."""
 SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips",
               *OPTIONAL_RULES, *(f"{rule}_speed_mps" for rule in OPTIONAL_RULES)}
 """The fields ``policy_set.json`` may hold."""
@@ -99,8 +102,14 @@ def walks_backward(motion: Motion, backward_speed_mps: float) -> bool:
 
 def walks_sideways(motion: Motion, sideways_speed_mps: float) -> bool:
     """Whether the median of ``motion``'s root velocity across the pelvis heading
-    (:func:`heading_frame_velocity`, either way) is above ``sideways_speed_mps``."""
+    (:func:`heading_frame_velocity`, m/s, either way) is above ``sideways_speed_mps`` (m/s)."""
     return bool(abs(np.median(heading_frame_velocity(motion.qpos, motion.fps)[:, 1])) > sideways_speed_mps)
+
+
+def goes_fast(motion: Motion, fast_speed_mps: float) -> bool:
+    """Whether ``motion``'s root's median horizontal speed (:func:`median_ground_speed`, m/s) is above
+    ``fast_speed_mps`` (m/s)."""
+    return median_ground_speed(motion.qpos, motion.fps) > fast_speed_mps
 
 
 def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
@@ -109,6 +118,10 @@ def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
     if len(qpos) < 2:
         raise ValueError(f"median_ground_speed needs at least 2 frames, got {len(qpos)}")
     return float(np.median(np.linalg.norm(np.gradient(qpos[:, :2], 1.0 / fps, axis=0), axis=1)))
+
+
+RULE_TESTS: dict[str, Callable[[Motion, float], bool]] = {"fast": goes_fast, "sideways": walks_sideways}
+"""Each optional rule's test of a clip against the rule's speed (m/s)."""
 
 
 @dataclass(frozen=True)
@@ -139,10 +152,10 @@ class PolicySet:
     fast: Path | None = None
     fast_speed_mps: float = 2.0
     sideways: Path | None = None
-    sideways_speed_mps: float = 0.15
+    sideways_speed_mps: float = 0.2
 
     def __post_init__(self) -> None:
-        for name in ("backward_speed_mps", "fast_speed_mps", "sideways_speed_mps"):
+        for name in ("backward_speed_mps", *(f"{rule}_speed_mps" for rule in OPTIONAL_RULES)):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
                 raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 (m/s), got {value!r}")
@@ -156,10 +169,10 @@ class PolicySet:
             return named
         if walks_backward(motion, self.backward_speed_mps):
             return self.backward
-        if self.fast is not None and median_ground_speed(motion.qpos, motion.fps) > self.fast_speed_mps:
-            return self.fast
-        if self.sideways is not None and walks_sideways(motion, self.sideways_speed_mps):
-            return self.sideways
+        for rule in OPTIONAL_RULES:
+            policy = getattr(self, rule)
+            if policy is not None and RULE_TESTS[rule](motion, getattr(self, f"{rule}_speed_mps")):
+                return policy
         return self.default
 
     def grouped(self, motions: list[Motion]) -> dict[Path, list[int]]:
@@ -224,7 +237,7 @@ def load_policy_set(path: str | Path) -> PolicySet:
             raise PolicyError(f"{file}: {rule}_speed_mps is given without {rule}, the policy directory it sends "
                               f"{rule} clips to")
         policy = spec.get(rule)
-        if policy is not None and not isinstance(policy, str):
+        if rule in spec and not isinstance(policy, str):
             raise PolicyError(f"{file}: {rule} must be a policy directory relative to {path}, got {policy!r}")
         if policy is not None:
             optional |= {rule: path / policy, f"{rule}_speed_mps": spec.get(f"{rule}_speed_mps",
@@ -233,7 +246,8 @@ def load_policy_set(path: str | Path) -> PolicySet:
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "
                           f"{path}, got {clips!r}")
-    return PolicySet(path, path / spec["default"], path / spec["backward"], spec.get("backward_speed_mps", 0.2),
+    return PolicySet(path, path / spec["default"], path / spec["backward"],
+                     spec.get("backward_speed_mps", PolicySet.backward_speed_mps),
                      tuple((glob, path / policy) for glob, policy in clips.items()), **optional)
 
 

@@ -44,7 +44,7 @@ from agents.evaluate import corrupted, reference_clips, tracked_and_judged, trac
 from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, load_policy
-from agents.policy_set import is_policy_set, load_policy_set
+from agents.policy_set import is_policy_set, load_policy_set, source_name
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.preparation import preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
@@ -94,15 +94,22 @@ class Routed:
         """``[(policy, indices of its takes), ...]``: :meth:`routes` with each policy loaded."""
         return [(self.policies[p], indices) for p, indices in self.routes(tracked, judged).items()]
 
-    def routing(self, draws: list[tuple[list[Motion], list[Motion] | None]]) -> dict[str, dict[str, int]]:
-        """``{take's name: {policy directory (normalised): count}}``: how many times, over the ``(tracked, judged)`` draws, each
-        take was routed to each policy of the set (a take near a rule's speed can go either way, by its IMU draw)."""
+    def routing(self, draws: list[tuple[list[Motion], list[Motion] | None]],
+                versions: tuple[str, ...] | None = None) -> dict[str, dict[str, int]]:
+        """``{take: {policy directory (normalised path): count}}``: how many times, over the ``(tracked,
+        judged)`` draws, each take was routed to each policy of the set (a take near a rule's speed can go
+        either way, by its IMU draw). A take is its tracked clip's name, or with ``versions`` (the draws
+        hold each take in these versions, in turn: :data:`STYLE_SHIFT_NAMES`) its source take's name
+        (:func:`agents.policy_set.source_name`) and its version, so that a version whose name holds a
+        stance or posture drawn anew in each draw is counted as one."""
         counts: dict[str, dict[str, int]] = {}
         for tracked, judged in draws:
             for policy, indices in self.routes(tracked, judged).items():
                 name = os.path.normpath(policy)
                 for i in indices:
-                    per_policy = counts.setdefault(tracked[i].name, {})
+                    take = (tracked[i].name if versions is None
+                            else f"{source_name(tracked[i].name)} [{versions[i % len(versions)]}]")
+                    per_policy = counts.setdefault(take, {})
                     per_policy[name] = per_policy.get(name, 0) + 1
         return counts
 
@@ -216,7 +223,7 @@ def main() -> None:
         label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
         if isinstance(policy, Routed):
-            rows[-1]["routed_to"] = policy.routing(draws)
+            rows[-1]["routed_to"] = policy.routing(draws, STYLE_SHIFT_NAMES if args.style_shifts else None)
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
         if args.style_shifts:
             by_shift = [shift_means(runs, tracked) for (_, runs), (tracked, _) in zip(scored, draws)]

@@ -52,6 +52,9 @@ def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to
     routing = routed.routing([([walk, run_clip, walk], None), ([run_clip], [walk])])  # the second judged as a walk
     walker, runner = str(models / "mimic_walk"), str(models / "mimic_imu")
     assert routing == {walk.name: {walker: 2}, run_clip.name: {runner: 1, walker: 1}}
+    wider = [walk.with_qpos(walk.qpos, name=f"{walk.name} (stance +{m} m)") for m in (0.2, 0.3)]  # drawn anew
+    versions = routed.routing([([walk, wider[0]], None), ([walk, wider[1]], None)], versions=("as given", "wider"))
+    assert versions == {f"{walk.name} [as given]": {walker: 2}, f"{walk.name} [wider]": {walker: 2}}
     mean, runs = evaluate_draw(routed, [walk, run_clip], None, episodes=1, actor=None, mirror_average=False)
     alone = {name: evaluate_tracking(load_policy(models / name), [clip], episodes=1)[1][0].elr
              for name, clip in (("mimic_walk", walk), ("mimic_imu", run_clip))}

@@ -3,6 +3,7 @@ routing."""
 
 import json
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -189,6 +190,10 @@ def test_heading_frame_velocity_by_hand():
     assert np.allclose(heading_frame_velocity(qpos, fps), [0.0, -0.5])
     qpos[:, 0] = -0.5 * t
     assert np.allclose(heading_frame_velocity(qpos, fps), [0.0, 0.5])
+    qpos[:, 3:7] = _quat_yaw(math.radians(30))  # facing 30° left of +x, moving (0.3, 0.4) m/s
+    qpos[:, 0], qpos[:, 1] = 0.3 * t, 0.4 * t
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))
+    assert np.allclose(heading_frame_velocity(qpos, fps), [0.3 * c + 0.4 * s, 0.4 * c - 0.3 * s])
     with pytest.raises(ValueError, match="at least 2 frames"):
         heading_frame_velocity(qpos[:1], fps)
 
@@ -203,30 +208,38 @@ def _facing_turned(motion, yaw: float):
 def test_the_sideways_rule_routes_a_walk_facing_across_its_path_after_the_fast_rule_and_round_trips(tmp_path):
     """DeepMimic's walk with its pelvis turned 90° either way (its path unchanged) goes at about 1 m/s across its
     heading and to the sideways policy; as given, or turned 5°, it stays with the default. Its run turned 90° is
-    fast, and the fast rule takes it first. The file keeps the rule; a bad speed or a lone speed is refused."""
+    fast, and the fast rule takes it first; the walk played backwards and turned 60° walks backwards and
+    sideways, and the backward rule takes it first. The file keeps the rule and its speed; a bad speed, a
+    lone speed or a policy that is not a directory name is refused."""
     walk = load_motion("deepmimic:walk", "humanoid_1seg")
     run = load_motion("deepmimic:run", "humanoid_1seg")
     left, right, slightly = (_facing_turned(walk, yaw) for yaw in (-math.pi / 2, math.pi / 2, math.radians(5)))
     assert np.median(heading_frame_velocity(left.qpos, left.fps)[:, 1]) > 0.8
     assert np.median(heading_frame_velocity(right.qpos, right.fps)[:, 1]) < -0.8
-    assert [walks_sideways(m, 0.15) for m in (walk, left, right, slightly)] == [False, True, True, False]
+    assert abs(np.median(heading_frame_velocity(walk.qpos, walk.fps)[:, 1])) < 0.05
+    assert abs(np.median(heading_frame_velocity(slightly.qpos, slightly.fps)[:, 1])) < 0.2
+    back_and_aside = _facing_turned(walk.with_qpos(walk.qpos[::-1].copy(), loop=False), math.radians(60))
+    assert walks_backward(back_and_aside, 0.2) and walks_sideways(back_and_aside, 0.2)
+    assert [walks_sideways(m, 0.2) for m in (walk, left, right, slightly)] == [False, True, True, False]
     sideways = PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_general",
                          sideways=MODELS / "mimic_walk_back")
-    routed = [sideways.route(m).name for m in (walk, left, right, slightly, _facing_turned(run, math.pi / 2))]
-    assert routed == ["mimic_walk", "mimic_walk_back", "mimic_walk_back", "mimic_walk", "mimic_general"]
+    routed = [sideways.route(m).name for m in (walk, left, right, slightly, _facing_turned(run, math.pi / 2),
+                                               back_and_aside)]
+    assert routed == ["mimic_walk", "mimic_walk_back", "mimic_walk_back", "mimic_walk", "mimic_general", "mimic_imu"]
     assert [p.name for p in sideways.policies] == ["mimic_walk", "mimic_imu", "mimic_general", "mimic_walk_back"]
-    spec = json.loads(sideways.save().read_text())
-    assert spec["sideways_speed_mps"] == 0.15 and not Path(spec["sideways"]).is_absolute()
+    spec = json.loads(replace(sideways, sideways_speed_mps=1.5).save().read_text())
+    assert spec["sideways_speed_mps"] == 1.5 and not Path(spec["sideways"]).is_absolute()
     loaded = load_policy_set(tmp_path / "set")
-    assert loaded.sideways.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(left).name == "mimic_walk_back"
-    assert loaded.fast.resolve() == (MODELS / "mimic_general").resolve()
+    assert loaded.sideways.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.sideways_speed_mps == 1.5
+    assert loaded.route(left).name == "mimic_walk" and loaded.fast.resolve() == (MODELS / "mimic_general").resolve()
     with pytest.raises(PolicyError, match="sideways_speed_mps must be a finite number >= 0"):
         PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", sideways_speed_mps=float("nan"))
     del spec["sideways"]
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="sideways_speed_mps is given without sideways"):
         load_policy_set(tmp_path / "set")
-    spec["sideways"] = ["../x"]
-    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
-    with pytest.raises(PolicyError, match="sideways must be a policy directory"):
-        load_policy_set(tmp_path / "set")
+    for bad in (["../x"], None):
+        spec["sideways"] = bad
+        (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+        with pytest.raises(PolicyError, match="sideways must be a policy directory"):
+            load_policy_set(tmp_path / "set")
