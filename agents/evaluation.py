@@ -101,7 +101,9 @@ def evaluate_tracking(policy: MimicPolicy, tracked: list[Motion], judged: list[M
     ``tracked``). ``actor`` acts instead of ``policy`` in that environment (e.g. an ensemble with
     ``policy`` among its members); default: ``policy``. ``mirror_average``: that actor made mirror
     symmetric (:class:`agents.mirror.MirrorAveraged`). ``prepare_env`` is called on the environment
-    before its first reset (e.g. to change its MuJoCo model for a probe)."""
+    before its first reset (e.g. to change its MuJoCo model for a probe; that model may be the one
+    every environment of the humanoid shares, :func:`reference_motion.humanoid.model.load_model`, so
+    the caller undoes such a change afterwards)."""
     env = policy.make_env(tracked, artefacts=None, judged_clips=judged)
     if prepare_env is not None:
         prepare_env(env)

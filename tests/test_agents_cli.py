@@ -77,14 +77,21 @@ def test_evaluate_through_the_denoiser_judges_against_the_clip_as_given(policy_d
     assert [r.elr for r in acted] == [r.elr for r in by_hand]
     np.testing.assert_array_equal(acted[0].simulated.qpos, by_hand[0].simulated.qpos)
     assert not np.array_equal(acted[0].simulated.qpos, runs[0].simulated.qpos[:acted[0].simulated.n_frames])
-    prepared = []
+    prepared = []  # (model, its torque limits as they were)
 
     def weaken(env):  # prepare_env: the environment's body given 5% of its torques before the first reset
-        env.unwrapped.model.actuator_forcerange[:] *= 0.05
-        prepared.append(env)
+        model = env.unwrapped.model
+        prepared.append((model, model.actuator_forcerange.copy()))
+        model.actuator_forcerange[:] *= 0.05
 
-    _, weak = evaluate_tracking(policy, [performed], [given], episodes=2, prepare_env=weaken)
+    try:
+        _, weak = evaluate_tracking(policy, [performed], [given], episodes=2, prepare_env=weaken)
+    finally:  # the model may be the one every environment of the humanoid shares
+        for model, limits in prepared:
+            model.actuator_forcerange[:] = limits
     assert len(prepared) == 1 and all(w.elr < r.elr for w, r in zip(weak, runs, strict=True))
+    _, again = evaluate_tracking(policy, [performed], [given], episodes=2)
+    assert [r.elr for r in again] == [r.elr for r in runs]  # the shared model as it was
 
 
 def test_clean_writes_a_motion_of_the_same_length(policy_dir, tmp_path):

@@ -101,17 +101,25 @@ def summarize(records: list[dict]) -> dict[str, dict]:
 def performed(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion],
               torque_scale: tuple[str, float] | None) -> list[Rollout]:
     """The rollouts of :func:`evaluate_tracking` (mirror-averaged), the actuators whose names contain
-    ``torque_scale[0]`` given ``torque_scale[1]`` times their torque limits."""
+    ``torque_scale[0]`` given ``torque_scale[1]`` times their torque limits (restored afterwards: the
+    MuJoCo model may be shared)."""
+    limits = []  # (model, actuators, their limits as they were)
+
     def scale_torques(env) -> None:
         model = env.unwrapped.model
         part, factor = torque_scale
         scaled = [i for i in range(model.nu) if part in model.actuator(i).name]
         if not scaled:
             raise SystemExit(f"--torque-scale: no actuator's name contains {part!r}")
+        limits.append((model, scaled, model.actuator_forcerange[scaled].copy()))
         model.actuator_forcerange[scaled] *= factor
 
-    return evaluate_tracking(policy, tracked, judged, episodes=EPISODES, mirror_average=True,
-                             prepare_env=None if torque_scale is None else scale_torques)[1]
+    try:
+        return evaluate_tracking(policy, tracked, judged, episodes=EPISODES, mirror_average=True,
+                                 prepare_env=None if torque_scale is None else scale_torques)[1]
+    finally:
+        for model, scaled, original in limits:
+            model.actuator_forcerange[scaled] = original
 
 
 def main() -> None:
