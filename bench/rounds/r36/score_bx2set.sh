@@ -25,7 +25,4 @@ PolicySet(Path('runs/r36/BX2SET'), base.default, Path(sys.argv[2]), base.backwar
           fast_speed_mps=base.fast_speed_mps).save()
 " "$BASE" "$(cat runs/r28/BX2_candidate.txt)"
 echo runs/r36/BX2SET > runs/r28/BX2SET_candidate.txt
-bash bench/rounds/score_shifted.sh "$BASE" "$CLEAN" "$SHIFTED" BX2SET 1790000 1800000 round36_select_BX2SET
-if replaced BX2SET; then
-  DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh BX2SET slow
-fi
+bash bench/rounds/score_then_hold_out.sh "$BASE" "$CLEAN" "$SHIFTED" BX2SET 1790000 1800000 round36_select_BX2SET

@@ -17,8 +17,4 @@ PolicySet(Path('runs/r36/BXSET'), base.default, Path(sys.argv[2]), fast=base.fas
 echo runs/r36/BXSET > runs/r28/BXSET_candidate.txt
 # FXSET's validation clean file is made anew for the shipped set (round 35's, round24_val_clean_FXSET.json, names the set
 # by its path then, runs/r35/FXSET, and the rule matches the files' policies by name)
-bash bench/rounds/score_shifted.sh "$BASE" FXSET_SHIPPED FXSET_SQ BXSET 1750000 1760000 round36_select_BXSET
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
-    bench/results/round36_select_BXSET.json 2> /dev/null; then
-  DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh BXSET slow
-fi
+bash bench/rounds/score_then_hold_out.sh "$BASE" FXSET_SHIPPED FXSET_SQ BXSET 1750000 1760000 round36_select_BXSET

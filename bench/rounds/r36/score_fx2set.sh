@@ -21,8 +21,4 @@ PolicySet(Path('runs/r36/FX2SET'), base.default, base.backward, base.backward_sp
           fast_speed_mps=base.fast_speed_mps).save()
 " "$BASE" "$(cat runs/r28/FX2_candidate.txt)"
 echo runs/r36/FX2SET > runs/r28/FX2SET_candidate.txt
-bash bench/rounds/score_shifted.sh "$BASE" "$CLEAN" "$SHIFTED" FX2SET 1770000 1780000 round36_select_FX2SET
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
-    bench/results/round36_select_FX2SET.json 2> /dev/null; then
-  DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh FX2SET slow
-fi
+bash bench/rounds/score_then_hold_out.sh "$BASE" "$CLEAN" "$SHIFTED" FX2SET 1770000 1780000 round36_select_FX2SET

@@ -15,8 +15,4 @@ replace(load_policy_set(sys.argv[1]), path=Path('runs/r36/SXSET'), sideways=Path
         sideways_speed_mps=0.2).save()
 " "$BASE" "$(cat runs/r28/SX_candidate.txt)"
 echo runs/r36/SXSET > runs/r28/SXSET_candidate.txt
-bash bench/rounds/score_shifted.sh "$BASE" EXPERTSET EXPERTSET_SQ SXSET 1810000 1820000 round36_select_SXSET
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
-    bench/results/round36_select_SXSET.json 2> /dev/null; then
-  DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh SXSET slow
-fi
+bash bench/rounds/score_then_hold_out.sh "$BASE" EXPERTSET EXPERTSET_SQ SXSET 1810000 1820000 round36_select_SXSET
