@@ -214,8 +214,14 @@ def is_policy_set(path: str | Path) -> bool:
 
 
 def load_policy_set(path: str | Path) -> PolicySet:
-    """Read a policy-set directory; :class:`PolicyError` names a missing file or field."""
+    """Read a policy-set directory; :class:`PolicyError` names a missing file or field. The policies'
+    paths are the set's joined with the file's relative ones and normalised (``SET/../mimic_walk`` →
+    ``mimic_walk`` beside ``SET``), so that records name each policy by its own path."""
     path = Path(path)
+
+    def member(relative: str) -> Path:
+        return Path(os.path.normpath(path / relative))
+
     file = path / SET_FILE
     try:
         spec = json.loads(file.read_text())
@@ -240,15 +246,15 @@ def load_policy_set(path: str | Path) -> PolicySet:
         if rule in spec and not isinstance(policy, str):
             raise PolicyError(f"{file}: {rule} must be a policy directory relative to {path}, got {policy!r}")
         if policy is not None:
-            optional |= {rule: path / policy, f"{rule}_speed_mps": spec.get(f"{rule}_speed_mps",
+            optional |= {rule: member(policy), f"{rule}_speed_mps": spec.get(f"{rule}_speed_mps",
                                                                             getattr(PolicySet, f"{rule}_speed_mps"))}
     clips = spec.get("clips", {})
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "
                           f"{path}, got {clips!r}")
-    return PolicySet(path, path / spec["default"], path / spec["backward"],
+    return PolicySet(path, member(spec["default"]), member(spec["backward"]),
                      spec.get("backward_speed_mps", PolicySet.backward_speed_mps),
-                     tuple((glob, path / policy) for glob, policy in clips.items()), **optional)
+                     tuple((glob, member(policy)) for glob, policy in clips.items()), **optional)
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:

@@ -34,7 +34,6 @@ The selection rules (``select_policy.py``, ``select_denoiser.py``) read only str
 from __future__ import annotations
 
 import argparse
-import os
 from pathlib import Path
 
 import numpy as np
@@ -96,7 +95,7 @@ class Routed:
 
     def routing(self, draws: list[tuple[list[Motion], list[Motion] | None]],
                 versions: tuple[str, ...] | None = None) -> dict[str, dict[str, int]]:
-        """``{take: {policy directory (normalised path): count}}``: how many times, over the ``(tracked,
+        """``{take: {policy directory: count}}``: how many times, over the ``(tracked,
         judged)`` draws, each take was routed to each policy of the set (a take near a rule's speed can go
         either way, by its IMU draw). A take is its tracked clip's name, or with ``versions`` (the draws
         hold each take in these versions, in turn: :data:`STYLE_SHIFT_NAMES`) its source take's name
@@ -105,12 +104,11 @@ class Routed:
         counts: dict[str, dict[str, int]] = {}
         for tracked, judged in draws:
             for policy, indices in self.routes(tracked, judged).items():
-                name = os.path.normpath(policy)
                 for i in indices:
                     take = (tracked[i].name if versions is None
                             else f"{source_name(tracked[i].name)} [{versions[i % len(versions)]}]")
                     per_policy = counts.setdefault(take, {})
-                    per_policy[name] = per_policy.get(name, 0) + 1
+                    per_policy[str(policy)] = per_policy.get(str(policy), 0) + 1
         return counts
 
 
