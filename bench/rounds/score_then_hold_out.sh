@@ -6,7 +6,6 @@
 set -eo pipefail
 cd "$(dirname "$0")/../.."
 bash bench/rounds/score_shifted.sh "$@"
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
-    "bench/results/$7.json" 2> /dev/null; then
+if bash bench/rounds/replaced.sh "$7"; then
   DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh "$4" slow
 fi

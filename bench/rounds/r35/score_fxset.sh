@@ -13,7 +13,6 @@ PolicySet(Path('runs/r35/FXSET'), Path(sys.argv[1]), Path(sys.argv[1]), fast=Pat
 " "$LSS" "$(cat runs/r28/FX_candidate.txt)"
 echo runs/r35/FXSET > runs/r28/FXSET_candidate.txt
 bash bench/rounds/score_shifted.sh "$LSS" LSS LSS_SQ FXSET 1730000 1740000 round35_select_FXSET
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
-    bench/results/round35_select_FXSET.json 2> /dev/null; then
+if bash bench/rounds/replaced.sh round35_select_FXSET; then
   DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh FXSET slow
 fi

@@ -9,11 +9,7 @@ cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r36
 # models/mimic_general_back_wip/run/checkpoints/step_1441120.zip (since removed); the same per take on validation clean
 BX=models/mimic_general_back
 BASE=models/mimic_general_fast_set
-.venv/bin/python -c "
-import sys; from pathlib import Path; from agents.policy_set import load_policy_set, PolicySet
-base = load_policy_set(sys.argv[1])
-PolicySet(Path('runs/r36/BXSET'), base.default, Path(sys.argv[2]), fast=base.fast, fast_speed_mps=base.fast_speed_mps).save()
-" "$BASE" "$BX"
+.venv/bin/python bench/rounds/derived_set.py "$BASE" runs/r36/BXSET "backward=$BX"
 echo runs/r36/BXSET > runs/r28/BXSET_candidate.txt
 # FXSET's validation clean file is made anew for the shipped set (round 35's, round24_val_clean_FXSET.json, names the set
 # by its path then, runs/r35/FXSET, and the rule matches the files' policies by name)

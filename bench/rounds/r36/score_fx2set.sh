@@ -8,17 +8,11 @@ set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r36
 bash bench/rounds/r28/candidate.sh runs/r35/ppo_fx 2015 FX2
 while pgrep -f "bench/rounds/r36/score_bxset.sh" > /dev/null; do sleep 20; done  # the set of that time
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['replaces_baseline'])" \
-    bench/results/round36_select_BXSET.json 2> /dev/null; then
+if bash bench/rounds/replaced.sh round36_select_BXSET; then
   BASE=runs/r36/BXSET; CLEAN=BXSET; SHIFTED=BXSET_SQ
 else
   BASE=models/mimic_general_fast_set; CLEAN=FXSET_SHIPPED; SHIFTED=FXSET_SQ  # score_bxset.sh's files of the shipped set
 fi
-.venv/bin/python -c "
-import sys; from pathlib import Path; from agents.policy_set import load_policy_set, PolicySet
-base = load_policy_set(sys.argv[1])
-PolicySet(Path('runs/r36/FX2SET'), base.default, base.backward, base.backward_speed_mps, fast=Path(sys.argv[2]),
-          fast_speed_mps=base.fast_speed_mps).save()
-" "$BASE" "$(cat runs/r28/FX2_candidate.txt)"
+.venv/bin/python bench/rounds/derived_set.py "$BASE" runs/r36/FX2SET "fast=$(cat runs/r28/FX2_candidate.txt)"
 echo runs/r36/FX2SET > runs/r28/FX2SET_candidate.txt
 bash bench/rounds/score_then_hold_out.sh "$BASE" "$CLEAN" "$SHIFTED" FX2SET 1770000 1780000 round36_select_FX2SET

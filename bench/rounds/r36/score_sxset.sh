@@ -9,10 +9,7 @@ cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r36
 BASE=models/mimic_general_expert_set
 bash bench/rounds/score_shifted.sh --base-only "$BASE" EXPERTSET EXPERTSET_SQ SXSET 1810000 1820000 round36_select_SXSET
 bash bench/rounds/r28/candidate.sh runs/r36/ppo_sx 2100 SX
-.venv/bin/python -c "
-import sys; from dataclasses import replace; from pathlib import Path; from agents.policy_set import load_policy_set
-replace(load_policy_set(sys.argv[1]), path=Path('runs/r36/SXSET'), sideways=Path(sys.argv[2]).resolve(),
-        sideways_speed_mps=0.2).save()
-" "$BASE" "$(cat runs/r28/SX_candidate.txt)"
+.venv/bin/python bench/rounds/derived_set.py "$BASE" runs/r36/SXSET "sideways=$(cat runs/r28/SX_candidate.txt)" \
+  sideways_speed_mps=0.2
 echo runs/r36/SXSET > runs/r28/SXSET_candidate.txt
 bash bench/rounds/score_then_hold_out.sh "$BASE" EXPERTSET EXPERTSET_SQ SXSET 1810000 1820000 round36_select_SXSET

@@ -1,0 +1,45 @@
+"""A round's candidate policy set: a policy set with some of its fields replaced, written to a new directory.
+
+Usage: ``python bench/rounds/derived_set.py BASE OUT FIELD=VALUE ...``, e.g. ``backward=models/mimic_general_back`` or
+``sideways=PATH sideways_speed_mps=0.2``: a policy directory (or run checkpoint) for a rule's field, m/s for a
+``*_speed_mps`` field. Every other field of BASE (:class:`agents.policy_set.PolicySet`), its clips' globs included,
+is kept (:func:`dataclasses.replace`); ``OUT/policy_set.json`` is written.
+"""
+
+from __future__ import annotations
+
+import sys
+from dataclasses import fields, replace
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+
+from agents.policy import PolicyError  # noqa: E402
+from agents.policy_set import PolicySet, load_policy_set  # noqa: E402
+
+FIELDS = sorted({f.name for f in fields(PolicySet)} - {"path", "clips"})
+"""The fields a change may name."""
+
+
+def main(argv: list[str]) -> Path:
+    if len(argv) < 3:
+        raise SystemExit(__doc__)
+    base, out, *changes = argv
+    values: dict[str, Path | float] = {}
+    for change in changes:
+        name, sep, value = change.partition("=")
+        if not sep or name not in FIELDS:
+            raise SystemExit(f"derived_set.py: expected FIELD=VALUE with FIELD one of {', '.join(FIELDS)}, "
+                             f"got {change!r}")
+        try:
+            values[name] = float(value) if name.endswith("_speed_mps") else Path(value)
+        except ValueError:
+            raise SystemExit(f"derived_set.py: {name} is a speed in m/s, got {value!r}") from None
+    try:
+        return replace(load_policy_set(base), path=Path(out), **values).save()
+    except PolicyError as err:
+        raise SystemExit(f"derived_set.py: {err}") from None
+
+
+if __name__ == "__main__":
+    print(main(sys.argv[1:]))
