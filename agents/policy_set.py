@@ -8,16 +8,18 @@ clip, whose name adds its transforms to the clip's (``"NAME (mirrored) (x1.5 spe
 reversed and posture copies with it (a glob may name a copy to route it apart: ``"*(reversed)*"``,
 listed first); else a clip whose root moves
 backwards relative to the pelvis heading (median speed along the heading below
-``-backward_speed_mps``) goes to the ``backward`` policy; else, if the set has a ``fast`` policy, a
-clip whose root's median horizontal speed is above ``fast_speed_mps`` goes to it (an expert for
-running, in the manner of PHC's primitives, Luo et al. 2023); else, if the set has a ``sideways``
+``-backward_speed_mps``) goes to the ``backward`` policy; else, if the set has a ``dash`` policy, a
+clip whose root's median horizontal speed is above ``dash_speed_mps`` goes to it (an expert for
+sprinting); else, if the set has a ``fast`` policy, a clip whose root's median horizontal speed is above
+``fast_speed_mps`` goes to it (an expert for running, in the manner of PHC's primitives, Luo et al.
+2023); else, if the set has a ``sideways``
 policy, a clip whose root's median speed across the pelvis heading is above ``sideways_speed_mps``
 (either way, :func:`walks_sideways`) goes to it; every other clip goes to ``default``. The rule
 reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion library
 it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s) from every other take
 (≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
 (1.96 at the 1.25× pace training plays them at), its runs at 1.49–3.22 m/s and its dashes at
-2.49–4.41 m/s. Across the heading its takes other than sideways walks and slower than 2 m/s go at
+2.49–4.41 m/s (above 3.0 m/s: 7 of its 10 dashes and 2 of its 10 runs). Across the heading its takes other than sideways walks and slower than 2 m/s go at
 median speeds of at most 0.14 m/s either way clean and 0.18 m/s in any of 10 IMU draws (the IMU's
 heading drift turns the heading against the path), its sideways walks at 0.07–0.53 m/s, 15 of its
 22 above 0.2 m/s clean (``bench/rounds/r36/route_speeds.py``, ``bench/results/round36_route_speeds.json``).
@@ -26,11 +28,12 @@ On disk a policy set is a directory holding ``policy_set.json``::
 
     {"format": "physmimic.policy_set/1", "default": "../mimic_general",
      "backward": "../mimic_walk_back", "backward_speed_mps": 0.2,
+     "dash": "../mimic_dash", "dash_speed_mps": 3.0,
      "fast": "../mimic_fast", "fast_speed_mps": 2.0,
      "sideways": "../mimic_sideways", "sideways_speed_mps": 0.2,
      "clips": {"*dash_active_001*": "../dash_active"}}
 
-with the policy directories relative to it (``fast``, ``sideways`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
+with the policy directories relative to it (``dash``, ``fast``, ``sideways`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
 policy set wherever they take a policy.
 """
 
@@ -54,7 +57,7 @@ from reference_motion.motion import Motion
 
 SET_FILE = "policy_set.json"
 FORMAT = "physmimic.policy_set/1"
-OPTIONAL_RULES = ("fast", "sideways")
+OPTIONAL_RULES = ("dash", "fast", "sideways")
 """The optional rules, in the order they route: each a policy directory field, its speed field
 ``NAME_speed_mps`` and its test (:data:`RULE_TESTS`)."""
 SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips",
@@ -120,7 +123,8 @@ def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
     return float(np.median(np.linalg.norm(np.gradient(qpos[:, :2], 1.0 / fps, axis=0), axis=1)))
 
 
-RULE_TESTS: dict[str, Callable[[Motion, float], bool]] = {"fast": goes_fast, "sideways": walks_sideways}
+RULE_TESTS: dict[str, Callable[[Motion, float], bool]] = {"dash": goes_fast, "fast": goes_fast,
+                                                           "sideways": walks_sideways}
 """Each optional rule's test of a clip against the rule's speed (m/s)."""
 
 
@@ -135,9 +139,12 @@ class PolicySet:
         backward_speed_mps: a clip whose median heading speed is below minus this (m/s) is walked backwards.
         clips: ``((glob, directory), ...)``: a clip whose name matches a glob goes to its policy,
             before the other rules (the first glob that matches).
-        fast: directory of the policy for clips whose root moves faster than ``fast_speed_mps``
+        dash: directory of the policy for clips whose root moves faster than ``dash_speed_mps``
             (median horizontal speed, :func:`median_ground_speed`), after the backward rule;
             ``None``: no such rule.
+        dash_speed_mps: that speed (m/s).
+        fast: directory of the policy for clips whose root moves faster than ``fast_speed_mps``
+            (median horizontal speed), after the dash rule; ``None``: no such rule.
         fast_speed_mps: that speed (m/s).
         sideways: directory of the policy for clips walked sideways (:func:`walks_sideways` with
             ``sideways_speed_mps``), after the fast rule; ``None``: no such rule.
@@ -149,6 +156,8 @@ class PolicySet:
     backward: Path
     backward_speed_mps: float = 0.2
     clips: tuple[tuple[str, Path], ...] = ()
+    dash: Path | None = None
+    dash_speed_mps: float = 3.0
     fast: Path | None = None
     fast_speed_mps: float = 2.0
     sideways: Path | None = None
@@ -185,7 +194,8 @@ class PolicySet:
 
     @property
     def policies(self) -> list[Path]:
-        """Every policy directory of the set, each once: default, backward, fast, sideways, then the clips' policies."""
+        """Every policy directory of the set, each once: default, backward, dash, fast, sideways, then the clips'
+        policies."""
         optional = [getattr(self, rule) for rule in OPTIONAL_RULES if getattr(self, rule) is not None]
         return list(dict.fromkeys([self.default, self.backward, *optional, *(policy for _, policy in self.clips)]))
 

@@ -1,4 +1,4 @@
-"""agents/policy_set.py: the backward-walking, fast and sideways rules by hand and on real clips, the set file,
+"""agents/policy_set.py: the backward-walking, dash, fast and sideways rules by hand and on real clips, the set file,
 routing."""
 
 import json
@@ -176,6 +176,31 @@ def test_the_fast_rule_routes_a_run_after_the_backward_rule_and_round_trips(tmp_
     spec["fast_speed"] = 2.0
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="unknown field.s. fast_speed;"):
+        load_policy_set(tmp_path / "set")
+
+
+def test_the_dash_rule_routes_a_sprint_before_the_fast_rule_and_round_trips(tmp_path):
+    """DeepMimic's run (median 3.9 m/s) is above the dash rule's 3.0 m/s and goes to the dash policy; played at
+    0.7× its pace (2.7 m/s) it is under it and goes to the fast policy; its walk goes to the default and the run
+    played backwards to the backward policy. The file keeps the rule and its speed; a lone speed is refused."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    run = load_motion("deepmimic:run", "humanoid_1seg")
+    jog = time_warp(run, 0.7)
+    assert 2.0 < median_ground_speed(jog.qpos, jog.fps) < 3.0 < median_ground_speed(run.qpos, run.fps)
+    backwards = run.with_qpos(run.qpos[::-1].copy(), loop=False)
+    dash = PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", dash=MODELS / "mimic_walk_back",
+                     fast=MODELS / "mimic_general")
+    assert dash.dash_speed_mps == 3.0
+    assert [dash.route(m).name for m in (walk, run, jog, backwards)] == ["mimic_walk", "mimic_walk_back",
+                                                                          "mimic_general", "mimic_imu"]
+    assert [p.name for p in dash.policies] == ["mimic_walk", "mimic_imu", "mimic_walk_back", "mimic_general"]
+    spec = json.loads(replace(dash, dash_speed_mps=4.0).save().read_text())
+    assert spec["dash_speed_mps"] == 4.0 and not Path(spec["dash"]).is_absolute()
+    loaded = load_policy_set(tmp_path / "set")
+    assert loaded.dash.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(run).name == "mimic_general"
+    del spec["dash"]
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="dash_speed_mps is given without dash"):
         load_policy_set(tmp_path / "set")
 
 
