@@ -52,6 +52,7 @@ from pathlib import Path
 import numpy as np
 
 from agents.policy import MimicPolicy, PolicyError, load_policy
+from reference_motion import quality
 from reference_motion import rotations as rot
 from reference_motion.motion import Motion
 
@@ -72,10 +73,7 @@ def heading_frame_velocity(qpos: np.ndarray, fps: float) -> np.ndarray:
     (positive to the left)."""
     if len(qpos) < 2:
         raise ValueError(f"the root's velocity needs at least 2 frames, got {len(qpos)}")
-    heading_angle = rot.yaw(qpos[:, 3:7])
-    cos, sin = np.cos(heading_angle), np.sin(heading_angle)
-    velocity = np.gradient(qpos[:, :2], 1.0 / fps, axis=0)
-    return np.stack([velocity[:, 0] * cos + velocity[:, 1] * sin, velocity[:, 1] * cos - velocity[:, 0] * sin], axis=1)
+    return quality.heading_frame_velocity(qpos[:, :2], rot.yaw(qpos[:, 3:7]), fps)
 
 
 def heading_speeds(qpos: np.ndarray, fps: float) -> np.ndarray:

@@ -95,6 +95,15 @@ def horizontal_speed(points: np.ndarray, fps: float) -> np.ndarray:
     return np.linalg.norm(np.gradient(points[..., :2], axis=0), axis=-1) * fps
 
 
+def heading_frame_velocity(root_xy: np.ndarray, heading: np.ndarray, fps: float) -> np.ndarray:
+    """``(T, 2)`` the horizontal velocity (m/s, central differences) of positions ``root_xy (T, 2)`` (m, world) at
+    ``fps``, in the frame of ``heading (T,)`` (rad about +z from world x): along the heading (negative while moving
+    backwards), then across it (positive to the left)."""
+    velocity = np.gradient(np.asarray(root_xy, dtype=float), axis=0) * fps
+    cos, sin = np.cos(heading), np.sin(heading)
+    return np.stack([velocity[:, 0] * cos + velocity[:, 1] * sin, velocity[:, 1] * cos - velocity[:, 0] * sin], axis=1)
+
+
 def held_contact_speeds(points: np.ndarray, contacts: np.ndarray, fps: float) -> tuple[np.ndarray, np.ndarray]:
     """Horizontal speed ``(T-1, 4)`` (m/s) of foot points ``(T, 4, 3)`` from each frame to the next,
     and the ``(T-1, 4)`` bool mask of the (frame, point) pairs in contact ``(T, 4)`` in both frames:

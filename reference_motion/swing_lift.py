@@ -35,7 +35,7 @@ from reference_motion import rotations as rot
 from reference_motion.cli import positive_float
 from reference_motion.humanoid.model import FOOT_CHANNELS, load_model
 from reference_motion.motion import Motion
-from reference_motion.quality import horizontal_speed
+from reference_motion.quality import heading_frame_velocity, horizontal_speed
 
 SWING_READS = ("height", "speed")
 """What :attr:`SwingLift.swing_from` may read swing from."""
@@ -127,8 +127,7 @@ def backward_weights(root_xy: np.ndarray, heading: np.ndarray, fps: float, full_
     velocity (from positions ``root_xy (T, 2)``, m, at ``fps``) against the pelvis's heading
     ``heading (T,)`` (rad about +z), averaged by a Gaussian of σ ``window_s`` (s, a step or two),
     over ``full_speed_mps``, clipped to [0, 1]."""
-    velocity = np.gradient(np.asarray(root_xy, dtype=float), axis=0) * fps
-    backward = -(velocity[:, 0] * np.cos(heading) + velocity[:, 1] * np.sin(heading))
+    backward = -heading_frame_velocity(root_xy, heading, fps)[:, 0]
     return np.clip(gaussian_filter1d(backward, window_s * fps, mode="nearest") / full_speed_mps, 0.0, 1.0)
 
 
