@@ -14,7 +14,9 @@ sprinting); else, if the set has a ``fast`` policy, a clip whose root's median h
 ``fast_speed_mps`` goes to it (an expert for running, in the manner of PHC's primitives, Luo et al.
 2023); else, if the set has a ``sideways``
 policy, a clip whose root's median speed across the pelvis heading is above ``sideways_speed_mps``
-(either way, :func:`walks_sideways`) goes to it; every other clip goes to ``default``. The rule
+(either way, :func:`walks_sideways`) goes to it; else, if the set has a ``turn`` policy, a clip whose
+pelvis heading turns faster than ``turn_rate_rad_s`` on average over the clip (either way,
+:func:`turns`) goes to it; every other clip goes to ``default``. The rule
 reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion library
 it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s) from every other take
 (≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
@@ -31,9 +33,10 @@ On disk a policy set is a directory holding ``policy_set.json``::
      "dash": "../mimic_dash", "dash_speed_mps": 3.0,
      "fast": "../mimic_fast", "fast_speed_mps": 2.0,
      "sideways": "../mimic_sideways", "sideways_speed_mps": 0.2,
+     "turn": "../mimic_turning", "turn_rate_rad_s": 0.3,
      "clips": {"*dash_active_001*": "../dash_active"}}
 
-with the policy directories relative to it (``dash``, ``fast``, ``sideways`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
+with the policy directories relative to it (``dash``, ``fast``, ``sideways``, ``turn`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
 policy set wherever they take a policy.
 """
 
@@ -58,11 +61,13 @@ from reference_motion.motion import Motion
 
 SET_FILE = "policy_set.json"
 FORMAT = "physmimic.policy_set/1"
-OPTIONAL_RULES = ("dash", "fast", "sideways")
-"""The optional rules, in the order they route: each a policy directory field, its speed field
-``NAME_speed_mps`` and its test (:data:`RULE_TESTS`)."""
-SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips",
-              *OPTIONAL_RULES, *(f"{rule}_speed_mps" for rule in OPTIONAL_RULES)}
+OPTIONAL_RULES = ("dash", "fast", "sideways", "turn")
+"""The optional rules, in the order they route: each a policy directory field, its threshold field
+(:data:`RULE_THRESHOLDS`) and its test (:data:`RULE_TESTS`)."""
+RULE_THRESHOLDS = {"dash": "dash_speed_mps", "fast": "fast_speed_mps", "sideways": "sideways_speed_mps",
+                   "turn": "turn_rate_rad_s"}
+"""Each optional rule's threshold field (its unit in its name: m/s or rad/s)."""
+SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips", *OPTIONAL_RULES, *RULE_THRESHOLDS.values()}
 """The fields ``policy_set.json`` may hold."""
 
 
@@ -113,6 +118,22 @@ def goes_fast(motion: Motion, fast_speed_mps: float) -> bool:
     return median_ground_speed(motion.qpos, motion.fps) > fast_speed_mps
 
 
+def turn_rate(qpos: np.ndarray, fps: float) -> float:
+    """How fast the pelvis heading of ``qpos (T, nq)`` (free joint first; world, z up) turns on average (rad/s,
+    either way): the heading's net change from the first frame to the last, unwrapped, over the clip's
+    duration (at least 2 frames). A walk's sway from step to step cancels out; a clip that turns and turns
+    back counts as straight."""
+    if len(qpos) < 2:
+        raise ValueError(f"turn_rate needs at least 2 frames, got {len(qpos)}")
+    heading = np.unwrap(rot.yaw(qpos[:, 3:7]))
+    return float(abs(heading[-1] - heading[0]) * fps / (len(qpos) - 1))
+
+
+def turns(motion: Motion, turn_rate_rad_s: float) -> bool:
+    """Whether ``motion``'s pelvis heading turns faster than ``turn_rate_rad_s`` (rad/s, :func:`turn_rate`)."""
+    return turn_rate(motion.qpos, motion.fps) > turn_rate_rad_s
+
+
 def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
     """The median horizontal speed (m/s) of the root over the frames of ``qpos (T, nq)`` (world, z up;
     at least 2 frames)."""
@@ -122,8 +143,8 @@ def median_ground_speed(qpos: np.ndarray, fps: float) -> float:
 
 
 RULE_TESTS: dict[str, Callable[[Motion, float], bool]] = {"dash": goes_fast, "fast": goes_fast,
-                                                           "sideways": walks_sideways}
-"""Each optional rule's test of a clip against the rule's speed (m/s)."""
+                                                           "sideways": walks_sideways, "turn": turns}
+"""Each optional rule's test of a clip against the rule's threshold (:data:`RULE_THRESHOLDS`)."""
 
 
 @dataclass(frozen=True)
@@ -147,6 +168,9 @@ class PolicySet:
         sideways: directory of the policy for clips walked sideways (:func:`walks_sideways` with
             ``sideways_speed_mps``), after the fast rule; ``None``: no such rule.
         sideways_speed_mps: that speed (m/s).
+        turn: directory of the policy for clips whose pelvis heading turns faster than ``turn_rate_rad_s``
+            (:func:`turns`), after the sideways rule; ``None``: no such rule.
+        turn_rate_rad_s: that rate (rad/s).
     """
 
     path: Path
@@ -160,12 +184,15 @@ class PolicySet:
     fast_speed_mps: float = 2.0
     sideways: Path | None = None
     sideways_speed_mps: float = 0.2
+    turn: Path | None = None
+    turn_rate_rad_s: float = 0.3
 
     def __post_init__(self) -> None:
-        for name in ("backward_speed_mps", *(f"{rule}_speed_mps" for rule in OPTIONAL_RULES)):
+        for name in ("backward_speed_mps", *RULE_THRESHOLDS.values()):
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
-                raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 (m/s), got {value!r}")
+                unit = "rad/s" if name.endswith("_rad_s") else "m/s"
+                raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 ({unit}), got {value!r}")
             object.__setattr__(self, name, float(value))
 
     def route(self, motion: Motion) -> Path:
@@ -178,7 +205,7 @@ class PolicySet:
             return self.backward
         for rule in OPTIONAL_RULES:
             policy = getattr(self, rule)
-            if policy is not None and RULE_TESTS[rule](motion, getattr(self, f"{rule}_speed_mps")):
+            if policy is not None and RULE_TESTS[rule](motion, getattr(self, RULE_THRESHOLDS[rule])):
                 return policy
         return self.default
 
@@ -192,8 +219,8 @@ class PolicySet:
 
     @property
     def policies(self) -> list[Path]:
-        """Every policy directory of the set, each once: default, backward, dash, fast, sideways, then the clips'
-        policies."""
+        """Every policy directory of the set, each once: default, backward, the optional rules' in
+        :data:`OPTIONAL_RULES`' order, then the clips' policies."""
         optional = [getattr(self, rule) for rule in OPTIONAL_RULES if getattr(self, rule) is not None]
         return list(dict.fromkeys([self.default, self.backward, *optional, *(policy for _, policy in self.clips)]))
 
@@ -208,7 +235,7 @@ class PolicySet:
                 "backward_speed_mps": self.backward_speed_mps}
         for rule in OPTIONAL_RULES:
             if getattr(self, rule) is not None:
-                spec |= {rule: rel(getattr(self, rule)), f"{rule}_speed_mps": getattr(self, f"{rule}_speed_mps")}
+                spec |= {rule: rel(getattr(self, rule)), RULE_THRESHOLDS[rule]: getattr(self, RULE_THRESHOLDS[rule])}
         if self.clips:
             spec["clips"] = {glob: rel(policy) for glob, policy in self.clips}
         out = self.path / SET_FILE
@@ -247,15 +274,15 @@ def load_policy_set(path: str | Path) -> PolicySet:
         raise PolicyError(f"{file}: unknown field(s) {', '.join(unknown)}; expected only {', '.join(sorted(SET_FIELDS))}")
     optional = {}
     for rule in OPTIONAL_RULES:
-        if f"{rule}_speed_mps" in spec and rule not in spec:
-            raise PolicyError(f"{file}: {rule}_speed_mps is given without {rule}, the policy directory it sends "
+        threshold = RULE_THRESHOLDS[rule]
+        if threshold in spec and rule not in spec:
+            raise PolicyError(f"{file}: {threshold} is given without {rule}, the policy directory it sends "
                               f"{rule} clips to")
         policy = spec.get(rule)
         if rule in spec and not isinstance(policy, str):
             raise PolicyError(f"{file}: {rule} must be a policy directory relative to {path}, got {policy!r}")
         if policy is not None:
-            optional |= {rule: member(policy), f"{rule}_speed_mps": spec.get(f"{rule}_speed_mps",
-                                                                            getattr(PolicySet, f"{rule}_speed_mps"))}
+            optional |= {rule: member(policy), threshold: spec.get(threshold, getattr(PolicySet, threshold))}
     clips = spec.get("clips", {})
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "

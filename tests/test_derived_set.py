@@ -24,9 +24,13 @@ def test_a_derived_set_replaces_the_named_fields_and_keeps_the_rest(tmp_path):
     assert (new.default, new.backward, new.backward_speed_mps) == (MODELS / "mimic_walk", MODELS / "mimic_imu", 0.3)
     assert new.clips == (("*dash*", MODELS / "mimic_general"),)
     assert (new.fast, new.fast_speed_mps) == (MODELS / "mimic_general", 2.5)
-    with pytest.raises(SystemExit, match="FIELD one of backward, .*sideways_speed_mps, got 'path=x'"):
+    with pytest.raises(SystemExit, match="FIELD one of backward, .*turn_rate_rad_s, got 'path=x'"):
         main([str(tmp_path / "base"), str(tmp_path / "bad"), "path=x"])
-    with pytest.raises(SystemExit, match="sideways_speed_mps is a speed in m/s, got 'fast'"):
+    with pytest.raises(SystemExit, match="sideways_speed_mps is a number, got 'fast'"):
         main([str(tmp_path / "base"), str(tmp_path / "bad"), "sideways_speed_mps=fast"])
     with pytest.raises(SystemExit, match="fast_speed_mps must be a finite number >= 0"):
         main([str(tmp_path / "base"), str(tmp_path / "bad"), "fast_speed_mps=-1"])
+    main([str(tmp_path / "new"), str(tmp_path / "turning"), f"turn={MODELS / 'mimic_walk'}", "turn_rate_rad_s=0.4"])
+    turning = load_policy_set(tmp_path / "turning")
+    assert (turning.turn, turning.turn_rate_rad_s, turning.sideways) == (MODELS / "mimic_walk", 0.4,
+                                                                          MODELS / "mimic_walk_back")

@@ -1,4 +1,4 @@
-"""agents/policy_set.py: the backward-walking, dash, fast and sideways rules by hand and on real clips, the set file,
+"""agents/policy_set.py: the backward-walking, dash, fast, sideways and turn rules by hand and on real clips, the set file,
 routing."""
 
 import json
@@ -12,7 +12,7 @@ import pytest
 from agents import evaluate
 from agents.policy import PolicyError
 from agents.policy_set import (PolicySet, heading_frame_velocity, heading_speeds, load_policy_set, median_ground_speed,
-                               route_clips, source_name, walks_backward, walks_sideways)
+                               route_clips, source_name, turn_rate, turns, walks_backward, walks_sideways)
 from reference_motion.library import load_motion
 from reference_motion.library import posture_copies, stance_copies
 from reference_motion import rotations as rot
@@ -201,6 +201,52 @@ def test_the_dash_rule_routes_a_sprint_before_the_fast_rule_and_round_trips(tmp_
     del spec["dash"]
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="dash_speed_mps is given without dash"):
+        load_policy_set(tmp_path / "set")
+
+
+def test_turn_rate_by_hand():
+    """A heading turning 90° left over 2 s, through the ±180° seam, turns at π/4 rad/s; the same turned back
+    halfway, or swaying ±20° from step to step, nets less; a heading turning right counts the same."""
+    fps = 60.0
+    yaw = np.radians(150.0) + np.linspace(0.0, math.pi / 2, 121)  # 150° -> 240° (= -120°): across the seam
+    qpos = np.zeros((121, 7))
+    qpos[:, 3:7] = np.stack([_quat_yaw(a) for a in yaw])
+    assert turn_rate(qpos, fps) == pytest.approx(math.pi / 4)
+    qpos[:, 3:7] = np.stack([_quat_yaw(-a) for a in yaw])
+    assert turn_rate(qpos, fps) == pytest.approx(math.pi / 4)
+    there_and_back = np.concatenate([yaw[:61], yaw[60::-1][1:]])
+    qpos[:, 3:7] = np.stack([_quat_yaw(a) for a in there_and_back])
+    assert turn_rate(qpos, fps) == pytest.approx(0.0, abs=1e-9)
+    sway = np.radians(20.0) * np.sin(np.linspace(0.0, 8 * math.pi, 121))
+    qpos[:, 3:7] = np.stack([_quat_yaw(a) for a in sway])
+    assert turn_rate(qpos, fps) == pytest.approx(0.0, abs=1e-9)
+    with pytest.raises(ValueError, match="at least 2 frames"):
+        turn_rate(qpos[:1], fps)
+
+
+def test_the_turn_rule_routes_deepmimics_turn_after_the_other_rules_and_round_trips(tmp_path):
+    """DeepMimic's walker/turn_right0 turns 99° at 1.4 rad/s and goes to the turn policy (0.3 rad/s); its walk
+    (0.1 rad/s) stays with the default, and its run, turning as little, goes to the fast policy first. The
+    file keeps the rule and its rate; a lone rate and a bad rate are refused, the message in rad/s."""
+    walk = load_motion("deepmimic:walk", "humanoid_1seg")
+    run = load_motion("deepmimic:run", "humanoid_1seg")
+    turn = load_motion("deepmimic:walker/turn_right0", "humanoid_1seg")
+    assert turn_rate(walk.qpos, walk.fps) < 0.2 < 1.0 < turn_rate(turn.qpos, turn.fps)
+    assert turns(turn, 0.3) and not turns(walk, 0.3)
+    turning = PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_general",
+                        turn=MODELS / "mimic_walk_back")
+    assert turning.turn_rate_rad_s == 0.3
+    assert [turning.route(m).name for m in (walk, run, turn)] == ["mimic_walk", "mimic_general", "mimic_walk_back"]
+    assert [p.name for p in turning.policies] == ["mimic_walk", "mimic_imu", "mimic_general", "mimic_walk_back"]
+    spec = json.loads(replace(turning, turn_rate_rad_s=2.0).save().read_text())
+    assert spec["turn_rate_rad_s"] == 2.0 and not Path(spec["turn"]).is_absolute()
+    loaded = load_policy_set(tmp_path / "set")
+    assert loaded.turn.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(turn).name == "mimic_walk"
+    with pytest.raises(PolicyError, match=r"turn_rate_rad_s must be a finite number >= 0 \(rad/s\)"):
+        PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", turn_rate_rad_s=-1.0)
+    del spec["turn"]
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="turn_rate_rad_s is given without turn"):
         load_policy_set(tmp_path / "set")
 
 

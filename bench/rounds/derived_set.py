@@ -1,8 +1,8 @@
 """A round's candidate policy set: a policy set with some of its fields replaced, written to a new directory.
 
 Usage: ``python bench/rounds/derived_set.py BASE OUT FIELD=VALUE ...``, e.g. ``backward=models/mimic_general_back`` or
-``sideways=PATH sideways_speed_mps=0.2``: a policy directory (or run checkpoint) for a rule's field, m/s for a
-``*_speed_mps`` field. Every other field of BASE (:class:`agents.policy_set.PolicySet`), its clips' globs included,
+``sideways=PATH sideways_speed_mps=0.2``: a policy directory (or run checkpoint) for a rule's field, a number for a
+threshold field (``*_speed_mps`` in m/s, ``turn_rate_rad_s`` in rad/s). Every other field of BASE (:class:`agents.policy_set.PolicySet`), its clips' globs included,
 is kept (:func:`dataclasses.replace`); ``OUT/policy_set.json`` is written.
 """
 
@@ -15,10 +15,12 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from agents.policy import PolicyError  # noqa: E402
-from agents.policy_set import PolicySet, load_policy_set  # noqa: E402
+from agents.policy_set import RULE_THRESHOLDS, PolicySet, load_policy_set  # noqa: E402
 
 FIELDS = sorted({f.name for f in fields(PolicySet)} - {"path", "clips"})
 """The fields a change may name."""
+THRESHOLDS = {"backward_speed_mps", *RULE_THRESHOLDS.values()}
+"""Those of them that are numbers."""
 
 
 def main(argv: list[str]) -> Path:
@@ -32,9 +34,9 @@ def main(argv: list[str]) -> Path:
             raise SystemExit(f"derived_set.py: expected FIELD=VALUE with FIELD one of {', '.join(FIELDS)}, "
                              f"got {change!r}")
         try:
-            values[name] = float(value) if name.endswith("_speed_mps") else Path(value)
+            values[name] = float(value) if name in THRESHOLDS else Path(value)
         except ValueError:
-            raise SystemExit(f"derived_set.py: {name} is a speed in m/s, got {value!r}") from None
+            raise SystemExit(f"derived_set.py: {name} is a number, got {value!r}") from None
     try:
         return replace(load_policy_set(base), path=Path(out), **values).save()
     except PolicyError as err:
