@@ -40,6 +40,13 @@ def speeds(motion: Motion) -> dict[str, float]:
     return {"along": float(along), "across": float(across), "ground": median_ground_speed(motion.qpos, motion.fps)}
 
 
+def clean_and_drawn(clips: list[str], draws: int, first_seed: int) -> tuple[list[Motion], list[list[Motion]]]:
+    """The takes of ``clips`` as the policies get them, and ``draws`` IMU-corrupted copies of them all at strength 1
+    (draw ``j`` of take ``i`` has artefact seed ``first_seed + 100 j + i``)."""
+    clean = reference_clips(clips, "humanoid_1seg", MimicConfig(), None, 1.0, 0)
+    return clean, [corrupted(clean, "imu", 1.0, first_seed + 100 * j) for j in range(draws)]
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("out", help="the JSON to write")
@@ -48,8 +55,7 @@ def main() -> None:
     p.add_argument("--first-seed", type=int, default=1830000)
     p.add_argument("--sideways-speed", type=float, default=0.2)
     args = p.parse_args()
-    clean = reference_clips(args.clips, "humanoid_1seg", MimicConfig(), None, 1.0, 0)
-    drawn = [corrupted(clean, "imu", 1.0, args.first_seed + 100 * j) for j in range(args.draws)]
+    clean, drawn = clean_and_drawn(args.clips, args.draws, args.first_seed)
     takes = []
     for i, motion in enumerate(clean):
         content = labels(motion.name.split(":")[-1])[0]

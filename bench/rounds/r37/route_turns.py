@@ -6,7 +6,7 @@ Usage: ``python bench/rounds/r37/route_turns.py OUT.json [--clips ...] [--draws 
 For every take (default: the library's training split and DeepMimic's training clips walk, run, walker/turn_left0 and
 walker/turn_right0; loaded as the policies get them, :func:`agents.evaluate.reference_clips`) the rate at which its
 pelvis heading turns (:func:`agents.policy_set.turn_rate`, rad/s), clean and over ``--draws`` IMU draws at strength 1
-(draw ``j`` of take ``i`` has artefact seed ``first_seed + 100 j + i``, as ``bench/rounds/r36/route_speeds.py``), and
+(``bench/rounds/r36/route_speeds.py``'s ``clean_and_drawn``), and
 in how many draws it is above ``--turn-rate``. Prints the takes fastest first and the rule's margin: the fastest
 turn of a take that is not one of DeepMimic's turns, clean and in any draw. Reads training takes only: the rule's rate
 is set from them.
@@ -23,10 +23,11 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[3]))
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))  # bench/, for json_report
 
-from agents.evaluate import corrupted, reference_clips  # noqa: E402
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "r36"))  # for route_speeds
+
 from agents.policy_set import turn_rate  # noqa: E402
-from envs.config import MimicConfig  # noqa: E402
 from json_report import emit_json  # noqa: E402
+from route_speeds import clean_and_drawn  # noqa: E402
 
 TRAINING = ["library:data/library/train", "deepmimic:walk", "deepmimic:run", "deepmimic:walker/turn_left0",
             "deepmimic:walker/turn_right0"]
@@ -43,8 +44,7 @@ def main() -> None:
     p.add_argument("--first-seed", type=int, default=1900000)
     p.add_argument("--turn-rate", type=float, default=0.3)
     args = p.parse_args()
-    clean = reference_clips(args.clips, "humanoid_1seg", MimicConfig(), None, 1.0, 0)
-    drawn = [corrupted(clean, "imu", 1.0, args.first_seed + 100 * j) for j in range(args.draws)]
+    clean, drawn = clean_and_drawn(args.clips, args.draws, args.first_seed)
     takes = []
     for i, motion in enumerate(clean):
         imu = np.array([turn_rate(draw[i].qpos, draw[i].fps) for draw in drawn])
