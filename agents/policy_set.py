@@ -6,25 +6,29 @@ to that policy (a specialist for takes the others do not perform); so does a cop
 clip, whose name adds its transforms to the clip's (``"NAME (mirrored) (x1.5 speed)"``,
 :func:`source_name`), so that a glob naming a take exactly routes its mirrored, time-warped,
 reversed and posture copies with it (a glob may name a copy to route it apart: ``"*(reversed)*"``,
-listed first); else a clip whose root moves
-backwards relative to the pelvis heading (median speed along the heading below
-``-backward_speed_mps``) goes to the ``backward`` policy; else, if the set has a ``dash`` policy, a
-clip whose root's median horizontal speed is above ``dash_speed_mps`` goes to it (an expert for
-sprinting); else, if the set has a ``fast`` policy, a clip whose root's median horizontal speed is above
-``fast_speed_mps`` goes to it (an expert for running, in the manner of PHC's primitives, Luo et al.
-2023); else, if the set has a ``sideways``
-policy, a clip whose root's median speed across the pelvis heading is above ``sideways_speed_mps``
-(either way, :func:`walks_sideways`) goes to it; else, if the set has a ``turn`` policy, a clip whose
-pelvis heading turns faster than ``turn_rate_rad_s`` on average over the clip (either way,
-:func:`turns`) goes to it; every other clip goes to ``default``. The rule
-reads the clip as given (corrupted or not), so it needs no ground truth, and on the motion library
-it separates the 15 backward walks (median heading speed −0.35 to −0.94 m/s) from every other take
-(≥ 0.00 m/s); the training split's walks go at median speeds up to 1.57 m/s
-(1.96 at the 1.25× pace training plays them at), its runs at 1.49–3.22 m/s and its dashes at
-2.49–4.41 m/s (above 3.0 m/s: 7 of its 10 dashes and 2 of its 10 runs). Across the heading its takes other than sideways walks and slower than 2 m/s go at
-median speeds of at most 0.14 m/s either way clean and 0.18 m/s in any of 10 IMU draws (the IMU's
-heading drift turns the heading against the path), its sideways walks at 0.07–0.53 m/s, 15 of its
-22 above 0.2 m/s clean (``bench/rounds/r36/route_speeds.py``, ``bench/results/round36_route_speeds.json``).
+listed first); else a clip whose root moves backwards relative to the pelvis heading (median speed
+along the heading below ``-backward_speed_mps``) goes to the ``backward`` policy; else the optional
+rules, in the order of :data:`OPTIONAL_RULES`, each only if the set has its policy:
+
+- ``dash``: a clip whose root's median horizontal speed is above ``dash_speed_mps`` (an expert for sprinting);
+- ``fast``: the same above ``fast_speed_mps`` (an expert for running, in the manner of PHC's primitives, Luo et
+  al. 2023);
+- ``sideways``: a clip whose root's median speed across the pelvis heading is above ``sideways_speed_mps``
+  (either way, :func:`walks_sideways`);
+- ``turn``: a clip whose pelvis heading turns faster than ``turn_rate_rad_s`` on average over the clip (either
+  way, :func:`turns`);
+
+and every other clip goes to ``default``. The rules read the clip as given (corrupted or not), so they
+need no ground truth. On the motion library the backward rule separates the 15 backward walks (median
+heading speed −0.35 to −0.94 m/s) from every other take (≥ 0.00 m/s); the training split's walks go
+at median speeds up to 1.57 m/s (1.96 at the 1.25× pace training plays them at), its runs at
+1.49–3.22 m/s and its dashes at 2.49–4.41 m/s (above 3.0 m/s: 7 of its 10 dashes and 2 of its 10
+runs). Across the heading its takes other than sideways walks and slower than 2 m/s go at median
+speeds of at most 0.14 m/s either way clean and 0.18 m/s in any of 10 IMU draws (the IMU's heading
+drift turns the heading against the path), its sideways walks at 0.07–0.53 m/s, 15 of its 22 above
+0.2 m/s clean (``bench/rounds/r36/route_speeds.py``, ``bench/results/round36_route_speeds.json``).
+DeepMimic's training turns turn at 0.425 and 1.389 rad/s, every other training take at most 0.140 in
+any IMU draw (``bench/rounds/r37/route_turns.py``, ``bench/results/round37_route_turns.json``).
 
 On disk a policy set is a directory holding ``policy_set.json``::
 
@@ -36,8 +40,8 @@ On disk a policy set is a directory holding ``policy_set.json``::
      "turn": "../mimic_turning", "turn_rate_rad_s": 0.3,
      "clips": {"*dash_active_001*": "../dash_active"}}
 
-with the policy directories relative to it (``dash``, ``fast``, ``sideways``, ``turn`` and ``clips`` optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a
-policy set wherever they take a policy.
+with the policy directories relative to it (``dash``, ``fast``, ``sideways``, ``turn`` and ``clips``
+optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a policy set wherever they take a policy.
 """
 
 from __future__ import annotations
