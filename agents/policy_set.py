@@ -125,8 +125,10 @@ def goes_fast(motion: Motion, fast_speed_mps: float) -> bool:
 def turn_rate(qpos: np.ndarray, fps: float) -> float:
     """How fast the pelvis heading of ``qpos (T, nq)`` (free joint first; world, z up) turns on average (rad/s,
     either way): the heading's net change from the first frame to the last, unwrapped, over the clip's
-    duration (at least 2 frames). A walk's sway from step to step cancels out; a clip that turns and turns
-    back counts as straight."""
+    duration (at least 2 frames). A clip that turns and turns back counts as straight; a walk's sway from step
+    to step cancels where the clip ends at the phase it began at, and otherwise adds at most its peak-to-peak
+    angle over the duration (DeepMimic's 0.8 s run, swaying about 20°, could read 0.44 rad/s; the training
+    takes other than DeepMimic's turns read at most 0.14, ``bench/results/round37_route_turns.json``)."""
     if len(qpos) < 2:
         raise ValueError(f"turn_rate needs at least 2 frames, got {len(qpos)}")
     heading = np.unwrap(rot.yaw(qpos[:, 3:7]))
@@ -197,6 +199,10 @@ class PolicySet:
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
                 unit = "rad/s" if name.endswith("_rad_s") else "m/s"
                 raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 ({unit}), got {value!r}")
+        if self.dash is not None and self.fast is not None and self.dash_speed_mps <= self.fast_speed_mps:
+            raise PolicyError(f"{self.path / SET_FILE}: dash_speed_mps ({self.dash_speed_mps:g} m/s) must be above "
+                              f"fast_speed_mps ({self.fast_speed_mps:g} m/s): the dash rule routes first, so the fast "
+                              "policy would get no clip")
             object.__setattr__(self, name, float(value))
 
     def route(self, motion: Motion) -> Path:

@@ -198,6 +198,8 @@ def test_the_dash_rule_routes_a_sprint_before_the_fast_rule_and_round_trips(tmp_
     assert spec["dash_speed_mps"] == 4.0 and not Path(spec["dash"]).is_absolute()
     loaded = load_policy_set(tmp_path / "set")
     assert loaded.dash.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(run).name == "mimic_general"
+    with pytest.raises(PolicyError, match=r"dash_speed_mps \(2 m/s\) must be above fast_speed_mps \(2 m/s\)"):
+        replace(dash, dash_speed_mps=2.0)
     del spec["dash"]
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="dash_speed_mps is given without dash"):
@@ -220,6 +222,9 @@ def test_turn_rate_by_hand():
     sway = np.radians(20.0) * np.sin(np.linspace(0.0, 8 * math.pi, 121))
     qpos[:, 3:7] = np.stack([_quat_yaw(a) for a in sway])
     assert turn_rate(qpos, fps) == pytest.approx(0.0, abs=1e-9)
+    off_phase = np.radians(20.0) * np.sin(np.linspace(0.0, 8.5 * math.pi, 121))  # ends a quarter period on: +20°
+    qpos[:, 3:7] = np.stack([_quat_yaw(a) for a in off_phase])
+    assert turn_rate(qpos, fps) == pytest.approx(np.radians(20.0) / 2.0)
     with pytest.raises(ValueError, match="at least 2 frames"):
         turn_rate(qpos[:1], fps)
 
@@ -242,6 +247,7 @@ def test_the_turn_rule_routes_deepmimics_turn_after_the_other_rules_and_round_tr
     assert spec["turn_rate_rad_s"] == 2.0 and not Path(spec["turn"]).is_absolute()
     loaded = load_policy_set(tmp_path / "set")
     assert loaded.turn.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(turn).name == "mimic_walk"
+    assert replace(turning, turn_rate_rad_s=0.05).route(run).name == "mimic_general"  # over 0.05: the fast rule first
     with pytest.raises(PolicyError, match=r"turn_rate_rad_s must be a finite number >= 0 \(rad/s\)"):
         PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", turn_rate_rad_s=-1.0)
     del spec["turn"]

@@ -5,6 +5,7 @@
 # wheels travel in .whl (README of the device tool). It has no EGL loader, so MuJoCo's rendering is switched off
 # (MUJOCO_GL=disable, set in the .venv/bin/python stand-in because ppo_run.sh sets MUJOCO_GL=egl).
 cd "$(dirname "$0")/../../.."
+[ -n "$OUT" ] && [ ! -e .venv ] || { echo "device_dx.sh: for the device tool's machine (\$OUT set, no .venv)" >&2; exit 2; }
 python3 -m pip install -q --no-index --no-deps --no-compile --no-cache-dir --target /tmp/site .whl/*.whl || exit 1
 export PYTHONPATH=/tmp/site:$PWD
 mkdir -p .venv/bin && printf '#!/bin/sh\nMUJOCO_GL=disable exec python3 "$@"\n' > .venv/bin/python && chmod +x .venv/bin/python
