@@ -462,8 +462,8 @@ class CleanPreset:
 
 
 PRESETS: dict[str, CleanPreset] = {
-    # an IMU-suit take: the row "behind the IMU denoiser" (SXSET: LSS with the backward, fast and sideways experts BX,
-    # FX and SX, rounds 35-36, and the denoiser SQ)
+    # an IMU-suit take: the row "behind the IMU denoiser" (TXSET: LSS with the backward, dash, fast, sideways and
+    # turning experts BX, DX, FX, SX and TX, rounds 35-37, and the denoiser SQ)
     "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_expert_set", denoise=STANCES_DENOISER, denoise_slow=0.5,
                        even_legs=True, part_legs=LegGap.min_gap_m),
     # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")
@@ -501,8 +501,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
     if method:
         p.add_argument("--preset", choices=sorted(PRESETS),
                        help="clean with the policy and preparation validation chose for this kind of take: imu, an "
-                            "IMU-suit take (the policy set models/mimic_general_expert_set, its backward, fast and "
-                            "sideways takes to its experts, behind the stance-trained IMU denoiser's "
+                            "IMU-suit take (the policy set models/mimic_general_expert_set, its backward, dash, fast, "
+                            "sideways and turning takes to its experts, behind the stance-trained IMU denoiser's "
                             "slow corrections, legs evened and parted, grounded, swing-lifted, mirror-averaged, "
                             "zero-shot); optical, a marker "
                             "take (models/mimic_general_stance_avg, grounded, swing-lifted, mirror-averaged, zero-shot). "
