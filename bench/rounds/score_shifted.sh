@@ -41,8 +41,7 @@ rule() {  # rule OUT_FILE [--confirm FILES...]
     --draws-per-policy 20 "$@" --json "results/$out")
 }
 rule "${OUT}_$SEED.json"
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['leads_by_rule'])" \
-    "bench/results/${OUT}_$SEED.json"; then
+if bash bench/rounds/rule_says.sh "${OUT}_$SEED" leads_by_rule; then
   base_rows "$CONFIRM" &
   BASE_JOB=$!
   bash bench/rounds/r32/shifted.sh "${CAND}_SQ" "$POLICY" "$CONFIRM" "$SQ"

@@ -24,8 +24,7 @@ rows() {  # rows SEED: the baseline's and the candidate's draws, side by side
 rows 1660000
 (cd bench && ../.venv/bin/python select_denoiser.py --baseline results/round32_shifted_1660000_LS_SQ.json \
   --candidates results/round32_shifted_1660000_LS_QF5.json --json results/round34_select_denoiser_QF5_1660000.json)
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['leads_by_rule'])" \
-    bench/results/round34_select_denoiser_QF5_1660000.json; then
+if bash bench/rounds/rule_says.sh round34_select_denoiser_QF5_1660000 leads_by_rule; then
   rows 1670000
   (cd bench && ../.venv/bin/python select_denoiser.py --baseline results/round32_shifted_1660000_LS_SQ.json \
     --candidates results/round32_shifted_1660000_LS_QF5.json --confirm-baseline results/round32_shifted_1670000_LS_SQ.json \

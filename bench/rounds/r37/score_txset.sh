@@ -10,9 +10,9 @@ set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r37
 export MUJOCO_GL=egl OMP_NUM_THREADS=1
 bash bench/rounds/r28/candidate.sh runs/r37/ppo_tx 2340 TX
-while [ ! -f bench/results/round37_select_DXSET_1860000.json ]; do sleep 20; done  # DXSET's decision first: its
-if .venv/bin/python -c "import json, sys; sys.exit(not json.load(open(sys.argv[1]))['leads_by_rule'])" \
-    bench/results/round37_select_DXSET_1860000.json; then  # rule, and its confirmation if it leads
+# DXSET's decision first: its rule, and its confirmation if it leads
+while [ ! -f bench/results/round37_select_DXSET_1860000.json ]; do sleep 20; done
+if bash bench/rounds/rule_says.sh round37_select_DXSET_1860000 leads_by_rule; then
   while [ ! -f bench/results/round37_select_DXSET.json ]; do sleep 20; done
 fi
 BASE=models/mimic_general_expert_set; BASE_NAME=EXPERTSET2
