@@ -71,7 +71,9 @@ OPTIONAL_RULES = ("dash", "fast", "sideways", "turn")
 RULE_THRESHOLDS = {"dash": "dash_speed_mps", "fast": "fast_speed_mps", "sideways": "sideways_speed_mps",
                    "turn": "turn_rate_rad_s"}
 """Each optional rule's threshold field (its unit in its name: m/s or rad/s)."""
-SET_FIELDS = {"format", "default", "backward", "backward_speed_mps", "clips", *OPTIONAL_RULES, *RULE_THRESHOLDS.values()}
+THRESHOLD_FIELDS = ("backward_speed_mps", *RULE_THRESHOLDS.values())
+"""Every threshold field of a set: the backward rule's and the optional rules'."""
+SET_FIELDS = {"format", "default", "backward", "clips", *OPTIONAL_RULES, *THRESHOLD_FIELDS}
 """The fields ``policy_set.json`` may hold."""
 
 
@@ -194,7 +196,7 @@ class PolicySet:
     turn_rate_rad_s: float = 0.3
 
     def __post_init__(self) -> None:
-        for name in ("backward_speed_mps", *RULE_THRESHOLDS.values()):
+        for name in THRESHOLD_FIELDS:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
                 unit = "rad/s" if name.endswith("_rad_s") else "m/s"

@@ -15,12 +15,10 @@ from pathlib import Path
 sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
 
 from agents.policy import PolicyError  # noqa: E402
-from agents.policy_set import RULE_THRESHOLDS, PolicySet, load_policy_set  # noqa: E402
+from agents.policy_set import THRESHOLD_FIELDS, PolicySet, load_policy_set  # noqa: E402
 
 FIELDS = sorted({f.name for f in fields(PolicySet)} - {"path", "clips"})
 """The fields a change may name."""
-THRESHOLDS = {"backward_speed_mps", *RULE_THRESHOLDS.values()}
-"""Those of them that are numbers."""
 
 
 def main(argv: list[str]) -> Path:
@@ -34,7 +32,7 @@ def main(argv: list[str]) -> Path:
             raise SystemExit(f"derived_set.py: expected FIELD=VALUE with FIELD one of {', '.join(FIELDS)}, "
                              f"got {change!r}")
         try:
-            values[name] = float(value) if name in THRESHOLDS else Path(value)
+            values[name] = float(value) if name in THRESHOLD_FIELDS else Path(value)
         except ValueError:
             raise SystemExit(f"derived_set.py: {name} is a number, got {value!r}") from None
     try:
