@@ -20,25 +20,7 @@ if bash bench/rounds/replaced.sh round37_select_DXSET; then BASE=runs/r37/DXSET;
 .venv/bin/python bench/rounds/derived_set.py "$BASE" runs/r37/TXSET "turn=$(cat runs/r28/TX_candidate.txt)" \
   turn_rate_rad_s=0.3
 echo runs/r37/TXSET > runs/r28/TXSET_candidate.txt
-turns() {  # turns NAME SET SEED
-  .venv/bin/python agents/evaluate.py --policy "$2" --mirror-average --denoise models/imu_denoiser_stances_quint_mirror \
-    --denoise-slow 0.5 --even-legs --part-legs --ground --swing-lift --clips deepmimic:walker/turn_left0 \
-    deepmimic:walker/turn_right0 --episodes 20 --per-clip --corrupt imu --strength 1 --seed "$3" \
-    --json "bench/results/round37_turns_imu1_$1_$3.json" > "runs/r37/turns_$1_$3.log" 2>&1
-}
-for S in 1910000 1920000; do
-  turns "$BASE_NAME" "$BASE" $S & turns TXSET runs/r37/TXSET $S; wait
-done
-.venv/bin/python - "$BASE_NAME" <<'PY'
-import json, sys
-base = sys.argv[1]
-rows = {s: {n: json.load(open(f"bench/results/round37_turns_imu1_{n}_{s}.json"))["ELR_mean"] for n in (base, "TXSET")}
-        for s in (1910000, 1920000)}
-replaces = all(r["TXSET"] > r[base] for r in rows.values())
-json.dump({"baseline": base, "candidate": "TXSET", "ELR": rows, "replaces_baseline": replaces},
-          open("bench/results/round37_select_TXSET.json", "w"), indent=1)
-print(rows, "TXSET replaces" if replaces else "TXSET does not replace", base)
-PY
+bash bench/rounds/score_turns.sh 37 "$BASE_NAME" "$BASE" TXSET runs/r37/TXSET 1910000 1920000
 if bash bench/rounds/replaced.sh round37_select_TXSET; then
   DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh TXSET slow
 fi
