@@ -4,20 +4,22 @@ from __future__ import annotations
 
 import json
 import math
-from pathlib import Path
+
+from reference_motion.atomic import atomic_write
 
 
 def emit_json(result: dict, target: str | None) -> bool:
     """Print ``result`` as JSON when ``target == "-"``, write it to file ``target`` otherwise (and
-    print it too); do nothing for ``None``. Returns whether JSON was requested. NaN and ±inf (a
+    print it too), atomically: a script polling for ``target`` never reads it half-written; do
+    nothing for ``None``. Returns whether JSON was requested. NaN and ±inf (a
     figure that does not exist, e.g. the push-off of a foot without toes) are written as ``null``,
     so the file is strict JSON."""
     if target is None:
         return False
     text = json.dumps(_finite(result), indent=1, allow_nan=False)
     if target != "-":
-        Path(target).parent.mkdir(parents=True, exist_ok=True)
-        Path(target).write_text(text)
+        with atomic_write(target) as tmp:
+            tmp.write_text(text)
     print(text)
     return True
 
