@@ -61,6 +61,9 @@ class MimicPolicy:
         sidecar: the sidecar's contents (``{}`` when absent).
         mirror: when set, the policy acts as its mirror-symmetric actor (:meth:`mirror_averaged`).
             A network trained as that actor (:attr:`symmetric_network`) is one already.
+        source: what :func:`load_policy` was given (the directory, its ``model.zip`` or a run's
+            checkpoint ``step_N.zip``), so a report can name the checkpoint and not only its
+            directory; ``None`` for a policy built in memory.
     """
 
     path: Path
@@ -68,6 +71,7 @@ class MimicPolicy:
     normalizer: VecNormalize
     sidecar: dict = field(default_factory=dict)
     mirror: MirrorMaps | None = None
+    source: Path | None = None
 
     @property
     def symmetric_network(self) -> bool:
@@ -418,4 +422,4 @@ def load_policy(path: str | Path) -> MimicPolicy:
                           f"{STATS_FILE}, {SIDECAR_FILE}), checking that the run did not change its environment "
                           f"on resume")
     sidecar = json.loads(sidecar_file.read_text()) if sidecar_file.exists() else {}
-    return MimicPolicy(directory, model, stats, sidecar)
+    return MimicPolicy(directory, model, stats, sidecar, source=path)

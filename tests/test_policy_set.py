@@ -80,6 +80,9 @@ def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
     result = evaluate.main(["--policy", str(tmp_path / "set"), "--clips", "deepmimic:walk", "--episodes", "2"])
     assert result["rollouts"] == 2 and result["ELR_mean"] == 1.0  # mimic_walk walks its own clip whole
     assert {name: Path(policy).name for name, policy in result["routed_to"].items()} == {"deepmimic:walk": "mimic_walk"}
+    PolicySet(tmp_path / "by_file", MODELS / "mimic_walk" / "model.zip", MODELS / "mimic_imu").save()
+    result = evaluate.main(["--policy", str(tmp_path / "by_file"), "--clips", "deepmimic:walk", "--episodes", "1"])
+    assert Path(result["routed_to"]["deepmimic:walk"]).relative_to(MODELS.resolve()) == Path("mimic_walk/model.zip")
 
 
 def test_clip_globs_route_before_the_backward_rule_and_round_trip(tmp_path):
