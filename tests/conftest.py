@@ -1,8 +1,16 @@
-import pytest
-import torch
+import os
 
-from agents.physics_dataset import DatasetConfig, generate
-from reference_motion.library import load_motion
+# Torch's OpenMP threads wait for work passively (they sleep instead of spinning): with another job on the cores
+# (a training run, a second test session) spinning threads took VGRFNet's small convolutions 2-3 times longer on 2
+# threads than on 1, and the footskate cleanup tests from 17 s to 110 s each; passive waiting costs about 10% on an idle
+# machine. Set before torch is imported, since OpenMP reads it once.
+os.environ.setdefault("OMP_WAIT_POLICY", "PASSIVE")
+
+import pytest  # noqa: E402
+import torch  # noqa: E402
+
+from agents.physics_dataset import DatasetConfig, generate  # noqa: E402
+from reference_motion.library import load_motion  # noqa: E402
 
 TINY = DatasetConfig(policies=("models/mimic_walk",),
                      clips=("deepmimic:walk", "deepmimic:walker/0walk_forward", "deepmimic:walker/turn_left0"),
