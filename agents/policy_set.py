@@ -222,8 +222,9 @@ class PolicySet:
         return self.default
 
     def grouped(self, motions: list[Motion]) -> dict[Path, list[int]]:
-        """The indices of ``motions`` grouped by the directory of the policy that performs each
-        (:meth:`route`), the groups in order of first use and the indices in order."""
+        """The indices of ``motions`` grouped by the policy that performs each (:meth:`route`: its
+        directory, or a run's checkpoint file where the set names one), the groups in order of first
+        use and the indices in order."""
         groups: dict[Path, list[int]] = {}
         for i, motion in enumerate(motions):
             groups.setdefault(self.route(motion), []).append(i)
@@ -231,8 +232,8 @@ class PolicySet:
 
     @property
     def policies(self) -> list[Path]:
-        """Every policy directory of the set, each once: default, backward, the optional rules' in
-        :data:`OPTIONAL_RULES`' order, then the clips' policies."""
+        """Every policy of the set (a directory, or a run's checkpoint file), each once: default,
+        backward, the optional rules' in :data:`OPTIONAL_RULES`' order, then the clips' policies."""
         optional = [getattr(self, rule) for rule in OPTIONAL_RULES if getattr(self, rule) is not None]
         return list(dict.fromkeys([self.default, self.backward, *optional, *(policy for _, policy in self.clips)]))
 

@@ -4,6 +4,8 @@ import json
 import sys
 from pathlib import Path
 
+import pytest
+
 sys.path.append(str(Path(__file__).resolve().parents[1] / "bench"))
 
 from json_report import emit_json  # noqa: E402
@@ -24,3 +26,19 @@ def test_emit_json_prints_only_for_dash_and_does_nothing_for_none(tmp_path, caps
     assert not emit_json({"a": 1}, None) and capsys.readouterr().out == ""
     assert list(tmp_path.iterdir()) == []
 
+
+def test_a_write_that_fails_halfway_leaves_the_old_file_whole(tmp_path, monkeypatch):
+    """A script polling for the file reads the old result or the whole new one, never half of it."""
+    target = tmp_path / "result.json"
+    target.write_text('{"old": true}')
+
+    def half_then_fail(path, text, *args, **kwargs):
+        with open(path, "w") as f:
+            f.write(text[: len(text) // 2])
+        raise OSError("disk full")
+
+    monkeypatch.setattr(Path, "write_text", half_then_fail)
+    with pytest.raises(OSError, match="disk full"):
+        emit_json({"new": list(range(50))}, str(target))
+    assert json.loads(target.read_text()) == {"old": True}
+    assert [p.name for p in tmp_path.iterdir()] == ["result.json"]

@@ -68,7 +68,8 @@ def test_policy_set_file_round_trip_and_errors(tmp_path):
 
 def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
     """The walk goes to the default policy, the walk played backwards to the backward one; the
-    evaluation command runs each group with its own policy and reports every rollout."""
+    evaluation command runs each group with its own policy and reports every rollout, and names a
+    member given as a file (a ``model.zip``, a run's checkpoint) by that file."""
     PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu").save()
     walk = load_motion("deepmimic:walk", "humanoid_1seg")
     backwards = walk.with_qpos(walk.qpos[::-1].copy(), loop=False)

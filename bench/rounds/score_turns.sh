@@ -1,6 +1,6 @@
 #!/bin/bash
 # usage: bench/rounds/score_turns.sh ROUND BASE_NAME BASE CAND_NAME CAND SEED1 SEED2
-# The turn rule of rounds 37 on (validation holds no turn): the policy sets BASE and CAND perform DeepMimic's two
+# The turn rule of round 37 on (validation holds no turn): the policy sets BASE and CAND perform DeepMimic's two
 # training turns (walker/turn_left0, walker/turn_right0) behind the stances denoiser, IMU strength 1, 20 rollouts each,
 # with seeds SEED1 and SEED2 (bench/results/roundROUND_turns_imu1_NAME_SEED.json, logs in runs/rROUND/); CAND replaces
 # BASE if its ELR is higher with both seeds (bench/results/roundROUND_select_CAND_NAME.json, replaces_baseline).
@@ -21,11 +21,12 @@ for S in "${SEEDS[@]}"; do
 done
 .venv/bin/python - "$R" "$BASE_NAME" "$CAND_NAME" "${SEEDS[@]}" <<'PY'
 import json, sys
+from reference_motion.atomic import write_json
 r, base, cand, *seeds = sys.argv[1:]
 rows = {s: {n: json.load(open(f"bench/results/round{r}_turns_imu1_{n}_{s}.json"))["ELR_mean"] for n in (base, cand)}
         for s in seeds}
 replaces = all(row[cand] > row[base] for row in rows.values())
-json.dump({"baseline": base, "candidate": cand, "ELR": rows, "replaces_baseline": replaces},
-          open(f"bench/results/round{r}_select_{cand}.json", "w"), indent=1)
+write_json(f"bench/results/round{r}_select_{cand}.json",  # atomic: later scripts poll for it
+           {"baseline": base, "candidate": cand, "ELR": rows, "replaces_baseline": replaces})
 print(rows, f"{cand} replaces" if replaces else f"{cand} does not replace", base)
 PY
