@@ -201,11 +201,11 @@ class PolicySet:
             if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (math.isfinite(value) and value >= 0):
                 unit = "rad/s" if name.endswith("_rad_s") else "m/s"
                 raise PolicyError(f"{self.path / SET_FILE}: {name} must be a finite number >= 0 ({unit}), got {value!r}")
+            object.__setattr__(self, name, float(value))
         if self.dash is not None and self.fast is not None and self.dash_speed_mps <= self.fast_speed_mps:
             raise PolicyError(f"{self.path / SET_FILE}: dash_speed_mps ({self.dash_speed_mps:g} m/s) must be above "
                               f"fast_speed_mps ({self.fast_speed_mps:g} m/s): the dash rule routes first, so the fast "
                               "policy would get no clip")
-            object.__setattr__(self, name, float(value))
 
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""

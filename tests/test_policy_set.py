@@ -11,8 +11,9 @@ import pytest
 
 from agents import evaluate
 from agents.policy import PolicyError
-from agents.policy_set import (PolicySet, heading_frame_velocity, heading_speeds, load_policy_set, median_ground_speed,
-                               route_clips, source_name, turn_rate, turns, walks_backward, walks_sideways)
+from agents.policy_set import (THRESHOLD_FIELDS, PolicySet, heading_frame_velocity, heading_speeds, load_policy_set,
+                               median_ground_speed, route_clips, source_name, turn_rate, turns, walks_backward,
+                               walks_sideways)
 from reference_motion.library import load_motion
 from reference_motion.library import posture_copies, stance_copies
 from reference_motion import rotations as rot
@@ -252,6 +253,9 @@ def test_the_turn_rule_routes_deepmimics_turn_after_the_other_rules_and_round_tr
     loaded = load_policy_set(tmp_path / "set")
     assert loaded.turn.resolve() == (MODELS / "mimic_walk_back").resolve() and loaded.route(turn).name == "mimic_walk"
     assert replace(turning, turn_rate_rad_s=0.05).route(run).name == "mimic_general"  # over 0.05: the fast rule first
+    whole = PolicySet(tmp_path / "ints", MODELS / "mimic_walk", MODELS / "mimic_imu", backward_speed_mps=0,
+                      turn_rate_rad_s=1)
+    assert [type(getattr(whole, name)) for name in THRESHOLD_FIELDS] == [float] * len(THRESHOLD_FIELDS)  # ints kept as floats
     with pytest.raises(PolicyError, match=r"turn_rate_rad_s must be a finite number >= 0 \(rad/s\)"):
         PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu", turn_rate_rad_s=-1.0)
     del spec["turn"]
