@@ -56,7 +56,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.batched_vec_env import BatchedMimicVecEnv
 from agents.evaluation import evaluate
 from agents.lr_schedule import kl_following
-from agents.policy import MODEL_FILE, SIDECAR_FILE, STATS_FILE, MimicPolicy, load_policy, save_policy, set_action_variance
+from agents.policy import SIDECAR_FILE, MimicPolicy, load_policy, save_policy, set_action_variance
 from agents.rollout import Policy, torch_threads
 from agents.sidecar import PolicySidecar
 from envs.config import MimicConfig
@@ -226,7 +226,8 @@ class AdaptResult:
 
 def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig = AdaptConfig()) -> str:
     """sha1 of the clip's content (``qpos`` bytes as float64, rate, model) and of the policy (its
-    resolved path, the bytes of its ``model.zip`` and, for the same weights in a gait-ablated task
+    resolved directory, the bytes of its model archive (:attr:`MimicPolicy.model_file`: a run's
+    checkpoint where it was loaded from one) and, for the same weights in a gait-ablated task
     (:meth:`MimicPolicy.ablated`), the ablation, or observing in another frame than they were
     trained in (:meth:`MimicPolicy.observing`), that frame, or simulated at another physics rate
     (:meth:`MimicPolicy.simulating`), that rate: it adapts to another policy), and of ``config``'s
@@ -237,7 +238,7 @@ def adaptation_key(reference: Motion, policy: MimicPolicy, config: AdaptConfig =
     h = hashlib.sha1()
     h.update(np.ascontiguousarray(reference.qpos, dtype=np.float64).tobytes())
     h.update(f"|{reference.fps!r}|{reference.model}|{Path(policy.path).resolve()}|".encode())
-    h.update((Path(policy.path) / MODEL_FILE).read_bytes())
+    h.update(policy.model_file.read_bytes())
     ablation = policy.record.extra.get("ablation")
     if ablation is not None:  # only then: the keys of unablated policies stay those of earlier versions
         h.update(f"|ablation={ablation}".encode())
@@ -373,14 +374,14 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     eval_env = policy.make_env([reference], artefacts=None)  # the policy's own task, on this clip as given
     eval_env.reset(seed=config.seed)
     batched = type(eval_env.unwrapped) is MimicEnv
-    venv = VecNormalize.load(str(Path(policy.path) / STATS_FILE),
+    venv = VecNormalize.load(str(policy.stats_file),
                              make_vec_env(lambda: policy.make_env([reference], artefacts=None), n_envs=config.n_envs,
                                           seed=config.seed, vec_env_cls=BatchedMimicVecEnv if batched else DummyVecEnv,
                                           vec_env_kwargs={"n_threads": config.physics_threads} if batched else None))
     venv.training = config.update_normalizer
     batch_size = min(policy.model.batch_size, config.n_steps * config.n_envs)
     rate = {} if config.learning_rate is None else {"learning_rate": config.learning_rate}
-    model = PPO.load(Path(policy.path) / MODEL_FILE, env=venv, device="cpu", n_steps=config.n_steps,
+    model = PPO.load(policy.model_file, env=venv, device="cpu", n_steps=config.n_steps,
                      batch_size=batch_size, seed=config.seed, tensorboard_log=None, verbose=0, **rate)
     model.policy.log_std.requires_grad_(False)  # the exploration noise stays fixed (train_ppo.py)
     adapted = MimicPolicy(Path(policy.path), model, venv, policy.sidecar)
@@ -442,7 +443,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     model.policy.load_state_dict(best_state[0])
     venv.obs_rms = best_state[1]
     wall_s = time.monotonic() - started
-    record = {"key": key, "base_policy": str(policy.path), "clip": reference.name, "SR90_before": before["SR90"],
+    record = {"key": key, "base_policy": policy.name, "clip": reference.name, "SR90_before": before["SR90"],
               "SR90_after": best["SR90"], "ELR_before": before["ELR_mean"], "ELR_after": best["ELR_mean"],
               "reanchors_after": best.get("reanchors"),
               "steps": model.num_timesteps - first_step, "wall_s": wall_s, "stopped_by": stopped_by, "chunks": chunks,
@@ -460,7 +461,7 @@ def _sidecar(policy: MimicPolicy, reference: Motion, record: dict, metrics: dict
     the ``adaptation`` record."""
     base = policy.record
     training = replace(base.training, clips=[reference.name], eval_clips=[reference.name], corrupted_fraction=0.0,
-                       mirror=False, speeds=[1.0], init_from=str(policy.path),
+                       mirror=False, speeds=[1.0], init_from=policy.name,
                        steps=base.training.steps + record["steps"], wall_s=base.training.wall_s + record["wall_s"])
     return replace(base, training=training, metrics=metrics, score=None, extra={**base.extra, "adaptation": record})
 

@@ -66,7 +66,7 @@ def averaged_weights(states: list[dict[str, torch.Tensor]], names: list[str]) ->
 def check_one_environment(policies: list[MimicPolicy], advice: str) -> None:
     """Raise :class:`PolicyError` naming the first of ``policies`` trained in another environment
     (the sidecar's env spec) than the first, ending with ``advice``."""
-    names = [str(p.path) for p in policies]
+    names = [p.name for p in policies]
     envs = [PolicySidecar.from_dict(p.sidecar).env for p in policies]
     for env, name in zip(envs[1:], names[1:]):
         if env != envs[0]:
@@ -86,7 +86,7 @@ def average_policies(policies: list[MimicPolicy]) -> tuple[PPO, VecNormalize]:
     ``VecNormalize`` objects, their weights and statistics replaced in place."""
     if len(policies) < 2:
         raise PolicyError(f"averaging needs at least two policies, got {len(policies)}")
-    names = [str(p.path) for p in policies]
+    names = [p.name for p in policies]
     if len({p.model.observation_space.shape for p in policies}) > 1:
         raise PolicyError(f"the policies observe different spaces: {[p.model.observation_space.shape for p in policies]}")
     check_one_environment(policies, "average checkpoints of one run")
@@ -144,7 +144,7 @@ def merge_policies(policies: list[MimicPolicy]) -> PPO:
     if len(policies) < 2:
         raise PolicyError(f"merging needs at least two policies, got {len(policies)}")
     check_one_environment(policies, "merge policies of one task")
-    names = [str(p.path) for p in policies]
+    names = [p.name for p in policies]
     first = policies[0]
     states = [p.model.policy.state_dict() for p in policies]
     for policy, name, state in zip(policies, names, states):

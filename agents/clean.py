@@ -382,8 +382,9 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     """The simulated re-performance of ``reference`` (60 Hz, same length, at least
     :data:`MIN_FRAMES`) by ``policy`` (see the module's documentation).
 
-    The result's ``source`` adds ``cleaned_by`` (the policy's directory, marked when it acts as its
-    mirror-symmetric actor: :func:`agents.mirror.actor_label`), ``reanchors`` and
+    The result's ``source`` adds ``cleaned_by`` (:attr:`~agents.policy.MimicPolicy.name`: the policy's
+    directory, or the run's checkpoint it was loaded from; marked when it acts as its mirror-symmetric
+    actor: :func:`agents.mirror.actor_label`), ``reanchors`` and
     ``recoveries`` (lists of :class:`Reanchor` / :class:`Recovery` as dicts) and
     ``simulated_fraction``: the share of frame-to-frame transitions that are physics steps, i.e.
     ``1 − re-anchors / (frames − 1)`` (1.0: one continuous simulation from the first frame), and
@@ -399,7 +400,7 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     if not np.isfinite(out).all():  # every frame is committed from a finite simulated state
         raise RuntimeError(f"cleaning {reference.name}: frames {np.flatnonzero(~np.isfinite(out).all(axis=1))} "
                            "were left without a simulated state")
-    source = {**reference.source, "cleaned_by": actor_label(policy.path, policy.mirror is not None),
+    source = {**reference.source, "cleaned_by": actor_label(policy.name, policy.mirror is not None),
               "reanchors": [asdict(r) for r in performance.reanchors],
               "recoveries": [asdict(r) for r in performance.recoveries],
               "simulated_fraction": 1.0 - len(performance.reanchors) / performance.last,
@@ -673,7 +674,7 @@ def adapt_to_clip(policy: MimicPolicy, reference: Motion, args: argparse.Namespa
                          keep=args.adapt_keep, cache_dir=args.adapt_cache or default_cache_dir())
     result = adapt_policy(policy, reference, config)
     how = "reused from the cache" if result.cached else f"stopped by {result.stopped_by}"
-    print(f"adapted {policy.path} to the clip: SR90 {result.sr90_before:.2f} -> {result.sr90_after:.2f}, "
+    print(f"adapted {policy.name} to the clip: SR90 {result.sr90_before:.2f} -> {result.sr90_after:.2f}, "
           f"ELR {result.elr_before:.2f} -> {result.elr_after:.2f}, {result.steps} steps in {result.wall_s:.0f} s "
           f"({how}; {result.path})")
     return result

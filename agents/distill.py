@@ -251,7 +251,7 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     groups = route_clips(teacher, load)
     policies = [policy for policy, _ in groups]
     default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)
-    default = next((i for i, p in enumerate(policies) if Path(p.source).resolve() == default_dir.resolve()), None)
+    default = next((i for i, p in enumerate(policies) if Path(p.name).resolve() == default_dir.resolve()), None)
     if default is None:
         raise PolicyError(f"{teacher}: no clip is routed to its default policy {default_dir}, whose observation "
                           f"statistics the student takes; add clips it performs")

@@ -176,7 +176,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         frames.add(task.obs_frame)
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
-        routed_to |= {clip.name: str(policy.source) for clip in clips}  # a run's checkpoint by its file
+        routed_to |= {clip.name: policy.name for clip in clips}  # a run's checkpoint by its file
         tracked, judged = tracked_and_judged(clips, denoiser, **steps)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]

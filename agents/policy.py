@@ -74,6 +74,22 @@ class MimicPolicy:
     source: Path | None = None
 
     @property
+    def model_file(self) -> Path:
+        """The model archive the weights came from: :attr:`source` where it names one (a run's
+        checkpoint ``step_N.zip``), else the directory's ``model.zip``."""
+        return policy_files(self.source if self.source is not None else self.path)[1]
+
+    @property
+    def stats_file(self) -> Path:
+        """The observation statistics saved beside :attr:`model_file`."""
+        return policy_files(self.source if self.source is not None else self.path)[2]
+
+    @property
+    def name(self) -> str:
+        """How reports name the policy: :attr:`source` (a checkpoint by its file), else :attr:`path`."""
+        return str(self.source if self.source is not None else self.path)
+
+    @property
     def symmetric_network(self) -> bool:
         """Whether PPO trained the symmetric actor itself (``train_ppo.py --symmetric``,
         :class:`agents.symmetric_policy.SymmetricActorCriticPolicy`): the network's action is the
@@ -376,6 +392,16 @@ def save_loaded_policy(path: Path, model: PPO, statistics: VecNormalize, sidecar
         save_policy(path, model, stats_file, sidecar)
 
 
+def policy_files(path: str | Path) -> tuple[Path, Path, Path]:
+    """``(directory, model archive, observation statistics)`` of what :func:`load_policy` reads for
+    ``path``: a policy directory or its ``model.zip`` (``model_vecnormalize.pkl`` beside it), or a
+    run's checkpoint ``step_N.zip`` (``step_N_vecnormalize.pkl``). Nothing is checked to exist."""
+    path = Path(path)
+    directory = path.parent if path.suffix == ".zip" else path
+    model_file = path if path.suffix == ".zip" else directory / MODEL_FILE
+    return directory, model_file, model_file.with_name(model_file.stem + "_vecnormalize.pkl")
+
+
 def load_policy(path: str | Path) -> MimicPolicy:
     """Load a policy directory (or its ``model.zip``), or a training run's checkpoint
     ``RUN/checkpoints/step_N.zip`` (with its ``step_N_sidecar.json``); :class:`PolicyError` names
@@ -383,8 +409,7 @@ def load_policy(path: str | Path) -> MimicPolicy:
     loads as its actor (:func:`agents.privileged_critic.actor_only`; its values are the critic's without
     the privileged inputs)."""
     path = Path(path)
-    directory = path.parent if path.suffix == ".zip" else path
-    model_file = path if path.suffix == ".zip" else directory / MODEL_FILE
+    directory, model_file, stats_file = policy_files(path)
     if not model_file.exists():
         raise PolicyError(f"{model_file}: no such policy file (a policy is a directory with {MODEL_FILE}, "
                           f"{STATS_FILE} and {SIDECAR_FILE})")
@@ -394,7 +419,6 @@ def load_policy(path: str | Path) -> MimicPolicy:
         model = PPO.load(model_file, device="cpu")
     except Exception as err:  # SB3 raises many kinds on a damaged archive
         raise PolicyError(f"{model_file}: cannot load the PPO model: {err}") from err
-    stats_file = model_file.with_name(model_file.stem + "_vecnormalize.pkl")
     if not stats_file.exists():
         raise PolicyError(f"{stats_file}: missing; the policy needs the observation statistics it was trained with")
     try:

@@ -50,7 +50,7 @@ class MeanAction:
 
         if any(task(member) != task(members[0]) for member in members[1:]):
             raise PolicyError(f"an ensemble's members must share their task (all but the action limit); "
-                              f"{[str(m.path) for m in members]} do not")
+                              f"{[m.name for m in members]} do not")
         self.members = members
         self.widest = max(members, key=lambda m: m.record.env.mimic_config().action_limit_rad)
 
@@ -92,7 +92,7 @@ def main() -> None:
     rows = []
     ensemble_name = tracked_label(actor_label(ensemble_label(args.policies), args.mirror_average),
                                   grounding=grounding, lift=lift)
-    actors = [(str(m.path), m, m) for m in members] if args.members_too else []
+    actors = [(m.name, m, m) for m in members] if args.members_too else []
     actors += [(ensemble_name, ensemble.widest, ensemble)]
     for name, builder, actor in actors:
         for input_name, (tracked, judged) in inputs.items():

@@ -1,0 +1,49 @@
+"""agents/policy.py: a policy loaded from a run's checkpoint names that checkpoint's files, and
+what reads the weights again (adaptation's cache key, its training copy) reads the checkpoint's,
+not a ``model.zip`` the checkpoints folder does not have."""
+
+import shutil
+from pathlib import Path
+
+import torch
+
+from agents.adaptation import adaptation_key
+from agents.policy import load_policy, policy_files
+
+MODELS = Path(__file__).parents[1] / "models"
+
+
+def _run_with_two_checkpoints(tmp_path: Path) -> Path:
+    """``tmp_path/run/checkpoints`` holding mimic_walk as ``step_10`` and, with one bias moved, as ``step_20``."""
+    checkpoints = tmp_path / "run" / "checkpoints"
+    checkpoints.mkdir(parents=True)
+    for step in (10, 20):
+        shutil.copy2(MODELS / "mimic_walk" / "model_vecnormalize.pkl", checkpoints / f"step_{step}_vecnormalize.pkl")
+        shutil.copy2(MODELS / "mimic_walk" / "sidecar.json", checkpoints / f"step_{step}_sidecar.json")
+    shutil.copy2(MODELS / "mimic_walk" / "model.zip", checkpoints / "step_10.zip")
+    moved = load_policy(MODELS / "mimic_walk").model
+    with torch.no_grad():
+        moved.policy.action_net.bias += 0.01
+    moved.save(checkpoints / "step_20.zip")
+    return checkpoints
+
+
+def test_policy_files_of_a_directory_its_model_zip_and_a_checkpoint():
+    directory = Path("models/x")
+    assert policy_files(directory) == policy_files(directory / "model.zip") == (
+        directory, directory / "model.zip", directory / "model_vecnormalize.pkl")
+    step = Path("run/checkpoints/step_20.zip")
+    assert policy_files(step) == (step.parent, step, step.parent / "step_20_vecnormalize.pkl")
+
+
+def test_a_checkpoint_loaded_policy_is_named_and_keyed_by_its_own_files(tmp_path, walk):
+    checkpoints = _run_with_two_checkpoints(tmp_path)
+    first, second = load_policy(checkpoints / "step_10.zip"), load_policy(checkpoints / "step_20.zip")
+    assert first.path == second.path == checkpoints  # one directory for both ...
+    assert (first.model_file, first.stats_file, first.name) == (
+        checkpoints / "step_10.zip", checkpoints / "step_10_vecnormalize.pkl", str(checkpoints / "step_10.zip"))
+    assert second.name == str(checkpoints / "step_20.zip")  # ... but each named by its file
+    assert adaptation_key(walk, first) != adaptation_key(walk, second)  # the weights differ, so do the keys
+    shipped = load_policy(MODELS / "mimic_walk")
+    assert (shipped.model_file, shipped.name) == (MODELS / "mimic_walk" / "model.zip", str(MODELS / "mimic_walk"))
+    assert adaptation_key(walk, load_policy(MODELS / "mimic_walk" / "model.zip")) == adaptation_key(walk, shipped)
