@@ -384,7 +384,7 @@ def _adapt(policy: MimicPolicy, reference: Motion, config: AdaptConfig, key: str
     model = PPO.load(policy.model_file, env=venv, device="cpu", n_steps=config.n_steps,
                      batch_size=batch_size, seed=config.seed, tensorboard_log=None, verbose=0, **rate)
     model.policy.log_std.requires_grad_(False)  # the exploration noise stays fixed (train_ppo.py)
-    adapted = MimicPolicy(Path(policy.path), model, venv, policy.sidecar)
+    adapted = MimicPolicy(Path(policy.path), model, venv, policy.sidecar, source=policy.source)
 
     def snapshot() -> tuple[dict, object]:
         return copy.deepcopy(model.policy.state_dict()), copy.deepcopy(venv.obs_rms)

@@ -383,7 +383,7 @@ def clean_motion(policy: MimicPolicy, reference: Motion, config: CleanConfig = C
     :data:`MIN_FRAMES`) by ``policy`` (see the module's documentation).
 
     The result's ``source`` adds ``cleaned_by`` (:attr:`~agents.policy.MimicPolicy.name`: the policy's
-    directory, or the run's checkpoint it was loaded from; marked when it acts as its mirror-symmetric
+    directory, or a run's checkpoint by its file; marked when it acts as its mirror-symmetric
     actor: :func:`agents.mirror.actor_label`), ``reanchors`` and
     ``recoveries`` (lists of :class:`Reanchor` / :class:`Recovery` as dicts) and
     ``simulated_fraction``: the share of frame-to-frame transitions that are physics steps, i.e.

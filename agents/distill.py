@@ -81,8 +81,8 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.mirror import MirrorMaps
-from agents.policy import (MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, save_loaded_policy,
-                           with_statistics)
+from agents.policy import (MODEL_FILE, SIDECAR_FILE, MimicPolicy, PolicyError, load_policy, policy_files,
+                           save_loaded_policy, with_statistics)
 from agents.policy_set import is_policy_set, load_policy_set, route_clips
 from agents.sidecar import EnvSpec, PolicySidecar, PPOSettings, TrainingRecord, repository_relative
 from agents.teachers import ANSWER_CHUNK, check_teacher_layouts, mean_actions, mean_actions_and_values, observing_in
@@ -239,7 +239,8 @@ class Teachers:
 
     @property
     def names(self) -> list[str]:
-        return [Path(p.path).name for p in self.policies]
+        """Each teacher's :attr:`~agents.policy.MimicPolicy.short_name` (a run's checkpoint as ``RUN/step_N``)."""
+        return [p.short_name for p in self.policies]
 
 
 def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> Teachers:
@@ -251,7 +252,7 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     groups = route_clips(teacher, load)
     policies = [policy for policy, _ in groups]
     default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)
-    default = next((i for i, p in enumerate(policies) if Path(p.name).resolve() == default_dir.resolve()), None)
+    default = next((i for i, p in enumerate(policies) if p.model_file.resolve() == policy_files(default_dir)[1].resolve()), None)
     if default is None:
         raise PolicyError(f"{teacher}: no clip is routed to its default policy {default_dir}, whose observation "
                           f"statistics the student takes; add clips it performs")

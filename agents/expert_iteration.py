@@ -50,7 +50,7 @@ from tqdm import tqdm
 
 import envs  # noqa: F401  (registers the ids)
 from agents.distill import DistillConfig, Labels, finished_rounds, fit, fit_report, split_holdout
-from agents.policy import STATS_FILE, MimicPolicy, load_policy, save_policy
+from agents.policy import MimicPolicy, load_policy, save_policy
 from agents.rollout import FAILURES, Episode, run_episode, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import PolicySidecar, TrainingRecord
@@ -331,7 +331,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
                                   wall_s=record["wall_s"])
         sidecar = PolicySidecar(env=teacher.record.env, ppo=teacher.record.ppo, training=training, metrics={},
                                 extra={"expert_iteration": {"config": asdict(config), "rounds": done + [record]}})
-        save_policy(student_dir, student.model, Path(args.policy) / STATS_FILE, sidecar)
+        save_policy(student_dir, student.model, teacher.stats_file, sidecar)
         with open(log_file, "a") as f:
             f.write(json.dumps(record) + "\n")
         done.append(record)

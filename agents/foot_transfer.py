@@ -153,10 +153,10 @@ def transfer(source: MimicPolicy, foot: str, out: Path, command: str = "") -> Mi
         normalizer.obs_rms = source.normalizer.obs_rms.copy()
         normalizer.obs_rms.mean, normalizer.obs_rms.var = normalizer.obs_rms.mean[inputs], normalizer.obs_rms.var[inputs]
         record = source.record
-        training = replace(record.training, init_from=str(source.path),
+        training = replace(record.training, init_from=source.name,
                            commands=[*record.training.commands, *([command] if command else [])])
         sidecar = replace(record, env=task, training=training, metrics={}, score=None,
-                          extra={"transferred_from": str(source.path)})
+                          extra={"transferred_from": source.name})
         save_policy(Path(out), model, normalizer, sidecar)
     finally:
         source_env.close()

@@ -75,8 +75,9 @@ class MimicPolicy:
 
     @property
     def model_file(self) -> Path:
-        """The model archive the weights came from: :attr:`source` where it names one (a run's
-        checkpoint ``step_N.zip``), else the directory's ``model.zip``."""
+        """The model archive the weights were loaded from: :attr:`source` where it names one (a run's
+        checkpoint ``step_N.zip``), else the directory's ``model.zip``. Weights changed in memory
+        since (a training copy, a mirrored network) are not that file's."""
         return policy_files(self.source if self.source is not None else self.path)[1]
 
     @property
@@ -86,8 +87,16 @@ class MimicPolicy:
 
     @property
     def name(self) -> str:
-        """How reports name the policy: :attr:`source` (a checkpoint by its file), else :attr:`path`."""
-        return str(self.source if self.source is not None else self.path)
+        """How reports name the policy: its directory, or a run's checkpoint by its file
+        (``RUN/checkpoints/step_N.zip``), so two checkpoints of one run are told apart."""
+        return str(self.path if self.model_file.name == MODEL_FILE else self.model_file)
+
+    @property
+    def short_name(self) -> str:
+        """:attr:`name` without its folders: the directory's name, or ``RUN/step_N`` for a checkpoint."""
+        if self.model_file.name == MODEL_FILE:
+            return Path(self.path).name
+        return f"{Path(self.path).parent.name}/{self.model_file.stem}"
 
     @property
     def symmetric_network(self) -> bool:

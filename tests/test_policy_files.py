@@ -3,10 +3,13 @@ what reads the weights again (adaptation's cache key, its training copy) reads t
 not a ``model.zip`` the checkpoints folder does not have."""
 
 import shutil
+from dataclasses import replace
 from pathlib import Path
 
+import pytest
 import torch
 
+from agents import adaptation
 from agents.adaptation import adaptation_key
 from agents.policy import load_policy, policy_files
 
@@ -43,7 +46,34 @@ def test_a_checkpoint_loaded_policy_is_named_and_keyed_by_its_own_files(tmp_path
     assert (first.model_file, first.stats_file, first.name) == (
         checkpoints / "step_10.zip", checkpoints / "step_10_vecnormalize.pkl", str(checkpoints / "step_10.zip"))
     assert second.name == str(checkpoints / "step_20.zip")  # ... but each named by its file
+    assert (first.short_name, second.short_name) == ("run/step_10", "run/step_20")
+    derived = second.simulating(240.0).observing("reference")  # a derived policy keeps its file
+    assert (derived.model_file, derived.name) == (second.model_file, second.name)
+    in_memory = replace(second, source=None)  # built in memory: named by its directory
+    assert (in_memory.model_file, in_memory.name) == (checkpoints / "model.zip", str(checkpoints))
     assert adaptation_key(walk, first) != adaptation_key(walk, second)  # the weights differ, so do the keys
     shipped = load_policy(MODELS / "mimic_walk")
-    assert (shipped.model_file, shipped.name) == (MODELS / "mimic_walk" / "model.zip", str(MODELS / "mimic_walk"))
-    assert adaptation_key(walk, load_policy(MODELS / "mimic_walk" / "model.zip")) == adaptation_key(walk, shipped)
+    by_archive = load_policy(MODELS / "mimic_walk" / "model.zip")
+    assert shipped.name == by_archive.name == str(MODELS / "mimic_walk") and by_archive.short_name == "mimic_walk"
+    assert shipped.model_file == by_archive.model_file == MODELS / "mimic_walk" / "model.zip"
+    assert adaptation_key(walk, by_archive) == adaptation_key(walk, shipped)
+
+
+def test_adaptation_trains_a_copy_of_the_checkpoint_it_was_given(tmp_path, walk, monkeypatch):
+    """``_adapt`` loads the training copy's statistics from the checkpoint's own file (stopped there)."""
+    checkpoints = _run_with_two_checkpoints(tmp_path)
+    read = []
+
+    class Loaded(Exception):
+        pass
+
+    def load(path, venv):
+        read.append(path)
+        venv.close()
+        raise Loaded
+
+    monkeypatch.setattr(adaptation.VecNormalize, "load", load)
+    with pytest.raises(Loaded):
+        adaptation.adapt_policy(load_policy(checkpoints / "step_20.zip"), walk,
+                                adaptation.AdaptConfig(cache_dir=tmp_path / "cache"), progress=False)
+    assert read == [str(checkpoints / "step_20_vecnormalize.pkl")]

@@ -69,8 +69,9 @@ def test_policy_set_file_round_trip_and_errors(tmp_path):
 
 def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
     """The walk goes to the default policy, the walk played backwards to the backward one; the
-    evaluation command runs each group with its own policy and reports every rollout, and names a
-    member given as a file (a ``model.zip``, a run's checkpoint) by that file."""
+    evaluation command runs each group with its own policy and reports every rollout, naming a
+    member given as its ``model.zip`` by its directory (a run's checkpoint by its file:
+    tests/test_policy_files.py)."""
     PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_imu").save()
     walk = load_motion("deepmimic:walk", "humanoid_1seg")
     backwards = walk.with_qpos(walk.qpos[::-1].copy(), loop=False)
@@ -84,7 +85,7 @@ def test_a_policy_set_routes_each_clip_and_evaluate_scores_them_all(tmp_path):
     assert {name: Path(policy).name for name, policy in result["routed_to"].items()} == {"deepmimic:walk": "mimic_walk"}
     PolicySet(tmp_path / "by_file", MODELS / "mimic_walk" / "model.zip", MODELS / "mimic_imu").save()
     result = evaluate.main(["--policy", str(tmp_path / "by_file"), "--clips", "deepmimic:walk", "--episodes", "1"])
-    assert Path(result["routed_to"]["deepmimic:walk"]).relative_to(MODELS.resolve()) == Path("mimic_walk/model.zip")
+    assert Path(result["routed_to"]["deepmimic:walk"]).relative_to(MODELS.resolve()) == Path("mimic_walk")
 
 
 def test_clip_globs_route_before_the_backward_rule_and_round_trip(tmp_path):
