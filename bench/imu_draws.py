@@ -17,7 +17,8 @@ rollouts each, after ``--denoise`` and judged against the take as given (as ``ev
 --denoise``). Same clips, seeds and start frames for every policy; policy directories, run
 checkpoints or policy sets (each take routed as given, before the denoiser, as ``evaluate.py`` routes
 it; not with ``--ensemble``; a set's JSON row gives, under ``routed_to``, each take's policies and how
-often each performed it). Prints each policy's ELR per draw and over all draws and, for each
+often each performed it; every row gives, under ``ELR_per_take``, each take's ELR over all draws, a take in each
+version its own). Prints each policy's ELR per draw and over all draws and, for each
 policy after the first, its mean paired difference from the first (± standard error over the
 draws) and on how many draws it scores above, equal to and below it.
 
@@ -97,17 +98,13 @@ class Routed:
                 versions: tuple[str, ...] | None = None) -> dict[str, dict[str, int]]:
         """``{take: {policy directory: count}}``: how many times, over the ``(tracked,
         judged)`` draws, each take was routed to each policy of the set (a take near a rule's speed can go
-        either way, by its IMU draw). A take is its tracked clip's name, or with ``versions`` (the draws
-        hold each take in these versions, in turn: :data:`STYLE_SHIFT_NAMES`) its source take's name
-        (:func:`agents.policy_set.source_name`) and its version, so that a version whose name holds a
-        stance or posture drawn anew in each draw is counted as one."""
+        either way, by its IMU draw), takes named by :func:`take_label` (``versions``: the draws hold each
+        take in these versions, in turn, :data:`STYLE_SHIFT_NAMES`)."""
         counts: dict[str, dict[str, int]] = {}
         for tracked, judged in draws:
             for policy, indices in self.routes(tracked, judged).items():
                 for i in indices:
-                    take = (tracked[i].name if versions is None
-                            else f"{source_name(tracked[i].name)} [{versions[i % len(versions)]}]")
-                    per_policy = counts.setdefault(take, {})
+                    per_policy = counts.setdefault(take_label(tracked, i, versions), {})
                     per_policy[str(policy)] = per_policy.get(str(policy), 0) + 1
         return counts
 
@@ -126,6 +123,28 @@ def evaluate_draw(policy: MimicPolicy | Routed, tracked: list[Motion], judged: l
                                   None if judged is None else [judged[i] for i in indices], episodes=episodes,
                                   mirror_average=mirror_average)[1]
     return float(np.mean([r.elr for r in runs])), runs
+
+
+def take_label(tracked: list[Motion], i: int, versions: tuple[str, ...] | None) -> str:
+    """How a report names the draw's take ``tracked[i]``: its name, or with ``versions`` (the draw holds each take in
+    these versions, in turn) its source take's name (:func:`agents.policy_set.source_name`) and its version, so that a
+    version whose name holds a stance or posture drawn anew in each draw is one take over the draws."""
+    return tracked[i].name if versions is None else f"{source_name(tracked[i].name)} [{versions[i % len(versions)]}]"
+
+
+def take_means(scored: list[tuple[float, list[Rollout]]], draws: list[tuple[list[Motion], list[Motion] | None]],
+               versions: tuple[str, ...] | None) -> dict[str, float]:
+    """``{take: mean ELR}`` over every draw's rollouts of it (:func:`take_label`), from the draws' ``(tracked, judged)``
+    clips and their ``(mean ELR, rollouts)`` as :func:`evaluate_draw` returns them; takes in the order of the first
+    draw."""
+    elrs: dict[str, list[float]] = {}
+    for (_, runs), (tracked, _) in zip(scored, draws):
+        label = {clip.name: take_label(tracked, i, versions) for i, clip in enumerate(tracked)}
+        for take in label.values():
+            elrs.setdefault(take, [])
+        for r in runs:
+            elrs[label[r.clip]].append(r.elr)
+    return {take: float(np.mean(values)) for take, values in elrs.items()}
 
 
 def shift_means(runs: list[Rollout], tracked: list[Motion]) -> dict[str, float]:
@@ -219,7 +238,8 @@ def main() -> None:
                   for tracked, judged in draws]
         elr = np.array([mean for mean, _ in scored])
         label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
-        rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist()})
+        rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist(),
+                     "ELR_per_take": take_means(scored, draws, STYLE_SHIFT_NAMES if args.style_shifts else None)})
         if isinstance(policy, Routed):
             rows[-1]["routed_to"] = policy.routing(draws, STYLE_SHIFT_NAMES if args.style_shifts else None)
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)

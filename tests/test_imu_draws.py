@@ -4,11 +4,12 @@ import sys
 from pathlib import Path
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
 
 BENCH = Path(__file__).resolve().parents[1] / "bench"
 sys.path.append(str(BENCH))
-from imu_draws import Routed, evaluate_draw, shift_means  # noqa: E402
+from imu_draws import Routed, evaluate_draw, shift_means, take_means  # noqa: E402
 
 from agents.evaluation import Rollout, evaluate_tracking  # noqa: E402
 from agents.policy import load_policy  # noqa: E402
@@ -62,3 +63,19 @@ def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to
     by_clip = {r.clip: r.elr for r in runs}
     assert by_clip == {walk.name: alone["mimic_walk"], run_clip.name: alone["mimic_imu"]}
     assert mean == pytest.approx((alone["mimic_walk"] + alone["mimic_imu"]) / 2)
+
+
+def test_each_takes_elr_is_averaged_over_the_draws_a_version_whose_name_is_drawn_anew_being_one_take():
+    """Two draws of a walk in two versions, the wider one named with a stance drawn anew: ``take_means`` pools each
+    version's rollouts over both draws under one name; a take no rollout scored is NaN, not dropped."""
+    walk = SimpleNamespace(name="bvh:walk")
+    draws = [([walk, SimpleNamespace(name=f"bvh:walk (stance +{m} m)")], None) for m in (0.2, 0.3)]
+    scored = [(0.0, [run("bvh:walk", 1.0), run("bvh:walk", 0.8), run("bvh:walk (stance +0.2 m)", 0.4)]),
+              (0.0, [run("bvh:walk", 0.6), run("bvh:walk (stance +0.3 m)", 0.2)])]
+    assert take_means(scored, draws, ("as given", "wider")) == pytest.approx(
+        {"bvh:walk [as given]": 0.8, "bvh:walk [wider]": 0.3})
+    unversioned = take_means(scored, draws, None)
+    assert unversioned == pytest.approx({"bvh:walk": 0.8, "bvh:walk (stance +0.2 m)": 0.4, "bvh:walk (stance +0.3 m)": 0.2})
+    with pytest.warns(RuntimeWarning):  # the mean of no rollouts
+        empty = take_means([(0.0, [])], [([walk], None)], None)
+    assert list(empty) == ["bvh:walk"] and np.isnan(empty["bvh:walk"])
