@@ -252,7 +252,8 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     groups = route_clips(teacher, load)
     policies = [policy for policy, _ in groups]
     default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)
-    default = next((i for i, p in enumerate(policies) if p.model_file.resolve() == policy_files(default_dir)[1].resolve()), None)
+    default_file = policy_files(default_dir)[1].resolve()
+    default = next((i for i, p in enumerate(policies) if p.model_file.resolve() == default_file), None)
     if default is None:
         raise PolicyError(f"{teacher}: no clip is routed to its default policy {default_dir}, whose observation "
                           f"statistics the student takes; add clips it performs")
