@@ -78,12 +78,17 @@ class MimicPolicy:
         """The model archive the weights were loaded from: :attr:`source` where it names one (a run's
         checkpoint ``step_N.zip``), else the directory's ``model.zip``. Weights changed in memory
         since (a training copy, a mirrored network) are not that file's."""
-        return policy_files(self.source if self.source is not None else self.path)[1]
+        return self._files[1]
 
     @property
     def stats_file(self) -> Path:
         """The observation statistics saved beside :attr:`model_file`."""
-        return policy_files(self.source if self.source is not None else self.path)[2]
+        return self._files[2]
+
+    @property
+    def _files(self) -> tuple[Path, Path, Path]:
+        """:func:`policy_files` of what the policy was loaded from (:attr:`source`, else :attr:`path`)."""
+        return policy_files(self.source if self.source is not None else self.path)
 
     @property
     def name(self) -> str:

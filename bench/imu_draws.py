@@ -232,6 +232,7 @@ def main() -> None:
         actors = [(ensemble_label(args.policies), mean.widest, mean)]
     else:
         actors = [(path, policy, policy) for path, policy in zip(args.policies, policies)]
+    versions = STYLE_SHIFT_NAMES if args.style_shifts else None  # how each draw holds its takes
     rows = []
     for path, policy, actor in actors:
         scored = [evaluate_draw(policy, tracked, judged, args.episodes, actor, args.mirror_average)
@@ -239,9 +240,9 @@ def main() -> None:
         elr = np.array([mean for mean, _ in scored])
         label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist(),
-                     "ELR_per_take": take_means(scored, draws, STYLE_SHIFT_NAMES if args.style_shifts else None)})
+                     "ELR_per_take": take_means(scored, draws, versions)})
         if isinstance(policy, Routed):
-            rows[-1]["routed_to"] = policy.routing(draws, STYLE_SHIFT_NAMES if args.style_shifts else None)
+            rows[-1]["routed_to"] = policy.routing(draws, versions)
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
         if args.style_shifts:
             by_shift = [shift_means(runs, tracked) for (_, runs), (tracked, _) in zip(scored, draws)]
@@ -256,7 +257,7 @@ def main() -> None:
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
                "episodes": args.episodes, "strength": args.strength,
-               "style_shifts": STYLE_SHIFT_NAMES if args.style_shifts else None,
+               "style_shifts": versions,
                "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
                "mirror_average": args.mirror_average, **preparation_record(steps),
