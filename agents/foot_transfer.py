@@ -126,11 +126,11 @@ def transfer(source: MimicPolicy, foot: str, out: Path, command: str = "") -> Mi
     the source's observation statistics for the inputs kept, and a sidecar of the target's task
     whose training record continues the source's (``init_from`` the source, ``command`` appended)."""
     if not source.sidecar:
-        raise PolicyError(f"{source.path}: no sidecar.json, so its environment and foot are unknown; cannot carry it")
+        raise PolicyError(f"{source.name}: no sidecar.json, so its environment and foot are unknown; cannot carry it")
     if foot not in FOOT_MODELS:
         raise PolicyError(f"foot transfer: unknown foot {foot!r}; expected one of {tuple(FOOT_MODELS)}")
     if foot == source.foot:
-        raise PolicyError(f"{source.path}: already a foot={foot!r} policy")
+        raise PolicyError(f"{source.name}: already a foot={foot!r} policy")
     if Path(out).resolve() == Path(source.path).resolve():
         raise PolicyError(f"{out}: is the source policy; write the carried policy elsewhere")
     task = replace(source.record.env, foot=foot)
@@ -141,14 +141,14 @@ def transfer(source: MimicPolicy, foot: str, out: Path, command: str = "") -> Mi
                               "driven joints")
         old = source.model
         if source.symmetric_network:
-            raise PolicyError(f"{source.path}: a network trained as the symmetric actor; its mirror maps are those of "
+            raise PolicyError(f"{source.name}: a network trained as the symmetric actor; its mirror maps are those of "
                               f"the {source.foot}-foot task, so it cannot be carried to another foot")
         model = PPO(old.policy_class, DummyVecEnv([lambda: target_env]), device="cpu", verbose=0,
                     **{name: getattr(old, name) for name in KEPT_HYPERPARAMETERS})
         try:
             model.policy.load_state_dict(cut_network(old.policy.state_dict(), inputs, actions))
         except RuntimeError as err:  # torch names the parameter whose shape differs
-            raise PolicyError(f"{source.path}: its network does not fit the {foot}-foot task once cut: {err}") from err
+            raise PolicyError(f"{source.name}: its network does not fit the {foot}-foot task once cut: {err}") from err
         normalizer = observation_normalizer(model.get_env(), old.gamma)
         normalizer.obs_rms = source.normalizer.obs_rms.copy()
         normalizer.obs_rms.mean, normalizer.obs_rms.var = normalizer.obs_rms.mean[inputs], normalizer.obs_rms.var[inputs]

@@ -33,11 +33,11 @@ def check_teacher_layouts(teachers: list[MimicPolicy], env: gym.Env) -> None:
         if not ((inputs == before and not own_steps) or (inputs == whole and own_steps == steps)):
             either = ("" if window is None
                       else f" or, with the student's window {list(steps)}, all of it ({whole} values)")
-            raise PolicyError(f"{teacher.path}: observes {inputs} values with reference window {list(own_steps)}; a "
+            raise PolicyError(f"{teacher.name}: observes {inputs} values with reference window {list(own_steps)}; a "
                               f"teacher reads the student's observation before its reference window, with no window "
                               f"of its own ({before} values){either}")
         if teacher.model.action_space.shape != env.action_space.shape:
-            raise PolicyError(f"{teacher.path}: acts with {teacher.model.action_space.shape[0]} values; the student's "
+            raise PolicyError(f"{teacher.name}: acts with {teacher.model.action_space.shape[0]} values; the student's "
                               f"environment takes {env.action_space.shape[0]}")
 
 
@@ -83,5 +83,5 @@ def observing_in(teacher: MimicPolicy, frame: str, whose: str) -> MimicPolicy:
     raises :class:`PolicyError`)."""
     if teacher.record.env.mimic_config().obs_frame == frame:
         return teacher
-    print(f"note: teacher {teacher.path} observes in the {frame!r} frame of {whose} here (MimicPolicy.observing)")
+    print(f"note: teacher {teacher.name} observes in the {frame!r} frame of {whose} here (MimicPolicy.observing)")
     return teacher.observing(frame)

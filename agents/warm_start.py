@@ -296,38 +296,38 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     sizes = venv.observation_space.shape, source.model.observation_space.shape
     source_config = source.record.env.mimic_config()
     if not same_layout(source_config.obs_frame, config.obs_frame):  # heading vs world + dp_com: same sizes
-        raise PolicyError(f"{source.path}: observed in the {source_config.obs_frame!r} frame; a warm start cannot "
+        raise PolicyError(f"{source.name}: observed in the {source_config.obs_frame!r} frame; a warm start cannot "
                           f"change the frame to {config.obs_frame!r}")
     if config.obs_frame != source_config.obs_frame:
-        print(f"note: {source.path} observes in the {source_config.obs_frame!r} frame; this run trains it in the "
+        print(f"note: {source.name} observes in the {source_config.obs_frame!r} frame; this run trains it in the "
               f"{config.obs_frame!r} frame (--obs-frame)", flush=True)
     span = observation_slices(1, 1, com_offset=True)["dp_com"]
     n_com = span.stop - span.start if config.observes_com_offset and not source_config.observes_com_offset else 0
-    new_steps = added_window_steps(source_config.window_steps, config.window_steps, str(source.path))
+    new_steps = added_window_steps(source_config.window_steps, config.window_steps, source.name)
     window = window_slice(venv.get_attr("obs_slices", indices=[0])[0])
     n_window = (window.stop - window.start) * len(new_steps) // len(config.window_steps) if new_steps else 0
     state, rms = source.model.policy.state_dict(), source.normalizer.obs_rms.copy()
     more_hinges = venv.action_space.shape != source.model.action_space.shape
     if more_hinges:
         if n_com or n_window:
-            raise PolicyError(f"{source.path}: a warm start may drive more hinges or observe more, not both at once")
+            raise PolicyError(f"{source.name}: a warm start may drive more hinges or observe more, not both at once")
         target_driven = venv.get_attr("driven", indices=[0])[0]
         source_driven = driven_actuators(load_model(FOOT_MODELS[source.foot]), action_mode_of(source.env_id))
         prev_action_at = venv.get_attr("obs_slices", indices=[0])[0]["prev_action"].start
         state, rms.mean, rms.var = drive_more_hinges(state, rms.mean, rms.var, source_driven, target_driven,
                                                      prev_action_at)
-        print(f"{source.path} drives {len(source_driven)} hinges, this run {len(target_driven)}: the new ones start "
+        print(f"{source.name} drives {len(source_driven)} hinges, this run {len(target_driven)}: the new ones start "
               f"at zero offset (the reference's PD target)", flush=True)
     # new inputs with a changed action space were refused above
     widen = (n_com or n_window) and sizes[0][0] == sizes[1][0] + n_com + n_window
     if widen and n_com:
         state = widen_inputs(state, span.start, n_com)
         rms.mean, rms.var = widen_statistics(rms.mean, rms.var, span.start, np.full(n_com, COM_OFFSET_STD_M**2))
-        print(f"widening {source.path}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
+        print(f"widening {source.name}'s inputs by dp_com (zero weights at {span.start}:{span.stop})", flush=True)
     if widen and n_window:
         state, rms.mean, rms.var = widen_by_window(state, rms.mean, rms.var, venv,
                                                    source_steps=source_config.window_steps)
-        print(f"widening {source.path}'s inputs by the reference window {describe_steps(new_steps)} (it saw "
+        print(f"widening {source.name}'s inputs by the reference window {describe_steps(new_steps)} (it saw "
               f"{describe_steps(source_config.window_steps)}; the new steps' inputs, among {window.start}:{window.stop}, "
               f"start at zero weight, their statistics from {LOOKAHEAD_SAMPLE_RESETS} resets)", flush=True)
     if not widen and not more_hinges:
@@ -335,7 +335,7 @@ def warm_start(model: PPO, venv: VecEnv, source: MimicPolicy, config: MimicConfi
     fresh = model.policy.state_dict()
     wide = widen_hidden(state, fresh)
     if any(wide[name] is not state[name] for name in wide):
-        print(f"widening {source.path}'s hidden layers (new units are not read until trained)", flush=True)
+        print(f"widening {source.name}'s hidden layers (new units are not read until trained)", flush=True)
     model.policy.load_state_dict(wide)
     normalizer = observation_normalizer(venv, gamma)
     normalizer.obs_rms = rms

@@ -11,7 +11,8 @@ import torch
 
 from agents import adaptation
 from agents.adaptation import adaptation_key
-from agents.policy import load_policy, policy_files
+from agents.foot_transfer import transfer
+from agents.policy import PolicyError, load_policy, policy_files
 
 MODELS = Path(__file__).parents[1] / "models"
 
@@ -77,3 +78,11 @@ def test_adaptation_trains_a_copy_of_the_checkpoint_it_was_given(tmp_path, walk,
         adaptation.adapt_policy(load_policy(checkpoints / "step_20.zip"), walk,
                                 adaptation.AdaptConfig(cache_dir=tmp_path / "cache"), progress=False)
     assert read == [str(checkpoints / "step_20_vecnormalize.pkl")]
+
+
+def test_errors_about_a_checkpoint_name_its_file(tmp_path):
+    """A message about a policy loaded from a run's checkpoint names the checkpoint, not the folder of all of them."""
+    checkpoints = _run_with_two_checkpoints(tmp_path)
+    policy = load_policy(checkpoints / "step_20.zip")
+    with pytest.raises(PolicyError, match=r"checkpoints/step_20\.zip: already a foot='one' policy"):
+        transfer(policy, policy.foot, tmp_path / "carried")
