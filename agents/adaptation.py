@@ -356,10 +356,10 @@ def adapt_policy(policy: MimicPolicy, reference: Motion, config: AdaptConfig = A
         raise ValueError(f"{reference.name}: {reference.n_frames} frames; adaptation needs at least "
                          f"{MIN_ADAPT_FRAMES}")
     if policy.symmetric_network and config.update_normalizer:
-        raise ValueError(f"{policy.path}: a network trained as the symmetric actor needs its mirror-symmetric "
+        raise ValueError(f"{policy.name}: a network trained as the symmetric actor needs its mirror-symmetric "
                          "observation statistics frozen; adapt it without update_normalizer")
     if policy.mirror is not None:
-        raise ValueError(f"{policy.path}: adaptation trains the network itself; adapt the policy as it is and "
+        raise ValueError(f"{policy.name}: adaptation trains the network itself; adapt the policy as it is and "
                          "make the adapted one mirror-symmetric afterwards (MimicPolicy.mirror_averaged)")
     key = adaptation_key(reference, policy, config)
     path = Path(config.cache_dir) / key

@@ -259,7 +259,7 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
                           f"statistics the student takes; add clips it performs")
     frame = policies[default].record.env.mimic_config().obs_frame
     # one env observes for all: each teacher reads it in its frame
-    policies = [observing_in(policy, frame, f"the default policy {policies[default].path}") for policy in policies]
+    policies = [observing_in(policy, frame, f"the default policy {policies[default].name}") for policy in policies]
     of_clip: dict[str, int] = {}
     for i, (_, clips) in enumerate(groups):
         for m in clips:
@@ -441,7 +441,7 @@ def student_task(default: MimicPolicy, config: DistillConfig) -> EnvSpec:
     if not (config.lookahead or config.lookbehind):
         return task
     if task.mimic_config().window_steps:
-        raise PolicyError(f"{default.path}: observes a reference window already; a student's window (--lookahead, "
+        raise PolicyError(f"{default.name}: observes a reference window already; a student's window (--lookahead, "
                           f"--lookbehind) is added to a teacher's observation without one")
     widened = replace(task, config={**task.config, "lookahead": list(config.lookahead),
                                     "lookbehind": list(config.lookbehind)})
@@ -458,7 +458,7 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
     and statistics sampled from :data:`STUDENT_WINDOW_RESETS` resets of ``env``
     (:func:`agents.warm_start.widen_by_window`)."""
     if config.from_default and default.symmetric_network:
-        raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
+        raise PolicyError(f"{default.name}: a network trained as the symmetric actor; a student is a plain network, "
                           "so it cannot start from this default teacher's weights")
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
@@ -472,7 +472,7 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
         try:
             weights = widen_hidden(weights, model.policy.state_dict())
         except PolicyError as err:
-            raise PolicyError(f"--from-default: the default policy {default.path} does not fit a --net {config.net} "
+            raise PolicyError(f"--from-default: the default policy {default.name} does not fit a --net {config.net} "
                               f"student: {err}") from err
         model.policy.load_state_dict(weights)
     return MimicPolicy(default.path, model, normalizer, {})
@@ -499,7 +499,7 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
     observation statistics (the default teacher's, widened by a reference window), and a sidecar
     naming its task (:func:`student_task`) and this distillation."""
     if config.from_default and default.symmetric_network:
-        raise PolicyError(f"{default.path}: a network trained as the symmetric actor; a student is a plain network, "
+        raise PolicyError(f"{default.name}: a network trained as the symmetric actor; a student is a plain network, "
                           "so it cannot start from this default teacher's weights")
     variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
     sidecar = PolicySidecar(env=student_task(default, config), ppo=PPOSettings(net=config.net, action_variance=variance),

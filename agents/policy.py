@@ -195,12 +195,12 @@ class MimicPolicy:
         trained with ``--gait-ablation``) is refused: ablations are compared one at a time."""
         record = self.record
         if record.env.env_id != GAIT_ENV_ID:
-            raise PolicyError(f"{self.path}: a {record.env.env_id} policy; gait ablations apply to {GAIT_ENV_ID}")
+            raise PolicyError(f"{self.name}: a {record.env.env_id} policy; gait ablations apply to {GAIT_ENV_ID}")
         if ablation not in GAIT_ABLATIONS:
-            raise PolicyError(f"{self.path}: unknown gait ablation {ablation!r}; expected one of {GAIT_ABLATIONS}")
+            raise PolicyError(f"{self.name}: unknown gait ablation {ablation!r}; expected one of {GAIT_ABLATIONS}")
         gait = record.env.gait_config()
         if "ablation" in record.extra or gait.w_fc == 0 or not gait.toe_reference:
-            raise PolicyError(f"{self.path}: already in an ablated task (w_fc {gait.w_fc}, toe_reference "
+            raise PolicyError(f"{self.name}: already in an ablated task (w_fc {gait.w_fc}, toe_reference "
                               f"{gait.toe_reference}); ablate the full policy instead")
         task = replace(record.env, gait=asdict(gait.ablated(ablation)))
         sidecar = replace(record, env=task, extra={**record.extra, "ablation": ablation}).to_dict()
@@ -217,7 +217,7 @@ class MimicPolicy:
         if config.obs_frame == frame:
             return self
         if not same_layout(config.obs_frame, frame):
-            raise PolicyError(f"{self.path}: observes in the {config.obs_frame!r} frame; only "
+            raise PolicyError(f"{self.name}: observes in the {config.obs_frame!r} frame; only "
                               f"{' and '.join(SAME_LAYOUT_FRAMES)} have the same layout, so it cannot run in {frame!r}")
         return self._reconfigured("obs_frame", frame, "observed_in")
 
@@ -292,13 +292,13 @@ class MimicPolicy:
         if trained.lift and not recorded_as(trained.lift, lift):
             unlike.append(f"lifted in backward swing ({trained.lift.get('knee_deg')}°); these takes are "
                           f"{'lifted otherwise' if lift else 'not'} (--swing-lift)")
-        return f"note: {self.path} was trained on references " + "; and ".join(unlike) if unlike else None
+        return f"note: {self.name} was trained on references " + "; and ".join(unlike) if unlike else None
 
     def check_env(self, env: gym.Env) -> None:
         """Raise :class:`PolicyError` unless ``env``'s spaces are the ones the policy was trained on."""
         obs, act = self.model.observation_space.shape, self.model.action_space.shape
         if env.observation_space.shape != obs or env.action_space.shape != act:
-            raise PolicyError(f"{self.path}: the policy expects observations {obs} and actions {act}, but the "
+            raise PolicyError(f"{self.name}: the policy expects observations {obs} and actions {act}, but the "
                               f"environment gives {env.observation_space.shape} and {env.action_space.shape}; it was "
                               f"trained on {self.env_id} with foot={self.foot!r}")
 

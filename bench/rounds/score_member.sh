@@ -6,11 +6,17 @@
 # Scored against the shipped set (models/mimic_general_expert_set) behind SQ on validation clean (the shipped set's file
 # EXPERTSET4) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
 # rules bench/results/OUT_SEED.json and OUT.json). The shipped set's draws of both seeds (EXPERTSET5_SQ) are made while
-# the run trains. If it leads both, its held-out rows are scored once, by hand: bench/rounds/r30/heldout.sh NAMESET slow.
+# the run trains. If it leads both, its held-out rows are scored once, by hand:
+# DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
+# The shipped set's file names are those of TX2SET, the set shipped since round 38: once another set replaces it, its
+# files need new names here (score_shifted.sh reuses a file of the same name).
 set -eo pipefail
-cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 [ $# = 7 ] || { echo "score_member.sh: usage: score_member.sh RUN_DIR HHMM NAME ROLE SEED CONFIRM_SEED OUT" >&2; exit 2; }
 RUN=$1; HHMM=$2; NAME=$3; ROLE=$4; SEED=$5; CONFIRM=$6; OUT=$7
+case $ROLE in default|backward|dash|fast|sideways|turn) ;;
+  *) echo "score_member.sh: ROLE is one of default, backward, dash, fast, sideways, turn; got '$ROLE'" >&2; exit 2;; esac
+[[ $HHMM =~ ^[0-2][0-9][0-5][0-9]$ ]] || { echo "score_member.sh: HHMM expected, got '$HHMM'" >&2; exit 2; }
+cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 BASE=models/mimic_general_expert_set
 bash bench/rounds/r28/candidate.sh "$RUN" "$HHMM" "$NAME" &
 CANDIDATE_JOB=$!
