@@ -449,6 +449,16 @@ def student_task(default: MimicPolicy, config: DistillConfig) -> EnvSpec:
     return widened
 
 
+def student_action_variance(default: MimicPolicy, config: DistillConfig) -> float:
+    """The exploration variance a student starts with and its sidecar records: the default teacher's, the mean over
+    its action dimensions (rad²). Raises :class:`PolicyError` where ``config.from_default`` asks for the weights of a
+    default trained as the symmetric actor (a student is a plain network)."""
+    if config.from_default and default.symmetric_network:
+        raise PolicyError(f"{default.name}: a network trained as the symmetric actor; a student is a plain network, "
+                          "so it cannot start from this default teacher's weights")
+    return float(default.model.policy.log_std.detach().exp().pow(2).mean())
+
+
 def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> MimicPolicy:
     """A student on ``env`` with the default teacher's observation statistics and exploration noise:
     freshly initialised, or with the default teacher's weights (``config.from_default``), embedded
@@ -457,10 +467,7 @@ def new_student(env: gym.Env, default: MimicPolicy, config: DistillConfig) -> Mi
     Where ``env`` also shows a reference window (:func:`student_task`), its inputs get zero weights
     and statistics sampled from :data:`STUDENT_WINDOW_RESETS` resets of ``env``
     (:func:`agents.warm_start.widen_by_window`)."""
-    if config.from_default and default.symmetric_network:
-        raise PolicyError(f"{default.name}: a network trained as the symmetric actor; a student is a plain network, "
-                          "so it cannot start from this default teacher's weights")
-    variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
+    variance = student_action_variance(default, config)
     model = PPO("MlpPolicy", DummyVecEnv([lambda: env]), seed=config.seed, device="cpu", verbose=0,
                 policy_kwargs=policy_kwargs(config.net, variance))
     weights, normalizer = default.model.policy.state_dict(), default.normalizer
@@ -498,10 +505,7 @@ def save_student(out: Path, student: MimicPolicy, default: MimicPolicy, record: 
     """Write ``out/student`` whole (:func:`agents.policy.save_loaded_policy`): the model, its
     observation statistics (the default teacher's, widened by a reference window), and a sidecar
     naming its task (:func:`student_task`) and this distillation."""
-    if config.from_default and default.symmetric_network:
-        raise PolicyError(f"{default.name}: a network trained as the symmetric actor; a student is a plain network, "
-                          "so it cannot start from this default teacher's weights")
-    variance = float(default.model.policy.log_std.detach().exp().pow(2).mean())
+    variance = student_action_variance(default, config)
     sidecar = PolicySidecar(env=student_task(default, config), ppo=PPOSettings(net=config.net, action_variance=variance),
                             training=training, metrics={}, extra={"distillation": record})
     save_loaded_policy(out / "student", student.model, student.normalizer, sidecar)
