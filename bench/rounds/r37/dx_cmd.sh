@@ -10,15 +10,7 @@
 # threads. Run by bench/rounds/ppo_run.sh: a second call resumes the run, on either machine.
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
-FAST=$(.venv/bin/python -c "
-from agents.policy_set import median_ground_speed
-from reference_motion.motion_library import library_set, resolve_take
-import numpy as np
-takes = library_set('library:data/library/train', ('dash', 'run'))
-def speed(take):
-    with np.load(resolve_take(take, 'humanoid_1seg')) as z:
-        return median_ground_speed(z['qpos'], float(z['fps']))
-print(' '.join(t for t in takes if speed(t) > 3.0))")
+FAST=$(.venv/bin/python bench/rounds/takes_faster_than.py library:data/library/train dash,run 3.0)
 if [ -n "$DEVICE" ]; then
   PAR="--vec sharded-batched --n-envs 64 --n-steps 128 --workers $(nproc) --device auto"
 else

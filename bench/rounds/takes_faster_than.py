@@ -1,0 +1,29 @@
+"""Print the library takes of a set and kinds whose median ground speed is above a threshold, space-separated.
+
+Usage: ``python bench/rounds/takes_faster_than.py SET KINDS SPEED``, e.g.
+``python bench/rounds/takes_faster_than.py library:data/library/train dash,run 3.0`` (the dash expert's training takes:
+bench/rounds/r37/dx_cmd.sh, bench/rounds/r44/dxs_cmd.sh). Speed in m/s, the root's horizontal speed on the
+``humanoid_1seg`` retarget (:func:`agents.policy_set.median_ground_speed`, the speed the policy set routes by).
+"""
+import sys
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+from agents.policy_set import median_ground_speed  # noqa: E402
+from reference_motion.motion_library import library_set, resolve_take  # noqa: E402
+
+
+def takes_faster_than(take_set: str, kinds: tuple[str, ...], speed_mps: float) -> list[str]:
+    """The takes of ``take_set`` of the given kinds whose median ground speed (m/s) is above ``speed_mps``."""
+    def median_speed(take: str) -> float:
+        with np.load(resolve_take(take, "humanoid_1seg")) as z:
+            return median_ground_speed(z["qpos"], float(z["fps"]))
+    return [take for take in library_set(take_set, kinds) if median_speed(take) > speed_mps]
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 4:
+        sys.exit("usage: takes_faster_than.py SET KINDS SPEED (e.g. library:data/library/train dash,run 3.0)")
+    print(" ".join(takes_faster_than(sys.argv[1], tuple(sys.argv[2].split(",")), float(sys.argv[3]))))
