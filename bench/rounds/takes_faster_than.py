@@ -24,6 +24,11 @@ def takes_faster_than(take_set: str, kinds: tuple[str, ...], speed_mps: float) -
 
 
 if __name__ == "__main__":
+    usage = "usage: takes_faster_than.py SET KINDS SPEED (e.g. library:data/library/train dash,run 3.0)"
     if len(sys.argv) != 4:
-        sys.exit("usage: takes_faster_than.py SET KINDS SPEED (e.g. library:data/library/train dash,run 3.0)")
-    print(" ".join(takes_faster_than(sys.argv[1], tuple(sys.argv[2].split(",")), float(sys.argv[3]))))
+        sys.exit(usage)
+    try:
+        threshold = float(sys.argv[3])
+    except ValueError:
+        sys.exit(f"takes_faster_than.py: SPEED is a number of m/s, got {sys.argv[3]!r}; {usage}")
+    print(" ".join(takes_faster_than(sys.argv[1], tuple(sys.argv[2].split(",")), threshold)))
