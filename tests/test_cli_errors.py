@@ -296,11 +296,15 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
                                                                       "step_20_vecnormalize.pkl"]
     assert (run / "args.json").read_text() == '{"seed": 3}'
     assert (run / "evaluations.jsonl").exists() and not (run / "wall.json").exists()
-    with zipfile.ZipFile(run / "checkpoints" / "step_20.zip") as copy:  # deflated, and SB3 loads the same weights
-        assert {member.compress_type for member in copy.infolist()} == {zipfile.ZIP_DEFLATED}
+    for shipped in (run / "checkpoints" / "step_20.zip", models / "walk" / "model.zip"):  # deflated, both
+        with zipfile.ZipFile(shipped) as copy:
+            assert {member.compress_type for member in copy.infolist()} == {zipfile.ZIP_DEFLATED}
     copied = PPO.load(run / "checkpoints" / "step_20.zip", device="cpu").policy.state_dict()
     source = PPO.load(checkpoints / "step_20.zip", device="cpu").policy.state_dict()
     assert copied.keys() == source.keys() and all(torch.equal(copied[k], source[k]) for k in source)
+    shipped = PPO.load(models / "walk" / "model.zip", device="cpu").policy.state_dict()
+    best = PPO.load(trained_run / "best" / "model.zip", device="cpu").policy.state_dict()
+    assert shipped.keys() == best.keys() and all(torch.equal(shipped[k], best[k]) for k in best)
     (models / "walk" / "student").mkdir()  # another folder kept beside the policy (a student, another run)
     (models / "walk" / "student" / "model.zip").write_text("student")
     ship.main(common)
@@ -317,7 +321,8 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
 def test_ship_refuses_a_policy_over_the_size_limit_and_leaves_nothing(trained_run, tmp_path, monkeypatch):
     """The limit applies to what ships (the model as shipped, and with --resumable its run's checkpoint as
     copied, deflated), before the evaluation; either refused leaves nothing in models/."""
-    size = (trained_run / "best" / "model.zip").stat().st_size
+    ship._deflated_copy(trained_run / "best" / "model.zip", tmp_path / "deflated.zip")
+    size = (tmp_path / "deflated.zip").stat().st_size  # the model as it ships
     monkeypatch.setattr(ship, "MAX_MODEL_BYTES", size - 1)
     models = tmp_path / "models"
     with pytest.raises(SystemExit, match=r"best/model\.zip as shipped: .* MB, over the .* MB limit for models/"):
@@ -338,6 +343,12 @@ def test_ship_refuses_a_policy_over_the_size_limit_and_leaves_nothing(trained_ru
     assert list(models.iterdir()) == []
 
 
+def _zip_members(path: Path) -> dict[str, bytes]:
+    """The zip archive ``path``'s members, name to bytes (the same however each is compressed)."""
+    with zipfile.ZipFile(path) as archive:
+        return {name: archive.read(name) for name in archive.namelist()}
+
+
 def test_ship_newest_ships_the_newest_checkpoint_whole(tmp_path, capsys):
     """``--newest`` ships the run's newest checkpoint (a choice registered on it), not ``best/``, and
     refuses one whose observation statistics are missing."""
@@ -355,7 +366,7 @@ def test_ship_newest_ships_the_newest_checkpoint_whole(tmp_path, capsys):
     ship.main([*common, "--name", "walk", "--newest"])
     shipped = json.loads((models / "walk" / "sidecar.json").read_text())
     assert shipped["steps"] == 30 and shipped["training_steps_total"] == 30
-    assert (models / "walk" / "model.zip").read_bytes() == (checkpoints / "step_30.zip").read_bytes()
+    assert _zip_members(models / "walk" / "model.zip") == _zip_members(checkpoints / "step_30.zip")
     (checkpoints / "step_40.zip").write_bytes((checkpoints / "step_30.zip").read_bytes())
     line = _error_line(ship.main, [*common, "--name", "other", "--newest"], capsys)
     assert "step_40_vecnormalize.pkl, step_40_sidecar.json missing beside it" in line
