@@ -463,8 +463,8 @@ class CleanPreset:
 
 
 PRESETS: dict[str, CleanPreset] = {
-    # an IMU-suit take: the row "behind the IMU denoiser" (FXSSET: LSS with the backward, dash, fast, sideways and
-    # turning experts BXS2R, DX, FXS, SX and TX2, rounds 35-43, and the denoiser SQ)
+    # an IMU-suit take: the row "behind the IMU denoiser" (DXSSET: LSS with the backward, dash, fast, sideways and
+    # turning experts BXS2R, DXS, FXS, SX and TX2, rounds 35-44, and the denoiser SQ)
     "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_expert_set", denoise=STANCES_DENOISER, denoise_slow=0.5,
                        even_legs=True, part_legs=LegGap.min_gap_m),
     # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")

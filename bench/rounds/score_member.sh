@@ -4,13 +4,13 @@
 # candidate.sh, which then stops the run with a checkpoint) made the set's ROLE policy (default, backward, dash, fast,
 # sideways or turn) in place of the shipped one: NAMESET (runs/sets/NAMESET/policy_set.json, bench/rounds/derived_set.py).
 # Scored against the shipped set (models/mimic_general_expert_set) behind SQ on validation clean (the shipped set's file
-# EXPERTSET7) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
-# rules bench/results/OUT_SEED.json and OUT.json). The shipped set's draws of both seeds (EXPERTSET7_SQ) are made while
+# EXPERTSET8) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
+# rules bench/results/OUT_SEED.json and OUT.json). The shipped set's draws of both seeds (EXPERTSET8_SQ) are made while
 # the run trains. If it leads both, its held-out rows are scored once, by hand:
 # DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
-# The shipped set's file names (SHIPPED_CLEAN, SHIPPED_SHIFTED) are those of FXSSET, the set shipped since round 43
-# (EXPERTSET6 and EXPERTSET6_SQ were BXS2RSET's, EXPERTSET4 and EXPERTSET5_SQ TX2SET's): once another set replaces it,
-# they need new names here (score_shifted.sh reuses a file of the same name).
+# The shipped set's file names (SHIPPED_CLEAN, SHIPPED_SHIFTED) are those of DXSSET, the set shipped since round 44
+# (EXPERTSET7 and EXPERTSET7_SQ were FXSSET's, EXPERTSET6 and EXPERTSET6_SQ BXS2RSET's, EXPERTSET4 and EXPERTSET5_SQ
+# TX2SET's): once another set replaces it, they need new names here (score_shifted.sh reuses a file of the same name).
 set -eo pipefail
 [ $# = 7 ] || { echo "score_member.sh: usage: score_member.sh RUN_DIR HHMM NAME ROLE SEED CONFIRM_SEED OUT" >&2; exit 2; }
 RUN=$1; HHMM=$2; NAME=$3; ROLE=$4; SEED=$5; CONFIRM=$6; OUT=$7
@@ -19,7 +19,7 @@ case $ROLE in default|backward|dash|fast|sideways|turn) ;;
 [[ $HHMM =~ ^[0-2][0-9][0-5][0-9]$ ]] || { echo "score_member.sh: HHMM expected, got '$HHMM'" >&2; exit 2; }
 cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 BASE=models/mimic_general_expert_set
-SHIPPED_CLEAN=EXPERTSET7 SHIPPED_SHIFTED=EXPERTSET7_SQ
+SHIPPED_CLEAN=EXPERTSET8 SHIPPED_SHIFTED=EXPERTSET8_SQ
 bash bench/rounds/r28/candidate.sh "$RUN" "$HHMM" "$NAME" &
 CANDIDATE_JOB=$!
 bash bench/rounds/score_shifted.sh --base-only "$BASE" "$SHIPPED_CLEAN" "$SHIPPED_SHIFTED" "${NAME}SET" "$SEED" "$CONFIRM" "$OUT"
