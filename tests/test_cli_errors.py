@@ -276,6 +276,13 @@ def test_an_interrupted_write_leaves_the_old_file(tmp_path):
     assert target.read_text() == "old" and list(tmp_path.iterdir()) == [target]
 
 
+def _same_policy_weights(first: Path, second: Path) -> bool:
+    """Whether SB3 loads the same policy weights, name for name, from the two saved models."""
+    a = PPO.load(first, device="cpu").policy.state_dict()
+    b = PPO.load(second, device="cpu").policy.state_dict()
+    return a.keys() == b.keys() and all(torch.equal(a[k], b[k]) for k in a)
+
+
 def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run, tmp_path):
     """``--resumable`` puts the newest checkpoint and the run's records beside the policy; a later
     ship without it keeps that ``run/`` and any other folder rather than deleting them with the old
@@ -299,12 +306,8 @@ def test_ship_copies_the_resumable_run_and_keeps_it_on_a_later_ship(trained_run,
     for shipped in (run / "checkpoints" / "step_20.zip", models / "walk" / "model.zip"):  # deflated, both
         with zipfile.ZipFile(shipped) as copy:
             assert {member.compress_type for member in copy.infolist()} == {zipfile.ZIP_DEFLATED}
-    copied = PPO.load(run / "checkpoints" / "step_20.zip", device="cpu").policy.state_dict()
-    source = PPO.load(checkpoints / "step_20.zip", device="cpu").policy.state_dict()
-    assert copied.keys() == source.keys() and all(torch.equal(copied[k], source[k]) for k in source)
-    shipped = PPO.load(models / "walk" / "model.zip", device="cpu").policy.state_dict()
-    best = PPO.load(trained_run / "best" / "model.zip", device="cpu").policy.state_dict()
-    assert shipped.keys() == best.keys() and all(torch.equal(shipped[k], best[k]) for k in best)
+    assert _same_policy_weights(run / "checkpoints" / "step_20.zip", checkpoints / "step_20.zip")
+    assert _same_policy_weights(models / "walk" / "model.zip", trained_run / "best" / "model.zip")
     (models / "walk" / "student").mkdir()  # another folder kept beside the policy (a student, another run)
     (models / "walk" / "student" / "model.zip").write_text("student")
     ship.main(common)
