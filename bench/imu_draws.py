@@ -55,6 +55,7 @@ from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option
 from reference_motion.leg_gap import add_leg_gap_option
 from reference_motion.leg_symmetry import add_leg_symmetry_option
+from reference_motion.artefacts import ARTEFACT_KINDS
 from reference_motion.cli import non_negative_float, require_frames
 from reference_motion.library import STYLE_SHIFT_NAMES, expand_clips, style_shifted
 from reference_motion.motion import Motion
@@ -169,6 +170,9 @@ def main() -> None:
     p.add_argument("--strength", type=non_negative_float, default=1.0,
                    help="IMU artefact strength of the draws (default 1, the IMU rows'; 0: the takes clean, the "
                         "--style-shifts versions still drawn with each seed, to tell what a version costs clean)")
+    p.add_argument("--without", nargs="+", choices=ARTEFACT_KINDS, default=[], metavar="KIND",
+                   help="switch these IMU artefact kinds off (what the others cost together; the others' random "
+                        "numbers stay the same, as evaluate.py --without)")
     p.add_argument("--style-shifts", action="store_true",
                    help="each draw tracks every clip in five versions, " + ", ".join(STYLE_SHIFT_NAMES) + " (a "
                         "stance, pace and carriage drawn anew for each draw with its seed: "
@@ -191,6 +195,8 @@ def main() -> None:
     add_swing_lift_options(p, "every policy mimics the lifted takes and is judged against them as given")
     p.add_argument("--json", nargs="?", const="-", help="print JSON (or write it to this file)")
     args = p.parse_args()
+    if args.without and args.strength == 0:
+        p.error(f"--without {' '.join(args.without)} switches IMU artefacts off: the takes are clean at --strength 0")
     steps = preparation_of(args)
     n_clips = len(expand_clips(args.clips)) * (len(STYLE_SHIFT_NAMES) if args.style_shifts else 1)
     stride = n_clips if args.stride is None else args.stride
@@ -224,7 +230,7 @@ def main() -> None:
 
     def corrupted_draw(seed: int) -> list:
         clips = drawn_clips(args.clips, model, config, seed, args.style_shifts)
-        return corrupted(clips, "imu", args.strength, seed) if args.strength > 0 else clips
+        return corrupted(clips, "imu", args.strength, seed, args.without) if args.strength > 0 else clips
 
     draws = [tracked_and_judged(corrupted_draw(seed), net, **steps) for seed in seeds]
     if args.ensemble:
@@ -256,7 +262,7 @@ def main() -> None:
               f"{rows[0]['policy']}; above / equal / below on {c['draws_above']} / {c['draws_equal']} / "
               f"{c['draws_below']} of {args.draws} draws")
     emit_json({"policies": args.policies, "ensemble": args.ensemble, "clips": args.clips, "seeds_of_first_clip": seeds,
-               "episodes": args.episodes, "strength": args.strength,
+               "episodes": args.episodes, "strength": args.strength, "without": args.without,
                "style_shifts": versions,
                "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,

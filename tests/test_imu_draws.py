@@ -9,6 +9,7 @@ import pytest
 
 BENCH = Path(__file__).resolve().parents[1] / "bench"
 sys.path.append(str(BENCH))
+import imu_draws  # noqa: E402
 from imu_draws import Routed, evaluate_draw, shift_means, take_means  # noqa: E402
 
 from agents.evaluation import Rollout, evaluate_tracking  # noqa: E402
@@ -79,3 +80,13 @@ def test_each_takes_elr_is_averaged_over_the_draws_a_version_whose_name_is_drawn
     with pytest.warns(RuntimeWarning):  # the mean of no rollouts
         empty = take_means([(0.0, [])], [([walk], None)], None)
     assert list(empty) == ["bvh:walk"] and np.isnan(empty["bvh:walk"])
+
+
+def test_artefacts_switched_off_need_artefacts(monkeypatch, capsys):
+    """``--without KIND`` at ``--strength 0`` (clean takes, nothing to switch off) is refused by name."""
+    monkeypatch.setattr(sys, "argv", ["imu_draws.py", "--policies", "models/mimic_general", "--strength", "0",
+                                      "--without", "skate"])
+    with pytest.raises(SystemExit) as ended:
+        imu_draws.main()
+    assert ended.value.code == 2
+    assert "--without skate switches IMU artefacts off: the takes are clean at --strength 0" in capsys.readouterr().err
