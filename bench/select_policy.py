@@ -60,12 +60,16 @@ def read_draw_file(path: Path) -> dict:
     """An ``imu_draws.py --json`` file, with a clear error if it lacks one of :data:`DRAW_FIELDS`
     or a row lacks its ``policy`` or one ``ELR_per_draw`` per seed; its ``style_shifts`` as a tuple,
     empty for plain draws (files from before ``--style-shifts`` have none). Only draws at the IMU rows'
-    strength 1 are read (files from before ``--strength`` have none, and were)."""
+    strength 1 are read (files from before ``--strength`` have none, and were), with every artefact kind on
+    (files from before ``--without`` have none, and had)."""
     data = read_json(path, DRAW_FIELDS)
     data["style_shifts"] = tuple(data.get("style_shifts") or ())
     if data.get("strength", 1.0) != 1.0:
         raise SystemExit(f"{path}: draws at IMU strength {data['strength']:g}; the selection rules read the IMU "
                          "rows' draws, at strength 1 (imu_draws.py's default)")
+    if data.get("without"):
+        raise SystemExit(f"{path}: draws with the artefact kinds {data['without']} switched off; the selection rules "
+                         "read the IMU rows' draws, with every kind on (imu_draws.py without --without)")
     for i, row in enumerate(data["rows"]):
         if "policy" not in row or len(row.get("ELR_per_draw", ())) != len(data["seeds_of_first_clip"]):
             raise SystemExit(f"{path}: rows[{i}] needs 'policy' and one 'ELR_per_draw' per seed in "

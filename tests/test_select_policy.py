@@ -67,6 +67,10 @@ def test_draws_with_other_settings_or_missing_fields_are_refused(tmp_path):
     with pytest.raises(SystemExit, match=r"z\.json: draws at IMU strength 0; the selection rules read .* strength 1"):
         gather_draws([clean_takes])
     assert gather_draws([write(tmp_path / "one.json", {**json.loads(one.read_text()), "strength": 1.0})]).seeds == [100]
+    probe = write(tmp_path / "w.json", {**json.loads(one.read_text()), "without": ["skate"]})
+    with pytest.raises(SystemExit, match=r"w\.json: draws with the artefact kinds \['skate'\] switched off"):
+        gather_draws([probe])
+    assert gather_draws([write(tmp_path / "all.json", {**json.loads(one.read_text()), "without": []})]).seeds == [100]
     short = draws_file(tmp_path / "c.json", [100, 107], {"a": [0.8]})
     with pytest.raises(SystemExit, match=r"c\.json: rows\[0\] needs 'policy' and one 'ELR_per_draw' per seed"):
         gather_draws([short])
