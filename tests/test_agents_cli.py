@@ -129,7 +129,7 @@ def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
 
     imu = parsed("--preset", "imu")
     assert imu.policy == MODELS_DIR / "mimic_general_expert_set" and imu.denoise == STANCES_DENOISER
-    assert (imu.denoise_slow, imu.even_legs, imu.part_legs, imu.ground) == (0.5, True, 0.15, True)
+    assert (imu.denoise_slow, imu.even_legs, imu.part_legs, imu.ground) == (None, True, 0.15, True)
     assert (imu.swing_lift, imu.mirror_average, imu.no_adapt) == (15.0, True, True)
     optical = parsed("--preset", "optical")
     assert optical.policy == MODELS_DIR / "mimic_general_stance_avg" and optical.denoise is None
@@ -156,13 +156,13 @@ def test_the_imu_preset_cleans_as_its_flags_do(tmp_path):
     take = ["deepmimic:walker/turn_left0", "--corrupt", "imu", "--seed", "3", "--search", "off"]
     preset = clean.main(take + ["--preset", "imu", "--out", str(tmp_path / "preset.npz")])
     flags = clean.main(take + ["--policy", "models/mimic_general_expert_set", "--denoise", str(STANCES_DENOISER),
-                               "--denoise-slow", "--even-legs",
+                               "--even-legs",
                                "--part-legs", "--ground", "--swing-lift", "--mirror-average", "--no-adapt",
                                "--out", str(tmp_path / "flags.npz")])
     np.testing.assert_array_equal(Motion.load(tmp_path / "preset.npz").qpos, Motion.load(tmp_path / "flags.npz").qpos)
     assert preset["preset"] == "imu" and flags["preset"] is None and preset["adaptation"] is None
     assert preset["policy"] == flags["policy"] == "models/mimic_general_expert_set"  # recorded from the repository root
-    assert preset["denoiser"] == str(STANCES_DENOISER) and preset["denoise_slow_s"] == 0.5 and preset["mirror_average"]
+    assert preset["denoiser"] == str(STANCES_DENOISER) and preset["denoise_slow_s"] is None and preset["mirror_average"]
     assert preset["simulated_fraction"] == 1.0 and not preset["reanchors"]
 
 

@@ -3,14 +3,16 @@
 # A registered candidate member of the shipped policy set: RUN_DIR's newest checkpoint at HHMM UTC (bench/rounds/r28/
 # candidate.sh, which then stops the run with a checkpoint) made the set's ROLE policy (default, backward, dash, fast,
 # sideways or turn) in place of the shipped one: NAMESET (runs/sets/NAMESET/policy_set.json, bench/rounds/derived_set.py).
-# Scored against the shipped set (models/mimic_general_expert_set) behind SQ on validation clean (the shipped set's file
-# EXPERTSET8) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
-# rules bench/results/OUT_SEED.json and OUT.json). The shipped set's draws of both seeds (EXPERTSET8_SQ) are made while
-# the run trains. If it leads both, its held-out rows are scored once, by hand:
-# DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
-# The shipped set's file names (SHIPPED_CLEAN, SHIPPED_SHIFTED) are those of DXSSET, the set shipped since round 44
-# (EXPERTSET7 and EXPERTSET7_SQ were FXSSET's, EXPERTSET6 and EXPERTSET6_SQ BXS2RSET's, EXPERTSET4 and EXPERTSET5_SQ
-# TX2SET's): once another set replaces it, they need new names here (score_shifted.sh reuses a file of the same name).
+# Scored against the shipped set (models/mimic_general_expert_set) on validation clean (the shipped set's file
+# FULLSET) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
+# rules bench/results/OUT_SEED.json and OUT.json), both sides behind SQ's full corrections, the shipped preparation
+# since round 46 (SHIPPED_DENOISE_SLOW, empty; score_shifted.sh's BASE_ and CANDIDATE_DENOISE_SLOW). The shipped set's
+# draws of both seeds (FULLSET_SQ) are made while the run trains. If it leads both, its held-out rows are scored once,
+# by hand: DENOISE_SLOW= DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
+# The shipped set's file names (SHIPPED_CLEAN, SHIPPED_SHIFTED) are those of FULLSET, DXSSET behind the full
+# corrections, shipped since round 46 (EXPERTSET8 and EXPERTSET8_SQ were DXSSET's behind the slow ones, EXPERTSET7 and
+# EXPERTSET7_SQ FXSSET's, EXPERTSET6 and EXPERTSET6_SQ BXS2RSET's, EXPERTSET4 and EXPERTSET5_SQ TX2SET's): once
+# another set or preparation replaces it, they need new names here (score_shifted.sh keeps a file of the same name).
 set -eo pipefail
 [ $# = 7 ] || { echo "score_member.sh: usage: score_member.sh RUN_DIR HHMM NAME ROLE SEED CONFIRM_SEED OUT" >&2; exit 2; }
 RUN=$1; HHMM=$2; NAME=$3; ROLE=$4; SEED=$5; CONFIRM=$6; OUT=$7
@@ -19,7 +21,8 @@ case $ROLE in default|backward|dash|fast|sideways|turn) ;;
 [[ $HHMM =~ ^[0-2][0-9][0-5][0-9]$ ]] || { echo "score_member.sh: HHMM expected, got '$HHMM'" >&2; exit 2; }
 cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 BASE=models/mimic_general_expert_set
-SHIPPED_CLEAN=EXPERTSET8 SHIPPED_SHIFTED=EXPERTSET8_SQ
+SHIPPED_CLEAN=FULLSET SHIPPED_SHIFTED=FULLSET_SQ SHIPPED_DENOISE_SLOW=
+export BASE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW CANDIDATE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW
 bash bench/rounds/r28/candidate.sh "$RUN" "$HHMM" "$NAME" &
 CANDIDATE_JOB=$!
 bash bench/rounds/score_shifted.sh --base-only "$BASE" "$SHIPPED_CLEAN" "$SHIPPED_SHIFTED" "${NAME}SET" "$SEED" "$CONFIRM" "$OUT"
