@@ -64,7 +64,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy
-from agents.policy_set import route_clips
+from agents.policy_set import member_denoiser, route_clips
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import repository_relative
@@ -689,7 +689,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         check_slowing(args.denoise, args.denoise_slow)
     steps = preparation_of(args)
     lift, grounding, legs, symmetry = steps["lift"], steps["grounding"], steps["legs"], steps["symmetry"]
-    adaptation, extra = None, {}
+    adaptation, extra, denoise_slow_s = None, {}, None
     if args.method == "diffpd":
         given = [flag for flag, on in (("--denoise", args.denoise), ("--denoise-slow", args.denoise_slow),
                                        ("--even-legs", symmetry), ("--part-legs", legs),
@@ -703,12 +703,15 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         reference, cleaned, extra = clean_from_args(args, parser)
     else:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
+        # a policy set may slow its member's denoiser corrections its own way
+        denoiser = member_denoiser(args.policy, policy, slowed(load_network(args.denoise, "denoiser")
+                                                               if args.denoise else None, args.denoise_slow))
+        denoise_slow_s = denoiser.smooth_s if isinstance(denoiser, SlowCorrections) else None
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
-        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=args.denoise_slow)
+        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=denoise_slow_s)
         if note:
             print(note)
-        denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
         performed = prepared(reference, denoiser, **steps)
         slowly = f" ({denoiser.label})" if isinstance(denoiser, SlowCorrections) else ""
         applied = [step for step, on in ((f"denoised with {args.denoise}{slowly}", denoiser),
@@ -751,7 +754,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
-              "denoise_slow_s": args.denoise_slow,
+              "denoise_slow_s": denoise_slow_s,
               "mirror_average": args.mirror_average, **preparation_record(steps), **extra}
     if args.json:
         write_json(args.json, result)

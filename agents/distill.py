@@ -249,6 +249,9 @@ def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> T
     The student's environment observes as the default policy does, so a teacher trained in another
     frame of the same layout observes in that one (:meth:`MimicPolicy.observing`; another layout
     raises :class:`PolicyError`)."""
+    if is_policy_set(teacher) and load_policy_set(teacher).denoise_slow_s:
+        raise PolicyError(f"{teacher}: the set slows some members' denoiser corrections its own way (denoise_slow_s), "
+                          "but the student's episodes are prepared one way for every teacher; give a set without it")
     groups = route_clips(teacher, load)
     policies = [policy for policy, _ in groups]
     default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)

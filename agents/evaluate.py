@@ -27,7 +27,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate_tracking, per_clip, summarize
 from agents.mirror import actor_label
-from agents.policy_set import is_policy_set, route_clips
+from agents.policy_set import is_policy_set, member_denoiser, route_clips
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
 from envs.preparation import PreparationSteps, prepared, preparation_of, preparation_record, prepares_any
@@ -159,11 +159,15 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
                          + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
     denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
     steps = preparation_of(args)
-    runs, frames, rates, gains, routed_to = [], set(), set(), set(), {}
+    runs, frames, rates, gains, routed_to, slowed_members = [], set(), set(), set(), {}, {}
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args),
             args.without)):
-        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=args.denoise_slow)
+        behind = member_denoiser(args.policy, policy, denoiser)  # a set may slow a member's corrections its own way
+        if behind is not denoiser:
+            slowed_members[policy.name] = behind.smooth_s
+        note = policy.preparation_note(args.denoise, **steps,
+                                       denoise_slow_s=behind.smooth_s if isinstance(behind, SlowCorrections) else None)
         if note:
             print(note)
         if args.obs_frame:
@@ -177,7 +181,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         rates.add(task.physics_rate_hz)
         gains.add(task.steer_gain_hz)
         routed_to |= {clip.name: policy.name for clip in clips}  # a run's checkpoint by its file
-        tracked, judged = tracked_and_judged(clips, denoiser, **steps)
+        tracked, judged = tracked_and_judged(clips, behind, **steps)
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
@@ -193,6 +197,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
     if is_policy_set(args.policy):  # which of the set's policies performed each clip
         result["routed_to"] = routed_to
+    if slowed_members:  # the members the set tracks behind their own slowing (seconds)
+        result["denoise_slow_s_of_members"] = slowed_members
     symmetry, legs, grounding, lift = steps["symmetry"], steps["legs"], steps["grounding"], steps["lift"]
     changes = [text for text in (f"with their {symmetry.label}" if symmetry else "",
                                  f"with their {legs.label}" if legs else "", "set on the floor" if grounding else "",

@@ -42,6 +42,11 @@ On disk a policy set is a directory holding ``policy_set.json``::
 
 with the policy directories relative to it (``dash``, ``fast``, ``sideways``, ``turn`` and ``clips``
 optional). ``agents/evaluate.py`` and ``agents/clean.py`` take a policy set wherever they take a policy.
+
+A set may also give a member the preparation it tracks best behind an IMU denoiser: ``"denoise_slow_s":
+{"dash": 0.5}`` tracks the takes routed to the ``dash`` policy behind the denoiser's corrections slowed to 0.5 s
+(:class:`perception.imu_denoiser.SlowCorrections`, ``--denoise-slow 0.5``) whatever the command line's
+``--denoise-slow`` says for the others (:func:`member_denoiser`); without a denoiser it changes nothing.
 """
 
 from __future__ import annotations
@@ -59,6 +64,7 @@ from pathlib import Path
 import numpy as np
 
 from agents.policy import MimicPolicy, PolicyError, load_policy
+from perception.imu_denoiser import DenoiserEnsemble, IMUDenoiser, SlowCorrections
 from reference_motion import quality
 from reference_motion import rotations as rot
 from reference_motion.motion import Motion
@@ -73,7 +79,9 @@ RULE_THRESHOLDS = {"dash": "dash_speed_mps", "fast": "fast_speed_mps", "sideways
 """Each optional rule's threshold field (its unit in its name: m/s or rad/s)."""
 THRESHOLD_FIELDS = ("backward_speed_mps", *RULE_THRESHOLDS.values())
 """Every threshold field of a set: the backward rule's and the optional rules'."""
-SET_FIELDS = {"format", "default", "backward", "clips", *OPTIONAL_RULES, *THRESHOLD_FIELDS}
+ROLES = ("default", "backward", *OPTIONAL_RULES)
+"""The set's policy fields, each a role a member can play (the clips' globs aside)."""
+SET_FIELDS = {"format", "default", "backward", "clips", "denoise_slow_s", *OPTIONAL_RULES, *THRESHOLD_FIELDS}
 """The fields ``policy_set.json`` may hold."""
 
 
@@ -179,6 +187,9 @@ class PolicySet:
         turn: directory of the policy for clips whose pelvis heading turns faster than ``turn_rate_rad_s``
             (:func:`turns`), after the sideways rule; ``None``: no such rule.
         turn_rate_rad_s: that rate (rad/s).
+        denoise_slow_s: ``((role, seconds), ...)``: the takes routed to the policy of each ``role`` (one of
+            :data:`ROLES`) are tracked behind an IMU denoiser's corrections slowed to these seconds
+            (:func:`member_denoiser`); every other member as the command line says.
     """
 
     path: Path
@@ -194,6 +205,7 @@ class PolicySet:
     sideways_speed_mps: float = 0.2
     turn: Path | None = None
     turn_rate_rad_s: float = 0.3
+    denoise_slow_s: tuple[tuple[str, float], ...] = ()
 
     def __post_init__(self) -> None:
         for name in THRESHOLD_FIELDS:
@@ -206,6 +218,28 @@ class PolicySet:
             raise PolicyError(f"{self.path / SET_FILE}: dash_speed_mps ({self.dash_speed_mps:g} m/s) must be above "
                               f"fast_speed_mps ({self.fast_speed_mps:g} m/s): the dash rule routes first, so the fast "
                               "policy would get no clip")
+        slowing = []
+        for role, seconds in self.denoise_slow_s:
+            if role not in ROLES or getattr(self, role) is None:
+                raise PolicyError(f"{self.path / SET_FILE}: denoise_slow_s names {role!r}, expected a role the set has "
+                                  f"a policy for: {', '.join(r for r in ROLES if getattr(self, r) is not None)}")
+            if isinstance(seconds, bool) or not isinstance(seconds, numbers.Real) or not (math.isfinite(seconds)
+                                                                                          and seconds > 0):
+                raise PolicyError(f"{self.path / SET_FILE}: denoise_slow_s of {role} must be a finite number of "
+                                  f"seconds > 0, got {seconds!r}")
+            slowing.append((role, float(seconds)))
+        object.__setattr__(self, "denoise_slow_s", tuple(slowing))
+        for policy in self.policies:
+            given = {seconds for role, seconds in slowing if getattr(self, role) == policy}
+            unslowed = [role for role in ROLES if getattr(self, role) == policy and role not in dict(slowing)]
+            if len(given) > 1 or (given and unslowed):
+                raise PolicyError(f"{self.path / SET_FILE}: {policy} plays several roles with different "
+                                  f"denoise_slow_s; a member tracks one way")
+
+    def slowing(self, policy: Path) -> float | None:
+        """The seconds of denoiser corrections the set gives its member ``policy`` (a path of
+        :attr:`policies`) in :attr:`denoise_slow_s`; ``None``: as the command line says."""
+        return next((seconds for role, seconds in self.denoise_slow_s if getattr(self, role) == Path(policy)), None)
 
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""
@@ -251,6 +285,8 @@ class PolicySet:
                 spec |= {rule: rel(getattr(self, rule)), RULE_THRESHOLDS[rule]: getattr(self, RULE_THRESHOLDS[rule])}
         if self.clips:
             spec["clips"] = {glob: rel(policy) for glob, policy in self.clips}
+        if self.denoise_slow_s:
+            spec["denoise_slow_s"] = dict(self.denoise_slow_s)
         out = self.path / SET_FILE
         out.write_text(json.dumps(spec, indent=1))
         return out
@@ -300,9 +336,30 @@ def load_policy_set(path: str | Path) -> PolicySet:
     if not (isinstance(clips, dict) and all(isinstance(v, str) for v in clips.values())):
         raise PolicyError(f"{file}: clips must be an object of clip-name globs to policy directories relative to "
                           f"{path}, got {clips!r}")
+    slowing = spec.get("denoise_slow_s", {})
+    if not isinstance(slowing, dict):
+        raise PolicyError(f"{file}: denoise_slow_s must be an object of roles to seconds, e.g. {{\"dash\": 0.5}}, "
+                          f"got {slowing!r}")
     return PolicySet(path, member(spec["default"]), member(spec["backward"]),
                      spec.get("backward_speed_mps", PolicySet.backward_speed_mps),
-                     tuple((glob, member(policy)) for glob, policy in clips.items()), **optional)
+                     tuple((glob, member(policy)) for glob, policy in clips.items()), **optional,
+                     denoise_slow_s=tuple(slowing.items()))
+
+
+def member_denoiser(path: str | Path, policy: MimicPolicy,
+                    denoiser: IMUDenoiser | DenoiserEnsemble | SlowCorrections | None,
+                    ) -> IMUDenoiser | DenoiserEnsemble | SlowCorrections | None:
+    """The denoiser ``policy`` (a member :func:`route_clips` loaded from the set ``path``, or a plain
+    policy directory ``path``) tracks its takes behind: ``denoiser`` as the command line made it, or, where
+    the set gives the member a :attr:`PolicySet.denoise_slow_s`, that denoiser's corrections slowed to its
+    seconds (the command line's slowing replaced); ``None`` stays ``None`` (takes tracked as given)."""
+    if denoiser is None or not is_policy_set(path):
+        return denoiser
+    seconds = load_policy_set(path).slowing(policy.source)
+    if seconds is None:
+        return denoiser
+    whole = denoiser.denoiser if isinstance(denoiser, SlowCorrections) else denoiser
+    return SlowCorrections(whole, seconds)
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:

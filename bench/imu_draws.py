@@ -44,9 +44,9 @@ from agents.evaluate import corrupted, reference_clips, tracked_and_judged, trac
 from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, load_policy
-from agents.policy_set import is_policy_set, load_policy_set, source_name
+from agents.policy_set import is_policy_set, load_policy_set, member_denoiser, source_name
 from envs.config import FOOT_MODELS, MimicConfig
-from envs.preparation import preparation_of, preparation_record
+from envs.preparation import PreparationSteps, prepared, preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
 from json_report import emit_json
 from paired_draws import paired
@@ -75,15 +75,29 @@ def drawn_clips(sources: list[str], model: str, config: MimicConfig, seed: int, 
 
 class Routed:
     """A policy set's actor over a draw: each take goes to the policy the set routes it to
-    (:meth:`agents.policy_set.PolicySet.route`, on the take as given), loaded once.
+    (:meth:`agents.policy_set.PolicySet.route`, on the take as given), loaded once. A member the set
+    tracks behind its own slowing of the denoiser (:attr:`agents.policy_set.PolicySet.denoise_slow_s`)
+    tracks its takes prepared anew from the takes as given (:meth:`tracked`).
 
     Args:
         path: the policy-set directory.
+        denoiser: what the draw's takes were tracked behind (``None``: no denoiser).
+        steps: the draw's other preparation (:func:`envs.preparation.preparation_of`).
     """
 
-    def __init__(self, path: str):
+    def __init__(self, path: str, denoiser: object = None, steps: PreparationSteps | None = None):
         self.set = load_policy_set(path)
         self.policies = {p: load_policy(p) for p in self.set.policies}
+        self.denoiser, self.steps = denoiser, steps or PreparationSteps()
+        self.behind = {p: member_denoiser(path, policy, denoiser) for p, policy in self.policies.items()}
+
+    def tracked(self, member: Path, tracked: list[Motion], judged: list[Motion] | None, indices: list[int]
+                ) -> list[Motion]:
+        """What ``member`` tracks of the draw's takes ``indices``: the draw's ``tracked`` takes, or, where the set
+        slows the member's denoiser its own way, the takes as given (``judged``) prepared behind that."""
+        if self.behind[member] is self.denoiser:
+            return [tracked[i] for i in indices]
+        return [prepared(judged[i], self.behind[member], **self.steps) for i in indices]
 
     def routes(self, tracked: list[Motion], judged: list[Motion] | None) -> dict[Path, list[int]]:
         """``{policy directory: indices of its takes}``: the takes of a draw (``judged``, the takes as given, or
@@ -91,9 +105,12 @@ class Routed:
         (:meth:`agents.policy_set.PolicySet.grouped`)."""
         return self.set.grouped(tracked if judged is None else judged)
 
-    def groups(self, tracked: list[Motion], judged: list[Motion] | None) -> list[tuple[MimicPolicy, list[int]]]:
-        """``[(policy, indices of its takes), ...]``: :meth:`routes` with each policy loaded."""
-        return [(self.policies[p], indices) for p, indices in self.routes(tracked, judged).items()]
+    def groups(self, tracked: list[Motion], judged: list[Motion] | None
+               ) -> list[tuple[MimicPolicy, list[int], list[Motion]]]:
+        """``[(policy, indices of its takes, what it tracks of them), ...]``: :meth:`routes` with each policy
+        loaded and its takes as :meth:`tracked` gives them."""
+        return [(self.policies[p], indices, self.tracked(p, tracked, judged, indices))
+                for p, indices in self.routes(tracked, judged).items()]
 
     def routing(self, draws: list[tuple[list[Motion], list[Motion] | None]],
                 versions: tuple[str, ...] | None = None) -> dict[str, dict[str, int]]:
@@ -119,8 +136,8 @@ def evaluate_draw(policy: MimicPolicy | Routed, tracked: list[Motion], judged: l
                                           mirror_average=mirror_average)
         return summary["ELR_mean"], runs
     runs = []
-    for member, indices in policy.groups(tracked, judged):
-        runs += evaluate_tracking(member, [tracked[i] for i in indices],
+    for member, indices, its_takes in policy.groups(tracked, judged):
+        runs += evaluate_tracking(member, its_takes,
                                   None if judged is None else [judged[i] for i in indices], episodes=episodes,
                                   mirror_average=mirror_average)[1]
     return float(np.mean([r.elr for r in runs])), runs
@@ -206,19 +223,23 @@ def main() -> None:
     sets = [path for path in args.policies if is_policy_set(path)]
     if sets and args.ensemble:
         p.error(f"--ensemble averages policies, not policy sets: {', '.join(sets)}")
-    policies = [Routed(path) if path in sets else load_policy(path) for path in args.policies]
-    members = [m for policy in policies for m in (policy.policies.values() if isinstance(policy, Routed) else [policy])]
-    feet = {policy.foot for policy in members}
-    if len(feet) > 1:
-        p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
     denoiser_path = None if args.no_denoise else args.denoise
     if args.denoise_slow is not None and denoiser_path is None:
         p.error(f"--denoise-slow {args.denoise_slow:g} slows the denoiser's corrections: drop --no-denoise")
-    for policy in members:
-        note = policy.preparation_note(denoiser_path, **steps, denoise_slow_s=args.denoise_slow)
+    net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
+    policies = [Routed(path, net, steps) if path in sets else load_policy(path) for path in args.policies]
+    members = []  # (each policy a set or a plain policy stands for, the denoiser it tracks behind)
+    for policy in policies:
+        members += zip(policy.policies.values(), policy.behind.values()) if isinstance(policy, Routed) else [(policy, net)]
+    slowed_members = {m.name: behind.smooth_s for m, behind in members if behind is not net}
+    feet = {policy.foot for policy, _ in members}
+    if len(feet) > 1:
+        p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
+    for policy, behind in members:
+        note = policy.preparation_note(denoiser_path, **steps,
+                                       denoise_slow_s=behind.smooth_s if isinstance(behind, SlowCorrections) else None)
         if note:
             print(note)
-    net = slowed(load_network(denoiser_path, "denoiser") if denoiser_path else None, args.denoise_slow)
     slowly = f" ({net.label})" if isinstance(net, SlowCorrections) else ""
     takes = "IMU takes" if args.strength > 0 else "the clean takes (--strength 0)"
     print(f"{takes} pass through the denoiser {denoiser_path}{slowly} first (--no-denoise: as given)" if denoiser_path
@@ -266,6 +287,7 @@ def main() -> None:
                "style_shifts": versions,
                "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
+               **({"denoise_slow_s_of_members": slowed_members} if slowed_members else {}),
                "mirror_average": args.mirror_average, **preparation_record(steps),
                "rows": rows}, args.json)
 

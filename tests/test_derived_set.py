@@ -34,3 +34,10 @@ def test_a_derived_set_replaces_the_named_fields_and_keeps_the_rest(tmp_path):
     turning = load_policy_set(tmp_path / "turning")
     assert (turning.turn, turning.turn_rate_rad_s, turning.sideways) == (MODELS / "mimic_walk", 0.4,
                                                                           MODELS / "mimic_walk_back")
+    main([str(tmp_path / "turning"), str(tmp_path / "slowed"), "denoise_slow_s=fast:0.5"])
+    slowed = load_policy_set(tmp_path / "slowed")
+    assert slowed.denoise_slow_s == (("fast", 0.5),) and slowed.turn == MODELS / "mimic_walk"
+    with pytest.raises(SystemExit, match="denoise_slow_s is ROLE:SECONDS\\[,ROLE:SECONDS\\], got '0.5'"):
+        main([str(tmp_path / "turning"), str(tmp_path / "bad"), "denoise_slow_s=0.5"])
+    with pytest.raises(SystemExit, match="denoise_slow_s names 'dash', expected a role the set has a policy for"):
+        main([str(tmp_path / "turning"), str(tmp_path / "bad"), "denoise_slow_s=dash:0.5"])

@@ -50,7 +50,8 @@ def test_a_policy_sets_draw_is_each_take_performed_by_the_policy_it_is_routed_to
     routed = Routed(str(tmp_path / "set"))
     walk, run_clip = (load_motion(f"deepmimic:{name}", "humanoid_1seg") for name in ("walk", "run"))
     groups = routed.groups([walk, run_clip, walk], None)
-    assert [(policy.path.name, indices) for policy, indices in groups] == [("mimic_walk", [0, 2]), ("mimic_imu", [1])]
+    assert [(policy.path.name, indices) for policy, indices, _ in groups] == [("mimic_walk", [0, 2]), ("mimic_imu", [1])]
+    assert all(takes == [[walk, run_clip, walk][i] for i in indices] for _, indices, takes in groups)
     routing = routed.routing([([walk, run_clip, walk], None), ([run_clip], [walk])])  # the second judged as a walk
     walker, runner = str(models / "mimic_walk"), str(models / "mimic_imu")
     assert routing == {walk.name: {walker: 2}, run_clip.name: {runner: 1, walker: 1}}
@@ -90,3 +91,26 @@ def test_artefacts_switched_off_need_artefacts(monkeypatch, capsys):
         imu_draws.main()
     assert ended.value.code == 2
     assert "--without skate switches IMU artefacts off: the takes are clean at --strength 0" in capsys.readouterr().err
+
+
+def test_a_member_the_set_slows_tracks_its_takes_prepared_anew_behind_its_slowing(tmp_path):
+    """A set slowing its fast policy's denoiser corrections to 0.5 s: in a draw tracked behind the whole denoiser, the
+    walk's takes are the draw's own, the run's are the run as given denoised behind the slowed corrections."""
+    from agents.evaluate import tracked_and_judged
+    from envs.preparation import no_preparation
+    from perception.imu_denoiser import SlowCorrections, denoise
+    from perception.weights import load_network
+
+    models = Path(__file__).resolve().parents[1] / "models"
+    PolicySet(tmp_path / "set", models / "mimic_walk", models / "mimic_walk", fast=models / "mimic_imu",
+              denoise_slow_s=(("fast", 0.5),)).save()
+    net = load_network(models / "imu_denoiser_dm", "denoiser")
+    routed = Routed(str(tmp_path / "set"), net, no_preparation())
+    walk, run_clip = (load_motion(f"deepmimic:{name}", "humanoid_1seg") for name in ("walk", "run"))
+    tracked, judged = tracked_and_judged([walk, run_clip], net)
+    (walker, walk_indices, walks), (runner, run_indices, runs) = routed.groups(tracked, judged)
+    assert (walk_indices, run_indices, walker.path.name, runner.path.name) == ([0], [1], "mimic_walk", "mimic_imu")
+    assert walks[0] is tracked[0]
+    slow = denoise(SlowCorrections(net, 0.5), run_clip)
+    np.testing.assert_allclose(runs[0].qpos, slow.qpos)
+    assert np.abs(runs[0].qpos - tracked[1].qpos).max() > 1e-3  # not the whole corrections

@@ -329,3 +329,55 @@ def test_the_sideways_rule_routes_a_walk_facing_across_its_path_after_the_fast_r
         (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
         with pytest.raises(PolicyError, match="sideways must be a policy directory"):
             load_policy_set(tmp_path / "set")
+
+
+def test_a_set_can_slow_one_members_denoiser_corrections(tmp_path):
+    """``denoise_slow_s`` round-trips; the member it names tracks behind the denoiser's corrections slowed to its
+    seconds, replacing the command line's slowing, every other member behind the denoiser as given, no denoiser
+    stays none; a role the set has no policy for, bad seconds, or one member slowed two ways is a clear error."""
+    from agents.policy import load_policy
+    from agents.policy_set import member_denoiser
+    from perception.imu_denoiser import SlowCorrections
+    from perception.weights import load_network
+
+    PolicySet(tmp_path / "set", MODELS / "mimic_walk", MODELS / "mimic_walk", fast=MODELS / "mimic_imu",
+              denoise_slow_s=(("fast", 0.5),)).save()
+    assert json.loads((tmp_path / "set" / "policy_set.json").read_text())["denoise_slow_s"] == {"fast": 0.5}
+    loaded = load_policy_set(tmp_path / "set")
+    assert loaded.denoise_slow_s == (("fast", 0.5),)
+    assert loaded.slowing(loaded.fast) == 0.5 and loaded.slowing(loaded.default) is None
+    net = load_network(MODELS / "imu_denoiser_dm", "denoiser")
+    fast, walker = (load_policy(p) for p in (loaded.fast, loaded.default))
+    behind = member_denoiser(tmp_path / "set", fast, net)
+    assert isinstance(behind, SlowCorrections) and behind.smooth_s == 0.5 and behind.denoiser is net
+    assert member_denoiser(tmp_path / "set", fast, SlowCorrections(net, 2.0)).smooth_s == 0.5  # the set's wins
+    assert member_denoiser(tmp_path / "set", walker, net) is net
+    assert member_denoiser(tmp_path / "set", fast, None) is None
+    assert member_denoiser(MODELS / "mimic_imu", fast, net) is net  # a plain policy: as the command line says
+    with pytest.raises(PolicyError, match="denoise_slow_s names 'dash', expected a role the set has a policy for: "
+                                          "default, backward, fast"):
+        PolicySet(tmp_path / "bad", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_imu",
+                  denoise_slow_s=(("dash", 0.5),))
+    with pytest.raises(PolicyError, match="denoise_slow_s of fast must be a finite number of seconds > 0, got 0"):
+        PolicySet(tmp_path / "bad", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_imu",
+                  denoise_slow_s=(("fast", 0),))
+    with pytest.raises(PolicyError, match="plays several roles with different denoise_slow_s"):
+        PolicySet(tmp_path / "bad", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_imu",
+                  denoise_slow_s=(("fast", 0.5),))  # mimic_imu is the backward policy too, unslowed
+    denoiser = ["--denoise", str(MODELS / "imu_denoiser_dm")]
+    as_set = evaluate.main(["--policy", str(tmp_path / "set"), "--clips", "deepmimic:run", "--episodes", "1", *denoiser])
+    alone = evaluate.main(["--policy", str(MODELS / "mimic_imu"), "--clips", "deepmimic:run", "--episodes", "1",
+                           *denoiser, "--denoise-slow", "0.5"])
+    assert Path(as_set["routed_to"]["deepmimic:run"]).name == "mimic_imu"
+    assert {Path(k).name: v for k, v in as_set["denoise_slow_s_of_members"].items()} == {"mimic_imu": 0.5}
+    assert as_set["per_clip"] == alone["per_clip"]  # the set's fast member tracked the run as it does slowed alone
+    whole = evaluate.main(["--policy", str(MODELS / "mimic_imu"), "--clips", "deepmimic:run", "--episodes", "1",
+                           *denoiser])
+    assert whole["per_clip"] != alone["per_clip"]  # ELR 0.093 behind the whole corrections, 0.100 slowed
+    from agents.distill import load_teachers
+    with pytest.raises(PolicyError, match="slows some members' denoiser corrections its own way"):
+        load_teachers(tmp_path / "set", lambda foot: [])
+    spec = json.loads((tmp_path / "set" / "policy_set.json").read_text()) | {"denoise_slow_s": [0.5]}
+    (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
+    with pytest.raises(PolicyError, match="denoise_slow_s must be an object of roles to seconds"):
+        load_policy_set(tmp_path / "set")

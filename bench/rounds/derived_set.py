@@ -2,8 +2,10 @@
 
 Usage: ``python bench/rounds/derived_set.py BASE OUT FIELD=VALUE ...``, e.g. ``backward=models/mimic_general_back`` or
 ``sideways=PATH sideways_speed_mps=0.2``: a policy directory (or run checkpoint) for a rule's field, a number for a
-threshold field (``*_speed_mps`` in m/s, ``turn_rate_rad_s`` in rad/s). Every other field of BASE (:class:`agents.policy_set.PolicySet`), its clips' globs included,
-is kept (:func:`dataclasses.replace`); ``OUT/policy_set.json`` is written.
+threshold field (``*_speed_mps`` in m/s, ``turn_rate_rad_s`` in rad/s), ``denoise_slow_s=ROLE:SECONDS[,ROLE:SECONDS]``
+(e.g. ``denoise_slow_s=dash:0.5``: the members whose denoiser corrections the set slows, replacing BASE's). Every other
+field of BASE (:class:`agents.policy_set.PolicySet`), its clips' globs included, is kept (:func:`dataclasses.replace`);
+``OUT/policy_set.json`` is written.
 """
 
 from __future__ import annotations
@@ -25,16 +27,23 @@ def main(argv: list[str]) -> Path:
     if len(argv) < 3:
         raise SystemExit(__doc__)
     base, out, *changes = argv
-    values: dict[str, Path | float] = {}
+    values: dict[str, Path | float | tuple[tuple[str, float], ...]] = {}
     for change in changes:
         name, sep, value = change.partition("=")
         if not sep or name not in FIELDS:
             raise SystemExit(f"derived_set.py: expected FIELD=VALUE with FIELD one of {', '.join(FIELDS)}, "
                              f"got {change!r}")
         try:
-            values[name] = float(value) if name in THRESHOLD_FIELDS else Path(value)
+            if name == "denoise_slow_s":
+                pairs = [pair.partition(":") for pair in value.split(",")]
+                if not all(role and sep for role, sep, _ in pairs):
+                    raise ValueError
+                values[name] = tuple((role, float(seconds)) for role, _, seconds in pairs)
+            else:
+                values[name] = float(value) if name in THRESHOLD_FIELDS else Path(value)
         except ValueError:
-            raise SystemExit(f"derived_set.py: {name} is a number, got {value!r}") from None
+            expected = "ROLE:SECONDS[,ROLE:SECONDS]" if name == "denoise_slow_s" else "a number"
+            raise SystemExit(f"derived_set.py: {name} is {expected}, got {value!r}") from None
     try:
         return replace(load_policy_set(base), path=Path(out), **values).save()
     except PolicyError as err:
