@@ -39,7 +39,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, AdaptConfig, adapt_policy, evaluate_on_clip
 from agents.clean import CleanConfig, clean_motion, sr90_target, touched_up
 from clean_settings import label, setting  # bench/clean_settings.py: the scripts run from bench/
-from agents.policy_set import route_clips
+from agents.policy_set import member_denoiser, route_clips
 from envs.config import FOOT_MODELS
 from envs.observations import SAME_LAYOUT_FRAMES
 from json_report import emit_json  # bench/json_report.py: the scripts run from bench/
@@ -197,7 +197,8 @@ def main() -> None:
             config = AdaptConfig(budget_s=args.adapt_budget_s, max_steps=args.adapt_steps,
                                  target_kl=args.adapt_target_kl, target_sr90=args.adapt_target,
                                  keep=args.adapt_keep, physics_threads=args.physics_threads, cache_dir=Path(cache))
-            performed = denoise(denoiser, reference) if denoiser else reference
+            behind = member_denoiser(args.policy, policy, denoiser)  # a set may slow its member's corrections
+            performed = denoise(behind, reference) if behind else reference
             if args.no_adapt:  # zero-shot: the actor that cleans, scored on the take as adaptation scores it
                 env = policy.make_env([performed], artefacts=None)
                 performer = policy.mirror_averaged(env) if args.mirror_average else policy

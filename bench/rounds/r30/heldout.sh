@@ -3,7 +3,8 @@
 # The held-out rows of a row a registered candidate NAME (its checkpoint in runs/r28/NAME_candidate.txt) led on
 # validation and on its confirmation draws, once (seeds 1000-4000, the test split and the DeepMimic walkers), as
 # round 29 scored PV (bench/rounds/r29/heldout_pv.sh); later rounds call this one rather than a copy. DENOISER=DIR puts
-# another denoiser in front of the slow row (default: imu_denoiser_soles_quint_mirror).
+# another denoiser in front of the slow row (default: imu_denoiser_soles_quint_mirror); DENOISE_SLOW= (empty) tracks
+# behind its full corrections (bench/rounds/r24/heldout_slow.sh; the files keep the name "slow").
 cd "$(dirname "$0")/../../.."
 N=$1
 W=$(cat "runs/r28/${N}_candidate.txt") || exit 1
