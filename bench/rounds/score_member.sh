@@ -4,13 +4,16 @@
 # candidate.sh, which then stops the run with a checkpoint) made the set's ROLE policy (default, backward, dash, fast,
 # sideways or turn) in place of the shipped one: NAMESET (runs/sets/NAMESET/policy_set.json, bench/rounds/derived_set.py).
 # Scored against the shipped set (models/mimic_general_expert_set) on validation clean (the shipped set's file
-# FULLSET) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
+# EXPERTSET9) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
 # rules bench/results/OUT_SEED.json and OUT.json), both sides behind SQ's full corrections, the shipped preparation
-# since round 46 (SHIPPED_DENOISE_SLOW, empty; score_shifted.sh's BASE_ and CANDIDATE_DENOISE_SLOW). The shipped set's
-# draws of both seeds (FULLSET_SQ) are made while the run trains. If it leads both, its held-out rows are scored once,
-# by hand: DENOISE_SLOW= DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
-# The shipped set's file names (SHIPPED_CLEAN, SHIPPED_SHIFTED) are those of FULLSET, DXSSET behind the full
-# corrections, shipped since round 46 (EXPERTSET8 and EXPERTSET8_SQ were DXSSET's behind the slow ones, EXPERTSET7 and
+# since round 46 (SHIPPED_DENOISE_SLOW, empty; score_shifted.sh's BASE_ and CANDIDATE_DENOISE_SLOW; since round 48
+# the shipped set's policy_set.json slows its dash member's corrections itself, and a set derived from it keeps that).
+# The shipped set's files of both seeds (EXPERTSET9, EXPERTSET9_SQ) are made while the run trains, if missing. If it
+# leads both, its held-out rows are scored once, by hand:
+# DENOISE_SLOW= DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
+# The shipped set's file names (SHIPPED_CLEAN, SHIPPED_SHIFTED) are for FSDSET as shipped since round 48 (its round's
+# own files are named after runs/sets/FSDSET, so the shipped directory's are made anew; FULLSET and FULLSET_SQ were the
+# set's in round 46's preparation, EXPERTSET8 and EXPERTSET8_SQ DXSSET's behind the slow corrections, EXPERTSET7 and
 # EXPERTSET7_SQ FXSSET's, EXPERTSET6 and EXPERTSET6_SQ BXS2RSET's, EXPERTSET4 and EXPERTSET5_SQ TX2SET's): once
 # another set or preparation replaces it, they need new names here (score_shifted.sh keeps a file of the same name).
 set -eo pipefail
@@ -21,7 +24,7 @@ case $ROLE in default|backward|dash|fast|sideways|turn) ;;
 [[ $HHMM =~ ^[0-2][0-9][0-5][0-9]$ ]] || { echo "score_member.sh: HHMM expected, got '$HHMM'" >&2; exit 2; }
 cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 BASE=models/mimic_general_expert_set
-SHIPPED_CLEAN=FULLSET SHIPPED_SHIFTED=FULLSET_SQ SHIPPED_DENOISE_SLOW=
+SHIPPED_CLEAN=EXPERTSET9 SHIPPED_SHIFTED=EXPERTSET9_SQ SHIPPED_DENOISE_SLOW=
 export BASE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW CANDIDATE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW
 bash bench/rounds/r28/candidate.sh "$RUN" "$HHMM" "$NAME" &
 CANDIDATE_JOB=$!
