@@ -464,7 +464,8 @@ class CleanPreset:
 
 PRESETS: dict[str, CleanPreset] = {
     # an IMU-suit take: the row "behind the IMU denoiser" (DXSSET: LSS with the backward, dash, fast, sideways and
-    # turning experts BXS2R, DXS, FXS, SX and TX2, rounds 35-44, behind the denoiser SQ's full corrections, round 46)
+    # turning experts BXS2R, DXS, FXS, SX and TX2, rounds 35-44, behind the denoiser SQ's full corrections, round 46;
+    # its policy_set.json keeps the dash expert's takes behind the slow ones, round 48)
     "imu": CleanPreset(policy=MODELS_DIR / "mimic_general_expert_set", denoise=STANCES_DENOISER,
                        even_legs=True, part_legs=LegGap.min_gap_m),
     # an optical (marker) take: the clean row's choice (G, "A symmetric actor", "Round 9")

@@ -46,7 +46,7 @@ from agents.mirror import actor_label
 from agents.policy import MimicPolicy, load_policy
 from agents.policy_set import is_policy_set, load_policy_set, member_denoiser, source_name
 from envs.config import FOOT_MODELS, MimicConfig
-from envs.preparation import PreparationSteps, prepared, preparation_of, preparation_record
+from envs.preparation import PreparationSteps, no_preparation, prepared, preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
 from json_report import emit_json
 from paired_draws import paired
@@ -88,7 +88,7 @@ class Routed:
     def __init__(self, path: str, denoiser: object = None, steps: PreparationSteps | None = None):
         self.set = load_policy_set(path)
         self.policies = {p: load_policy(p) for p in self.set.policies}
-        self.denoiser, self.steps = denoiser, steps or PreparationSteps()
+        self.denoiser, self.steps = denoiser, steps or no_preparation()
         self.behind = {p: member_denoiser(path, policy, denoiser) for p, policy in self.policies.items()}
 
     def tracked(self, member: Path, tracked: list[Motion], judged: list[Motion] | None, indices: list[int]
