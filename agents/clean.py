@@ -71,7 +71,7 @@ from agents.sidecar import repository_relative
 from envs.config import FOOT_MODELS, MODELS_DIR
 from envs.preparation import prepared, preparation_of, preparation_record
 from perception.imu_denoiser import (DEFAULT_DENOISER, STANCES_DENOISER, SlowCorrections, add_slow_corrections_option,
-                                     check_slowing, slowed)
+                                     check_slowing, slowed, slowing_of)
 from perception.weights import load_network
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
 from reference_motion.atomic import write_json
@@ -505,8 +505,8 @@ def build_parser(prog: str | None = None, method: bool = True) -> CliParser:
                        help="clean with the policy and preparation validation chose for this kind of take: imu, an "
                             "IMU-suit take (the policy set models/mimic_general_expert_set, its backward, dash, fast, "
                             "sideways and turning takes to its experts, behind the stance-trained IMU denoiser's "
-                            "slow corrections, legs evened and parted, grounded, swing-lifted, mirror-averaged, "
-                            "zero-shot); optical, a marker "
+                            "corrections, the dash expert's takes behind their slow part, legs evened and parted, "
+                            "grounded, swing-lifted, mirror-averaged, zero-shot); optical, a marker "
                             "take (models/mimic_general_stance_avg, grounded, swing-lifted, mirror-averaged, zero-shot). "
                             "A value given as well wins; what the preset turns on cannot be turned off (give the flags "
                             "instead)")
@@ -690,7 +690,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         check_slowing(args.denoise, args.denoise_slow)
     steps = preparation_of(args)
     lift, grounding, legs, symmetry = steps["lift"], steps["grounding"], steps["legs"], steps["symmetry"]
-    adaptation, extra, denoise_slow_s = None, {}, None
+    adaptation, extra, slowed_members = None, {}, {}
     if args.method == "diffpd":
         given = [flag for flag, on in (("--denoise", args.denoise), ("--denoise-slow", args.denoise_slow),
                                        ("--even-legs", symmetry), ("--part-legs", legs),
@@ -704,13 +704,13 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         reference, cleaned, extra = clean_from_args(args, parser)
     else:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
-        # a policy set may slow its member's denoiser corrections its own way
-        denoiser = member_denoiser(args.policy, policy, slowed(load_network(args.denoise, "denoiser")
-                                                               if args.denoise else None, args.denoise_slow))
-        denoise_slow_s = denoiser.smooth_s if isinstance(denoiser, SlowCorrections) else None
+        whole = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
+        denoiser = member_denoiser(args.policy, policy, whole)  # a set may slow its member's corrections its own way
+        if denoiser is not whole:
+            slowed_members = {policy.name: slowing_of(denoiser)}
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
-        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=denoise_slow_s)
+        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=slowing_of(denoiser))
         if note:
             print(note)
         performed = prepared(reference, denoiser, **steps)
@@ -755,7 +755,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "reanchors": source["reanchors"], "recoveries": source["recoveries"],
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
-              "denoise_slow_s": denoise_slow_s,
+              "denoise_slow_s": args.denoise_slow,
+              **({"denoise_slow_s_of_members": slowed_members} if slowed_members else {}),
               "mirror_average": args.mirror_average, **preparation_record(steps), **extra}
     if args.json:
         write_json(args.json, result)

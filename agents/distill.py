@@ -243,15 +243,22 @@ class Teachers:
         return [p.short_name for p in self.policies]
 
 
+def check_teacher_set(teacher: str | Path, denoise: str | Path | None) -> None:
+    """:class:`PolicyError` when ``teacher`` is a policy set that slows some members' denoiser corrections its own
+    way (:attr:`agents.policy_set.PolicySet.denoise_slow_s`) and the episodes pass through a denoiser
+    (``denoise``): they are prepared one way for every teacher. Without a denoiser the slowing changes nothing."""
+    if denoise and is_policy_set(teacher) and load_policy_set(teacher).denoise_slow_s:
+        raise PolicyError(f"{teacher}: the set slows some members' denoiser corrections its own way (denoise_slow_s), "
+                          "but the student's episodes are prepared one way for every teacher; give a set without it "
+                          "or no --denoise")
+
+
 def load_teachers(teacher: str | Path, load: Callable[[str], list[Motion]]) -> Teachers:
     """The teachers in ``teacher`` (a policy or a policy-set directory) and the clips ``load(foot)``
     returns (``foot``: the teachers' foot model), each routed to its teacher as the set routes it.
     The student's environment observes as the default policy does, so a teacher trained in another
     frame of the same layout observes in that one (:meth:`MimicPolicy.observing`; another layout
     raises :class:`PolicyError`)."""
-    if is_policy_set(teacher) and load_policy_set(teacher).denoise_slow_s:
-        raise PolicyError(f"{teacher}: the set slows some members' denoiser corrections its own way (denoise_slow_s), "
-                          "but the student's episodes are prepared one way for every teacher; give a set without it")
     groups = route_clips(teacher, load)
     policies = [policy for policy, _ in groups]
     default_dir = load_policy_set(teacher).default if is_policy_set(teacher) else Path(teacher)
@@ -651,6 +658,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> Path:
         loaded = load_training_motions(clips, FOOT_MODELS[foot], args.mirror, warps=warps)
         return loaded + reposed_copies(loaded, args, config.seed)
 
+    check_teacher_set(args.teacher, args.denoise)
     teachers = load_teachers(args.teacher, motions)
     names, default = teachers.names, teachers.policies[teachers.default]
     config.weights_of(names)  # a weight for a teacher that is not one fails now, not after round 0

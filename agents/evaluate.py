@@ -27,12 +27,12 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate_tracking, per_clip, summarize
 from agents.mirror import actor_label
-from agents.policy_set import is_policy_set, member_denoiser, route_clips
+from agents.policy_set import is_policy_set, member_denoiser, route_clips, slowing_label
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
 from envs.preparation import PreparationSteps, prepared, preparation_of, preparation_record, prepares_any
 from perception.imu_denoiser import (DEFAULT_DENOISER, DenoiserEnsemble, IMUDenoiser, SlowCorrections,
-                                     add_slow_corrections_option, slowed)
+                                     add_slow_corrections_option, slowed, slowing_of)
 from perception.weights import load_network
 from reference_motion.atomic import write_json
 from reference_motion.artefacts import ARTEFACT_KINDS, ArtefactRecipe, corrupt
@@ -166,8 +166,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         behind = member_denoiser(args.policy, policy, denoiser)  # a set may slow a member's corrections its own way
         if behind is not denoiser:
             slowed_members[policy.name] = behind.smooth_s
-        note = policy.preparation_note(args.denoise, **steps,
-                                       denoise_slow_s=behind.smooth_s if isinstance(behind, SlowCorrections) else None)
+        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=slowing_of(behind))
         if note:
             print(note)
         if args.obs_frame:
@@ -185,7 +184,8 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         runs += evaluate_tracking(policy, tracked, judged, episodes=args.episodes, offset_step=args.offset_step,
                                   mirror_average=args.mirror_average)[1]
     summary = summarize(runs)
-    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average), denoiser=denoiser,
+    result = {"policy": tracked_label(actor_label(args.policy, args.mirror_average)
+                                      + slowing_label(args.policy, denoiser), denoiser=denoiser,
                                       **steps),
               "mirror_average": args.mirror_average, **preparation_record(steps), "clips": args.clips,
               "corrupt": args.corrupt,

@@ -346,16 +346,27 @@ def load_policy_set(path: str | Path) -> PolicySet:
                      denoise_slow_s=tuple(slowing.items()))
 
 
+def slowing_label(path: str | Path, denoiser: object) -> str:
+    """What results add to the name of the policy set ``path`` tracking takes behind ``denoiser`` for the
+    members it slows its own way (:attr:`PolicySet.denoise_slow_s`), e.g. ``" + its dash policy's
+    denoiser corrections slowed to 0.5 s"``; ``""`` for a plain policy, no denoiser or no such member."""
+    if denoiser is None or not is_policy_set(path):
+        return ""
+    return "".join(f" + its {role} policy's denoiser corrections slowed to {seconds:g} s"
+                   for role, seconds in load_policy_set(path).denoise_slow_s)
+
+
 def member_denoiser(path: str | Path, policy: MimicPolicy,
                     denoiser: IMUDenoiser | DenoiserEnsemble | SlowCorrections | None,
                     ) -> IMUDenoiser | DenoiserEnsemble | SlowCorrections | None:
     """The denoiser ``policy`` (a member :func:`route_clips` loaded from the set ``path``, or a plain
     policy directory ``path``) tracks its takes behind: ``denoiser`` as the command line made it, or, where
-    the set gives the member a :attr:`PolicySet.denoise_slow_s`, that denoiser's corrections slowed to its
-    seconds (the command line's slowing replaced); ``None`` stays ``None`` (takes tracked as given)."""
+    the set gives the member's role a :attr:`PolicySet.denoise_slow_s`, that denoiser's corrections slowed to its
+    seconds (the command line's slowing replaced; a clip glob routing to the same policy is slowed with it);
+    ``None`` stays ``None`` (takes tracked as given)."""
     if denoiser is None or not is_policy_set(path):
         return denoiser
-    seconds = load_policy_set(path).slowing(policy.source)
+    seconds = load_policy_set(path).slowing(policy.source or policy.path)
     if seconds is None:
         return denoiser
     whole = denoiser.denoiser if isinstance(denoiser, SlowCorrections) else denoiser

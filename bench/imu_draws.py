@@ -44,13 +44,13 @@ from agents.evaluate import corrupted, reference_clips, tracked_and_judged, trac
 from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, load_policy
-from agents.policy_set import is_policy_set, load_policy_set, member_denoiser, source_name
+from agents.policy_set import is_policy_set, load_policy_set, member_denoiser, slowing_label, source_name
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.preparation import PreparationSteps, no_preparation, prepared, preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
 from json_report import emit_json
 from paired_draws import paired
-from perception.imu_denoiser import SlowCorrections, add_slow_corrections_option, slowed
+from perception.imu_denoiser import SlowCorrections, add_slow_corrections_option, slowed, slowing_of
 from perception.weights import load_network
 from reference_motion.grounding import add_grounding_option
 from reference_motion.leg_gap import add_leg_gap_option
@@ -86,6 +86,8 @@ class Routed:
     """
 
     def __init__(self, path: str, denoiser: object = None, steps: PreparationSteps | None = None):
+        if denoiser is not None and steps is None:
+            raise ValueError("Routed: give the draw's preparation steps with its denoiser (no_preparation() for none)")
         self.set = load_policy_set(path)
         self.policies = {p: load_policy(p) for p in self.set.policies}
         self.denoiser, self.steps = denoiser, steps or no_preparation()
@@ -231,13 +233,11 @@ def main() -> None:
     members = []  # (each policy a set or a plain policy stands for, the denoiser it tracks behind)
     for policy in policies:
         members += zip(policy.policies.values(), policy.behind.values()) if isinstance(policy, Routed) else [(policy, net)]
-    slowed_members = {m.name: behind.smooth_s for m, behind in members if behind is not net}
     feet = {policy.foot for policy, _ in members}
     if len(feet) > 1:
         p.error(f"the policies drive different humanoids ({sorted(feet)}); compare one foot model")
     for policy, behind in members:
-        note = policy.preparation_note(denoiser_path, **steps,
-                                       denoise_slow_s=behind.smooth_s if isinstance(behind, SlowCorrections) else None)
+        note = policy.preparation_note(denoiser_path, **steps, denoise_slow_s=slowing_of(behind))
         if note:
             print(note)
     slowly = f" ({net.label})" if isinstance(net, SlowCorrections) else ""
@@ -265,11 +265,15 @@ def main() -> None:
         scored = [evaluate_draw(policy, tracked, judged, args.episodes, actor, args.mirror_average)
                   for tracked, judged in draws]
         elr = np.array([mean for mean, _ in scored])
-        label = tracked_label(actor_label(path, args.mirror_average), denoiser=net, **steps)
+        label = tracked_label(actor_label(path, args.mirror_average) + slowing_label(path, net), denoiser=net, **steps)
         rows.append({"policy": label, "ELR": float(elr.mean()), "ELR_per_draw": elr.tolist(),
                      "ELR_per_take": take_means(scored, draws, versions)})
         if isinstance(policy, Routed):
             rows[-1]["routed_to"] = policy.routing(draws, versions)
+            slowed_members = {policy.policies[p].name: slowing_of(behind) for p, behind in policy.behind.items()
+                              if behind is not net}
+            if slowed_members:  # the members the set tracks behind their own slowing (seconds)
+                rows[-1]["denoise_slow_s_of_members"] = slowed_members
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
         if args.style_shifts:
             by_shift = [shift_means(runs, tracked) for (_, runs), (tracked, _) in zip(scored, draws)]
@@ -287,7 +291,6 @@ def main() -> None:
                "style_shifts": versions,
                "denoiser": str(denoiser_path) if denoiser_path else None,
                "denoise_slow_s": args.denoise_slow,
-               **({"denoise_slow_s_of_members": slowed_members} if slowed_members else {}),
                "mirror_average": args.mirror_average, **preparation_record(steps),
                "rows": rows}, args.json)
 

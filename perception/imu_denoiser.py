@@ -245,6 +245,12 @@ def add_slow_corrections_option(parser: argparse.ArgumentParser) -> None:
                              "(perception/imu_denoiser.py SlowCorrections)")
 
 
+def slowing_of(denoiser: object) -> float | None:
+    """The seconds ``denoiser``'s corrections are slowed to (a :class:`SlowCorrections`); ``None``
+    for a denoiser used whole or none."""
+    return denoiser.smooth_s if isinstance(denoiser, SlowCorrections) else None
+
+
 def check_slowing(denoiser: object, smooth_s: float | None) -> None:
     """Refuse ``--denoise-slow`` (``smooth_s``) without a denoiser (``denoiser``: its path, or the
     network; ``None`` without), before any work."""

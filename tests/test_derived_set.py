@@ -37,7 +37,16 @@ def test_a_derived_set_replaces_the_named_fields_and_keeps_the_rest(tmp_path):
     main([str(tmp_path / "turning"), str(tmp_path / "slowed"), "denoise_slow_s=fast:0.5"])
     slowed = load_policy_set(tmp_path / "slowed")
     assert slowed.denoise_slow_s == (("fast", 0.5),) and slowed.turn == MODELS / "mimic_walk"
-    with pytest.raises(SystemExit, match="denoise_slow_s is ROLE:SECONDS\\[,ROLE:SECONDS\\], got '0.5'"):
+    main([str(tmp_path / "slowed"), str(tmp_path / "kept"), "sideways_speed_mps=0.3"])
+    assert load_policy_set(tmp_path / "kept").denoise_slow_s == (("fast", 0.5),)  # other fields keep the slowing
+    main([str(tmp_path / "slowed"), str(tmp_path / "new_fast"), f"fast={MODELS / 'mimic_walk_back'}"])
+    assert load_policy_set(tmp_path / "new_fast").denoise_slow_s == ()  # a new member does not inherit it
+    main([str(tmp_path / "slowed"), str(tmp_path / "cleared"), "denoise_slow_s="])
+    assert load_policy_set(tmp_path / "cleared").denoise_slow_s == ()
+    with pytest.raises(SystemExit, match="denoise_slow_s is ROLE:SECONDS\\[,ROLE:SECONDS\\] with each ROLE once, "
+                                         "got 'fast:0.5,fast:1'"):
+        main([str(tmp_path / "turning"), str(tmp_path / "bad"), "denoise_slow_s=fast:0.5,fast:1"])
+    with pytest.raises(SystemExit, match="denoise_slow_s is ROLE:SECONDS\\[,ROLE:SECONDS\\] with each ROLE once, got '0.5'"):
         main([str(tmp_path / "turning"), str(tmp_path / "bad"), "denoise_slow_s=0.5"])
     with pytest.raises(SystemExit, match="denoise_slow_s names 'dash', expected a role the set has a policy for"):
         main([str(tmp_path / "turning"), str(tmp_path / "bad"), "denoise_slow_s=dash:0.5"])

@@ -105,6 +105,8 @@ def test_a_member_the_set_slows_tracks_its_takes_prepared_anew_behind_its_slowin
     PolicySet(tmp_path / "set", models / "mimic_walk", models / "mimic_walk", fast=models / "mimic_imu",
               denoise_slow_s=(("fast", 0.5),)).save()
     net = load_network(models / "imu_denoiser_dm", "denoiser")
+    with pytest.raises(ValueError, match="give the draw's preparation steps with its denoiser"):
+        Routed(str(tmp_path / "set"), net)
     routed = Routed(str(tmp_path / "set"), net, no_preparation())
     walk, run_clip = (load_motion(f"deepmimic:{name}", "humanoid_1seg") for name in ("walk", "run"))
     tracked, judged = tracked_and_judged([walk, run_clip], net)

@@ -374,9 +374,16 @@ def test_a_set_can_slow_one_members_denoiser_corrections(tmp_path):
     whole = evaluate.main(["--policy", str(MODELS / "mimic_imu"), "--clips", "deepmimic:run", "--episodes", "1",
                            *denoiser])
     assert whole["per_clip"] != alone["per_clip"]  # ELR 0.093 behind the whole corrections, 0.100 slowed
-    from agents.distill import load_teachers
+    from agents import clean
+    cleaned = clean.main(["deepmimic:run", "--policy", str(tmp_path / "set"), *denoiser, "--no-adapt", "--search", "off",
+                          "--out", str(tmp_path / "run.npz")])
+    assert {Path(k).name: v for k, v in cleaned["denoise_slow_s_of_members"].items()} == {"mimic_imu": 0.5}
+    assert cleaned["denoise_slow_s"] is None  # the command line's, as evaluate.py records it
+    from agents.distill import check_teacher_set
     with pytest.raises(PolicyError, match="slows some members' denoiser corrections its own way"):
-        load_teachers(tmp_path / "set", lambda foot: [])
+        check_teacher_set(tmp_path / "set", MODELS / "imu_denoiser_dm")
+    check_teacher_set(tmp_path / "set", None)  # without a denoiser the slowing changes nothing
+    assert as_set["policy"].startswith(f"{tmp_path / 'set'} + its fast policy's denoiser corrections slowed to 0.5 s")
     spec = json.loads((tmp_path / "set" / "policy_set.json").read_text()) | {"denoise_slow_s": [0.5]}
     (tmp_path / "set" / "policy_set.json").write_text(json.dumps(spec))
     with pytest.raises(PolicyError, match="denoise_slow_s must be an object of roles to seconds"):

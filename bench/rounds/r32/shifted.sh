@@ -9,6 +9,7 @@
 set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r32
 export MUJOCO_GL=egl OMP_NUM_THREADS=1
+[ $# = 4 ] || { echo "shifted.sh: usage: shifted.sh NAME POLICY SEED DENOISER (\"\" for none)" >&2; exit 2; }
 N=$1; P=$2; S=$3; D=$4
 DENOISE_SLOW=${DENOISE_SLOW-0.5}
 if [ -n "$D" ]; then DENOISING=(--denoise "$D" ${DENOISE_SLOW:+--denoise-slow "$DENOISE_SLOW"}); else DENOISING=(--no-denoise); fi
