@@ -7,7 +7,8 @@
 # EXPERTSET9) and style-shifted draws SEED+, confirmed on CONFIRM_SEED+ if it leads (bench/rounds/score_shifted.sh: the
 # rules bench/results/OUT_SEED.json and OUT.json), both sides behind SQ's full corrections, the shipped preparation
 # since round 46 (SHIPPED_DENOISE_SLOW, empty; score_shifted.sh's BASE_ and CANDIDATE_DENOISE_SLOW; since round 48
-# the shipped set's policy_set.json slows its dash member's corrections itself, and a set derived from it keeps that).
+# the shipped set's policy_set.json slows its dash member's corrections itself, and a set derived from it keeps that
+# unless ROLE is dash: derived_set.py drops a replaced role's slowing, so a new dash member tracks behind the full ones).
 # The shipped set's files of both seeds (EXPERTSET9, EXPERTSET9_SQ) are made while the run trains, if missing. If it
 # leads both, its held-out rows are scored once, by hand:
 # DENOISE_SLOW= DENOISER=models/imu_denoiser_stances_quint_mirror bash bench/rounds/r30/heldout.sh NAMESET slow.
