@@ -165,7 +165,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             args.without)):
         behind = member_denoiser(args.policy, policy, denoiser)  # a set may slow a member's corrections its own way
         if behind is not denoiser:
-            slowed_members[policy.name] = behind.smooth_s
+            slowed_members[policy.name] = slowing_of(behind)
         note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=slowing_of(behind))
         if note:
             print(note)

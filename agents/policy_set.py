@@ -64,7 +64,7 @@ from pathlib import Path
 import numpy as np
 
 from agents.policy import MimicPolicy, PolicyError, load_policy
-from perception.imu_denoiser import DenoiserEnsemble, IMUDenoiser, SlowCorrections
+from perception.imu_denoiser import DenoiserEnsemble, IMUDenoiser, SlowCorrections, slowed
 from reference_motion import quality
 from reference_motion import rotations as rot
 from reference_motion.motion import Motion
@@ -241,6 +241,17 @@ class PolicySet:
         :attr:`policies`) in :attr:`denoise_slow_s`; ``None``: as the command line says."""
         return next((seconds for role, seconds in self.denoise_slow_s if getattr(self, role) == Path(policy)), None)
 
+    def denoiser_for(self, policy: Path, denoiser: IMUDenoiser | DenoiserEnsemble | SlowCorrections | None,
+                     ) -> IMUDenoiser | DenoiserEnsemble | SlowCorrections | None:
+        """The denoiser the member ``policy`` (a path of :attr:`policies`) tracks its takes behind: ``denoiser``
+        as the command line made it, or, where :meth:`slowing` gives the member seconds, that denoiser's
+        corrections slowed to them (the command line's slowing replaced; a clip glob routing to the same policy
+        is slowed with it); ``None`` stays ``None`` (takes tracked as given)."""
+        seconds = self.slowing(policy)
+        if denoiser is None or seconds is None:
+            return denoiser
+        return slowed(denoiser.denoiser if isinstance(denoiser, SlowCorrections) else denoiser, seconds)
+
     def route(self, motion: Motion) -> Path:
         """The directory of the policy that performs ``motion``."""
         names = (motion.name, source_name(motion.name))
@@ -360,17 +371,11 @@ def member_denoiser(path: str | Path, policy: MimicPolicy,
                     denoiser: IMUDenoiser | DenoiserEnsemble | SlowCorrections | None,
                     ) -> IMUDenoiser | DenoiserEnsemble | SlowCorrections | None:
     """The denoiser ``policy`` (a member :func:`route_clips` loaded from the set ``path``, or a plain
-    policy directory ``path``) tracks its takes behind: ``denoiser`` as the command line made it, or, where
-    the set gives the member's role a :attr:`PolicySet.denoise_slow_s`, that denoiser's corrections slowed to its
-    seconds (the command line's slowing replaced; a clip glob routing to the same policy is slowed with it);
-    ``None`` stays ``None`` (takes tracked as given)."""
+    policy directory ``path``) tracks its takes behind: :meth:`PolicySet.denoiser_for` of the set,
+    ``denoiser`` itself for a plain policy or none."""
     if denoiser is None or not is_policy_set(path):
         return denoiser
-    seconds = load_policy_set(path).slowing(policy.source or policy.path)
-    if seconds is None:
-        return denoiser
-    whole = denoiser.denoiser if isinstance(denoiser, SlowCorrections) else denoiser
-    return SlowCorrections(whole, seconds)
+    return load_policy_set(path).denoiser_for(policy.source or policy.path, denoiser)
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:

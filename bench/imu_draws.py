@@ -44,7 +44,7 @@ from agents.evaluate import corrupted, reference_clips, tracked_and_judged, trac
 from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, load_policy
-from agents.policy_set import is_policy_set, load_policy_set, member_denoiser, slowing_label, source_name
+from agents.policy_set import is_policy_set, load_policy_set, slowing_label, source_name
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.preparation import PreparationSteps, no_preparation, prepared, preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
@@ -91,7 +91,7 @@ class Routed:
         self.set = load_policy_set(path)
         self.policies = {p: load_policy(p) for p in self.set.policies}
         self.denoiser, self.steps = denoiser, steps or no_preparation()
-        self.behind = {p: member_denoiser(path, policy, denoiser) for p, policy in self.policies.items()}
+        self.behind = {p: self.set.denoiser_for(p, denoiser) for p in self.policies}
 
     def tracked(self, member: Path, tracked: list[Motion], judged: list[Motion] | None, indices: list[int]
                 ) -> list[Motion]:
