@@ -1,14 +1,14 @@
 #!/bin/bash
-# Round 50 (written stop 90, not yet started; a run, not yet a registered candidate): SXR, the sideways expert trained for raw IMU takes. After
-# the backward walk, the raw rows' set (RAWSET: the shipped set with no denoiser in front) loses most on validation's
-# sideways walks (walk-left wider 0.896 and faster 0.906, walk-right faster 0.916, averaged over round 47's draws
-# 2190000+ and 2200000+), which go to the sideways expert SX (models/mimic_general_sideways), trained behind the
-# denoiser's slow corrections only. SXR is SX trained on by PPO as the symmetric actor with round 45's data and
-# settings (bench/rounds/r45/sxs_cmd.sh: half its episodes clean) but its IMU takes tracked as given, as round 49's BXR
-# was for the backward expert: no --denoise and no --denoise-slow, the legs still evened and parted, grounded and
-# swing-lifted as the raw rows track them. --total-steps only bounds the run. Run by bench/rounds/ppo_run.sh: a second
-# call resumes the run; on a machine without runs/r50/ppo_sxr it carries on from models/mimic_general_sideways/raw_run
-# where one is committed.
+# Round 50 (written stop 90, not yet started; a run, not yet a registered candidate): SXR, the sideways expert trained
+# for raw IMU takes. After the backward walk, the raw rows' set (RAWSET: the shipped set with no denoiser in front)
+# loses most on validation's sideways walks (walk-left wider 0.896 and faster 0.906, walk-right faster 0.916, averaged
+# over round 47's draws 2190000+ and 2200000+), which go to the sideways expert SX (models/mimic_general_sideways),
+# trained behind the denoiser's slow corrections only. SXR is SX trained on by PPO as the symmetric actor with round
+# 45's data and settings (bench/rounds/r45/sxs_cmd.sh: half its episodes clean) but its IMU takes tracked as given, as
+# round 49's BXR was for the backward expert: no --denoise and no --denoise-slow, the legs still evened and parted,
+# grounded and swing-lifted as the raw rows track them. --total-steps only bounds the run. Run by
+# bench/rounds/ppo_run.sh: a second call resumes the run; on a machine without runs/r50/ppo_sxr it carries on from
+# models/mimic_general_sideways/raw_run where one is committed.
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
 SIDEWAYS=$(.venv/bin/python -c "from reference_motion.motion_library import library_set
