@@ -44,19 +44,22 @@ sys.exit(got != want and f'score_shifted.sh: {f} was made behind the denoiser {g
          f'asks for {want[0]} slowed {want[1]}: give its files other names')" "$1" "$DENOISER" "$2" || exit 2
 }
 rows() {  # rows SLOW POLICY CLEAN_NAME SHIFTED_NAME SEED...: a side's validation clean file and draw files, if missing
-  local slow=$1 policy=$2 clean=$3 shifted=$4 seed
+  # (the clean file is made beside the draw files, so a side whose other side's files are kept uses both cores)
+  local slow=$1 policy=$2 clean=$3 shifted=$4 seed clean_job=
   shift 4
   if ! kept "$(clean_file "$clean")" "$slow"; then
     if [ -n "$DENOISER" ]; then
-      DENOISE_SLOW=$slow bash bench/rounds/r24/clean_slow.sh "$clean" "$policy" "$DENOISER" --even-legs --part-legs
+      DENOISE_SLOW=$slow bash bench/rounds/r24/clean_slow.sh "$clean" "$policy" "$DENOISER" --even-legs --part-legs &
     else
-      bash bench/rounds/r23/clean_any.sh "$clean" "$policy" --even-legs --part-legs
+      bash bench/rounds/r23/clean_any.sh "$clean" "$policy" --even-legs --part-legs &
     fi
+    clean_job=$!
   fi
   for seed in "$@"; do
     kept "bench/results/round32_shifted_${seed}_$shifted.json" "$slow" ||
       DENOISE_SLOW=$slow bash bench/rounds/r32/shifted.sh "$shifted" "$policy" "$seed" "$DENOISER"
   done
+  [ -z "$clean_job" ] || wait "$clean_job"
 }
 if [ $BASE_ONLY = 1 ]; then rows "$BASE_DENOISE_SLOW" "$BASE" "$CLEAN" "$SHIFTED" "$SEED" "$CONFIRM"; exit; fi
 rows "$BASE_DENOISE_SLOW" "$BASE" "$CLEAN" "$SHIFTED" "$SEED" &
