@@ -31,9 +31,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from reference_motion.footskate import contact_windows
 from reference_motion.humanoid.model import Kinematics, load_model
 from reference_motion.motion import Motion
-from reference_motion.quality import apparent_ground
+from reference_motion.quality import apparent_ground, horizontal_speed
 
 FOOT_BODIES = ("l_foot", "r_foot")
 """The feet's bodies, left then right."""
@@ -41,8 +42,8 @@ FOOT_BODIES = ("l_foot", "r_foot")
 LIBRARY_STANCE_TILT = ((-0.3, 1.1), (0.0, 0.7), (-1.5, 4.5), (-1.2, 3.9))
 """Mean and spread (degrees) of a stance's mean sole tilt over the clean training takes of the motion
 library (``humanoid_1seg``, stances found by :func:`stance_windows`; ``foot_stats.py train``): left pitch, right pitch,
-left roll, right roll (roll mirrored between the sides; positive pitch lifts the toe, positive roll
-lifts the sole's inner edge on the left and its outer edge on the right)."""
+left roll, right roll (as :func:`sole_tilt` reads them on both feet alike: positive pitch lifts the toe,
+positive roll lifts the foot's left edge)."""
 
 
 @dataclass(frozen=True)
@@ -110,11 +111,9 @@ def stance_windows(kin: Kinematics, fps: float, level: FootLevel = FootLevel()) 
         sole = kin.foot_points[:, [toe, heel]]
         low = sole[..., 2].max(axis=1) - ground <= level.contact_height_m
         centre = sole[..., :2].mean(axis=1)
-        speed = np.linalg.norm(np.gradient(centre, axis=0), axis=1) * fps if len(centre) > 1 else np.zeros(len(centre))
-        planted = np.concatenate([[False], low & (speed < level.max_speed_mps), [False]])
-        runs = np.flatnonzero(np.diff(planted.astype(np.int8))).reshape(-1, 2)
+        speed = horizontal_speed(centre[:, None], fps)[:, 0] if len(centre) > 1 else np.zeros(len(centre))
         windows = []
-        for start, stop in runs:
+        for start, stop in contact_windows(low & (speed < level.max_speed_mps)):
             if stop - start < level.min_stance_s * fps:
                 continue
             cut = int(round((stop - start) * (1 - level.middle) / 2))
