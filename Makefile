@@ -21,17 +21,17 @@ $(VENV)/.video-extra: $(PY)
 	touch $@
 
 # Main job on built-in data: a held-out clip (walker/turn_left1, never seen in training), corrupted with
-# IMU artefacts (seed 1000, never used in training), cleaned by the shipped generalist after a short
-# adaptation to the clip (cached: a second run skips it): before/after metrics, the cleaned motion
-# (.npz, .bvh) and a side-by-side video (reference | cleaned, re-anchors framed in red) in out/. Then the
-# same take's foot skate removed by the vGRF-guided cleanup (UnderPressure §6): .npz, .bvh and a speed plot.
-DEMO_POLICY ?= models/mimic_general
-DEMO_ADAPT_S ?= 150
-DEMO_ADAPT_STEPS ?= 143360
+# IMU artefacts (seed 1000, never used in training), cleaned the way the README recommends for an IMU-suit take
+# (`--preset imu`: the IMU denoiser, then the policy set validation chose, zero-shot): before/after metrics, the
+# cleaned motion (.npz, .bvh) and a side-by-side video (reference | cleaned, re-anchors framed in red) in out/.
+# Then the same take's foot skate removed by the vGRF-guided cleanup (UnderPressure §6): .npz, .bvh and a speed plot.
+# DEMO_WITH chooses how clean.py cleans, e.g. per-clip adaptation of the first generalist (the demo until stop 93):
+#   make demo DEMO_WITH="--policy models/mimic_general --adapt-budget-s 150 --adapt-steps 143360"
+DEMO_WITH ?= --preset imu
 demo: setup
 	mkdir -p out
-	$(PY) agents/clean.py deepmimic:walker/turn_left1 --policy $(DEMO_POLICY) --corrupt imu --strength 1 \
-		--seed 1000 --min-frames 600 --adapt-budget-s $(DEMO_ADAPT_S) --adapt-steps $(DEMO_ADAPT_STEPS) --out out/turn_left1_cleaned.npz \
+	$(PY) agents/clean.py deepmimic:walker/turn_left1 $(DEMO_WITH) --corrupt imu --strength 1 \
+		--seed 1000 --min-frames 600 --out out/turn_left1_cleaned.npz \
 		--bvh out/turn_left1_cleaned.bvh --video out/turn_left1_imu_vs_cleaned.mp4 --json out/turn_left1_metrics.json
 	$(PY) -m perception cleanup deepmimic:walker/turn_left1 --corrupt imu --strength 1 --seed 1000 \
 		--min-frames 600 --out out/turn_left1_noskate.npz --bvh out/turn_left1_noskate.bvh \
