@@ -125,7 +125,8 @@ def performed(policy: MimicPolicy, tracked: list[Motion], judged: list[Motion],
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("policy", help="a policy directory or run checkpoint")
-    p.add_argument("denoiser", help="the IMU denoiser the takes pass through (its corrections slowed to 0.5 s)")
+    p.add_argument("denoiser", help="the IMU denoiser the takes pass through (its corrections slowed to 0.5 s); "
+                                    "'none': the takes as the suit gave them (the raw rows, stop 93)")
     p.add_argument("first_seed", type=int, help="the first draw's seed (as imu_draws.py --first-seed)")
     p.add_argument("draws", type=int)
     p.add_argument("out", help="the JSON to write")
@@ -142,7 +143,7 @@ def main() -> None:
     policy = load_policy(args.policy)
     if args.steer is not None:
         policy = policy.steering(*args.steer)
-    net = slowed(load_network(args.denoiser, "denoiser"), 0.5)
+    net = None if args.denoiser == "none" else slowed(load_network(args.denoiser, "denoiser"), 0.5)
     config = MimicConfig()
     versions = len(STYLE_SHIFT_NAMES)
     stride = len(expand_clips(VAL_CLIPS)) * versions  # imu_draws.py --style-shifts: a seed per tracked clip
