@@ -474,6 +474,12 @@ PRESETS: dict[str, CleanPreset] = {
 """``--preset NAME``: :class:`CleanPreset` of each kind of take."""
 
 
+def cleans_as_preset(args: argparse.Namespace) -> bool:
+    """Whether ``args`` (:func:`parse_clean_args`) name a ``--preset`` and override none of its values."""
+    return args.preset is not None and all(getattr(args, name) == value
+                                           for name, value in asdict(PRESETS[args.preset]).items())
+
+
 def parse_clean_args(parser: CliParser, argv: list[str] | None) -> argparse.Namespace:
     """``argv`` (default: ``sys.argv[1:]``) parsed by ``parser`` (:func:`build_parser`), the values of
     its ``--preset`` (:data:`PRESETS`) filling what the command line leaves out; a bad combination
@@ -710,7 +716,10 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
             slowed_members = {policy.name: slowing_of(denoiser)}
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
-        note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=slowing_of(denoiser))
+        # a preset's preparation is what validation chose for its policies as they were trained (round 46 gives the
+        # IMU preset's members the denoiser's full corrections): the note is for preparations chosen otherwise
+        note = None if cleans_as_preset(args) else policy.preparation_note(args.denoise, **steps,
+                                                                             denoise_slow_s=slowing_of(denoiser))
         if note:
             print(note)
         performed = prepared(reference, denoiser, **steps)

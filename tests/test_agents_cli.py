@@ -142,6 +142,9 @@ def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
     assert mine.denoise == STANCES_DENOISER and mine.even_legs  # the rest of the preset still holds
     plain = parsed("--policy", "models/mimic_walk")
     assert (plain.preset, plain.denoise, plain.ground, plain.mirror_average, plain.no_adapt) == (None, None, False, False, False)
+    assert clean.cleans_as_preset(imu) and clean.cleans_as_preset(optical)
+    assert not clean.cleans_as_preset(mine) and not clean.cleans_as_preset(plain)
+    assert not clean.cleans_as_preset(parsed("--preset", "imu", "--denoise-slow", "0.5"))
     with pytest.raises(UsageError, match="required: --policy \\(or --preset\\)"):
         parsed()
     with pytest.raises(UsageError, match="--preset imu cleans with a PPO policy; it goes with --method ppo"):
@@ -150,15 +153,19 @@ def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
         parsed("--preset", "marker")
 
 
-def test_the_imu_preset_cleans_as_its_flags_do(tmp_path):
+def test_the_imu_preset_cleans_as_its_flags_do(tmp_path, capsys):
     """clean.py --preset imu performs an IMU take exactly as the flags it stands for do, with the
-    shipped policy set validation chose for IMU takes, and records the preset."""
+    shipped policy set validation chose for IMU takes, and records the preset; the note on a
+    preparation unlike the policy's training is left to the flags given by hand (the turning expert
+    trained behind slowed corrections; validation gives it the whole ones)."""
     take = ["deepmimic:walker/turn_left0", "--corrupt", "imu", "--seed", "3", "--search", "off"]
     preset = clean.main(take + ["--preset", "imu", "--out", str(tmp_path / "preset.npz")])
+    assert "note:" not in capsys.readouterr().out
     flags = clean.main(take + ["--policy", "models/mimic_general_expert_set", "--denoise", str(STANCES_DENOISER),
                                "--even-legs",
                                "--part-legs", "--ground", "--swing-lift", "--mirror-average", "--no-adapt",
                                "--out", str(tmp_path / "flags.npz")])
+    assert "was trained on references behind the denoiser's corrections slowed to 0.5 s" in capsys.readouterr().out
     np.testing.assert_array_equal(Motion.load(tmp_path / "preset.npz").qpos, Motion.load(tmp_path / "flags.npz").qpos)
     assert preset["preset"] == "imu" and flags["preset"] is None and preset["adaptation"] is None
     assert preset["policy"] == flags["policy"] == "models/mimic_general_expert_set"  # recorded from the repository root
