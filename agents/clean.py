@@ -475,9 +475,18 @@ PRESETS: dict[str, CleanPreset] = {
 
 
 def cleans_as_preset(args: argparse.Namespace) -> bool:
-    """Whether ``args`` (:func:`parse_clean_args`) name a ``--preset`` and override none of its values."""
-    return args.preset is not None and all(getattr(args, name) == value
-                                           for name, value in asdict(PRESETS[args.preset]).items())
+    """Whether ``args`` (:func:`parse_clean_args`) name a ``--preset`` and prepare and perform a take as it
+    says: none of its values given otherwise (a path to the same directory counts as the same), and the
+    swing lift read as the presets read it (no ``--swing-from``)."""
+    if args.preset is None or args.swing_from is not None:
+        return False
+
+    def same(given: object, value: object) -> bool:
+        if isinstance(value, Path) and given is not None:
+            return Path(given).resolve() == value.resolve()
+        return given == value
+
+    return all(same(getattr(args, name), value) for name, value in asdict(PRESETS[args.preset]).items())
 
 
 def parse_clean_args(parser: CliParser, argv: list[str] | None) -> argparse.Namespace:

@@ -145,6 +145,9 @@ def test_a_preset_stands_for_its_policy_and_flags_and_given_flags_win():
     assert clean.cleans_as_preset(imu) and clean.cleans_as_preset(optical)
     assert not clean.cleans_as_preset(mine) and not clean.cleans_as_preset(plain)
     assert not clean.cleans_as_preset(parsed("--preset", "imu", "--denoise-slow", "0.5"))
+    assert not clean.cleans_as_preset(parsed("--preset", "imu", "--swing-from", "speed"))
+    assert clean.cleans_as_preset(parsed("--preset", "imu", "--policy", str(MODELS_DIR / "mimic_general_expert_set"),
+                                         "--denoise", str(STANCES_DENOISER)))  # the preset's own, restated
     with pytest.raises(UsageError, match="required: --policy \\(or --preset\\)"):
         parsed()
     with pytest.raises(UsageError, match="--preset imu cleans with a PPO policy; it goes with --method ppo"):

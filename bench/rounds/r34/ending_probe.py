@@ -12,6 +12,8 @@ it, so each early end is classed by those distances (:func:`end_class`): *fallen
 than FALLEN_BELOW_M below the take's), else *behind* or *ahead* (more than ALONG_M along the take's way), else
 *aside*.
 
+DENOISER ``none`` (stop 93): the takes as the suit gave them, the rest of the preparation as before.
+
 usage: python bench/rounds/r34/ending_probe.py POLICY DENOISER FIRST_SEED DRAWS OUT.json [--steer GAIN_HZ CAP_MPS]
 [--torque-scale PART FACTOR]
 
