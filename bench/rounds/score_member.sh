@@ -21,8 +21,8 @@
 # rows' choice models/mimic_general_raw_set (since round 49; its dash member DXR since round 51) is the base and
 # baseline, both sides scored with no denoiser in front (score_shifted.sh's raw scoring; its files RAWSET11 and
 # RAWSET11_RAW, made anew as round 51's were named after runs/sets/DXRSET; RAWSET10 and RAWSET10_RAW were the set's
-# with BXR and the denoiser-trained dash expert, rounds 50-52), and the held-out rows, if it leads both: bash bench/rounds/r30/heldout.sh
-# NAMESET raw.
+# with BXR and the denoiser-trained dash expert, rounds 50-52), and the held-out rows, if it leads both:
+# bash bench/rounds/r30/heldout.sh NAMESET raw.
 set -eo pipefail
 [ $# = 7 ] || { echo "score_member.sh: usage: score_member.sh RUN_DIR HHMM NAME ROLE SEED CONFIRM_SEED OUT" >&2; exit 2; }
 RUN=$1; HHMM=$2; NAME=$3; ROLE=$4; SEED=$5; CONFIRM=$6; OUT=$7
