@@ -64,7 +64,7 @@ import envs  # noqa: F401  (registers the ids)
 from agents.adaptation import KEEP_RULES, MIN_ADAPT_FRAMES, AdaptConfig, AdaptResult, adapt_policy, default_cache_dir
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy
-from agents.policy_set import member_denoiser, route_clips
+from agents.policy_set import member_denoiser, route_clips, slowed_members
 from agents.rollout import Episode, Policy, run_episode, sampling_policy, seeded, torch_threads
 from agents.search import SearchConfig, search
 from agents.sidecar import repository_relative
@@ -705,7 +705,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         check_slowing(args.denoise, args.denoise_slow)
     steps = preparation_of(args)
     lift, grounding, legs, symmetry = steps["lift"], steps["grounding"], steps["legs"], steps["symmetry"]
-    adaptation, extra, slowed_members = None, {}, {}
+    adaptation, extra, own_slowing = None, {}, {}
     if args.method == "diffpd":
         given = [flag for flag, on in (("--denoise", args.denoise), ("--denoise-slow", args.denoise_slow),
                                        ("--even-legs", symmetry), ("--part-legs", legs),
@@ -721,8 +721,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
         [(policy, [reference])] = route_clips(args.policy, lambda foot: [load_clip(FOOT_MODELS[foot], args)])
         whole = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
         denoiser = member_denoiser(args.policy, policy, whole)  # a set may slow its member's corrections its own way
-        if denoiser is not whole:
-            slowed_members = {policy.name: slowing_of(denoiser)}
+        own_slowing = slowed_members({policy.name: denoiser}, whole)
         policy = performing_policy(policy, args)
         config = clean_config(policy, reference, args)
         # a preset's preparation is what validation chose for its policies as they were trained (round 46 gives the
@@ -774,7 +773,7 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               "adaptation": adaptation.as_dict() if adaptation else None, "method": args.method,
               "touch_up": touch, "denoiser": str(args.denoise) if args.denoise else None,
               "denoise_slow_s": args.denoise_slow,
-              **({"denoise_slow_s_of_members": slowed_members} if slowed_members else {}),
+              **({"denoise_slow_s_of_members": own_slowing} if own_slowing else {}),
               "mirror_average": args.mirror_average, **preparation_record(steps), **extra}
     if args.json:
         write_json(args.json, result)

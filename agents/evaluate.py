@@ -27,7 +27,7 @@ import numpy as np
 import envs  # noqa: F401  (registers the ids)
 from agents.evaluation import evaluate_tracking, per_clip, summarize
 from agents.mirror import actor_label
-from agents.policy_set import is_policy_set, member_denoiser, route_clips, slowing_label
+from agents.policy_set import is_policy_set, member_denoiser, route_clips, slowed_members, slowing_label
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.observations import SAME_LAYOUT_FRAMES
 from envs.preparation import PreparationSteps, prepared, preparation_of, preparation_record, prepares_any
@@ -159,13 +159,12 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
                          + ("give --corrupt imu" if args.corrupt is None else f"got --corrupt {args.corrupt}"))
     denoiser = slowed(load_network(args.denoise, "denoiser") if args.denoise else None, args.denoise_slow)
     steps = preparation_of(args)
-    runs, frames, rates, gains, routed_to, slowed_members = [], set(), set(), set(), {}, {}
+    runs, frames, rates, gains, routed_to, behind_of = [], set(), set(), set(), {}, {}
     for policy, clips in route_clips(args.policy, lambda foot: reference_clips(
             args.clips, FOOT_MODELS[foot], MimicConfig(), args.corrupt, args.strength, args.seed, mocap_options(args),
             args.without)):
         behind = member_denoiser(args.policy, policy, denoiser)  # a set may slow a member's corrections its own way
-        if behind is not denoiser:
-            slowed_members[policy.name] = slowing_of(behind)
+        behind_of[policy.name] = behind
         note = policy.preparation_note(args.denoise, **steps, denoise_slow_s=slowing_of(behind))
         if note:
             print(note)
@@ -197,8 +196,9 @@ def main(argv: list[str] | None = None, prog: str | None = None) -> dict:
               **summary, "artefacts": artefact_table(runs), "per_clip": per_clip(runs)}
     if is_policy_set(args.policy):  # which of the set's policies performed each clip
         result["routed_to"] = routed_to
-    if slowed_members:  # the members the set tracks behind their own slowing (seconds)
-        result["denoise_slow_s_of_members"] = slowed_members
+    own_slowing = slowed_members(behind_of, denoiser)
+    if own_slowing:  # the members the set tracks behind their own slowing (seconds)
+        result["denoise_slow_s_of_members"] = own_slowing
     symmetry, legs, grounding, lift = steps["symmetry"], steps["legs"], steps["grounding"], steps["lift"]
     changes = [text for text in (f"with their {symmetry.label}" if symmetry else "",
                                  f"with their {legs.label}" if legs else "", "set on the floor" if grounding else "",

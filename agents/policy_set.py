@@ -57,14 +57,14 @@ import math
 import numbers
 import os
 import re
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
 from agents.policy import MimicPolicy, PolicyError, load_policy
-from perception.imu_denoiser import DenoiserEnsemble, IMUDenoiser, SlowCorrections, slowed
+from perception.imu_denoiser import DenoiserEnsemble, IMUDenoiser, SlowCorrections, slowed, slowing_of
 from reference_motion import quality
 from reference_motion import rotations as rot
 from reference_motion.motion import Motion
@@ -376,6 +376,14 @@ def member_denoiser(path: str | Path, policy: MimicPolicy,
     if denoiser is None or not is_policy_set(path):
         return denoiser
     return load_policy_set(path).denoiser_for(policy.source or policy.path, denoiser)
+
+
+def slowed_members(behind: Mapping[str, object], denoiser: object) -> dict[str, float | None]:
+    """``{member: seconds}`` for the members of ``behind`` (``{member name: the denoiser it tracks its
+    takes behind}``, :func:`member_denoiser`'s) that a policy set slows its own way rather than tracking them
+    behind ``denoiser``, the one the command line gave: what results record as ``denoise_slow_s_of_members``
+    (empty for a plain policy or a set that slows none)."""
+    return {name: slowing_of(own) for name, own in behind.items() if own is not denoiser}
 
 
 def route_clips(path: str | Path, load: Callable[[str], list[Motion]]) -> list[tuple[MimicPolicy, list[Motion]]]:

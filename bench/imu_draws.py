@@ -44,7 +44,7 @@ from agents.evaluate import corrupted, reference_clips, tracked_and_judged, trac
 from agents.evaluation import Rollout, evaluate_tracking
 from agents.mirror import actor_label
 from agents.policy import MimicPolicy, load_policy
-from agents.policy_set import is_policy_set, load_policy_set, slowing_label, source_name
+from agents.policy_set import is_policy_set, load_policy_set, slowed_members, slowing_label, source_name
 from envs.config import FOOT_MODELS, MimicConfig
 from envs.preparation import PreparationSteps, no_preparation, prepared, preparation_of, preparation_record
 from ensemble import MeanAction, ensemble_label  # bench/ensemble.py: the scripts run from bench/
@@ -270,10 +270,9 @@ def main() -> None:
                      "ELR_per_take": take_means(scored, draws, versions)})
         if isinstance(policy, Routed):
             rows[-1]["routed_to"] = policy.routing(draws, versions)
-            slowed_members = {policy.policies[p].name: slowing_of(behind) for p, behind in policy.behind.items()
-                              if behind is not net}
-            if slowed_members:  # the members the set tracks behind their own slowing (seconds)
-                rows[-1]["denoise_slow_s_of_members"] = slowed_members
+            own_slowing = slowed_members({policy.policies[p].name: behind for p, behind in policy.behind.items()}, net)
+            if own_slowing:  # the members the set tracks behind their own slowing (seconds)
+                rows[-1]["denoise_slow_s_of_members"] = own_slowing
         print(f"{label:<48} ELR {elr.mean():.3f}  per draw {' '.join(f'{e:.2f}' for e in elr)}", flush=True)
         if args.style_shifts:
             by_shift = [shift_means(runs, tracked) for (_, runs), (tracked, _) in zip(scored, draws)]

@@ -336,7 +336,7 @@ def test_a_set_can_slow_one_members_denoiser_corrections(tmp_path):
     seconds, replacing the command line's slowing, every other member behind the denoiser as given, no denoiser
     stays none; a role the set has no policy for, bad seconds, or one member slowed two ways is a clear error."""
     from agents.policy import load_policy
-    from agents.policy_set import member_denoiser
+    from agents.policy_set import member_denoiser, slowed_members
     from perception.imu_denoiser import SlowCorrections
     from perception.weights import load_network
 
@@ -354,6 +354,8 @@ def test_a_set_can_slow_one_members_denoiser_corrections(tmp_path):
     assert member_denoiser(tmp_path / "set", walker, net) is net
     assert member_denoiser(tmp_path / "set", fast, None) is None
     assert member_denoiser(MODELS / "mimic_imu", fast, net) is net  # a plain policy: as the command line says
+    assert slowed_members({"fast": behind, "walker": net}, net) == {"fast": 0.5}  # what results record
+    assert slowed_members({"walker": net}, net) == {} and slowed_members({"fast": None}, None) == {}
     with pytest.raises(PolicyError, match="denoise_slow_s names 'dash', expected a role the set has a policy for: "
                                           "default, backward, fast"):
         PolicySet(tmp_path / "bad", MODELS / "mimic_walk", MODELS / "mimic_imu", fast=MODELS / "mimic_imu",
