@@ -16,8 +16,9 @@ reported; the machine is noisy):
 * [256, 256] with 16 or 32 envs stepped as one batch in the learner's process, their physics on one
   thread per core (``--vec batched``, the default: ``agents/batched_vec_env.py``), the learner on 1 torch thread
   while collecting and one per core while updating (``train_ppo.UpdateThreads``);
-* [256, 256] with 32 envs in one shard per core, each shard stepped as one batch (``--vec
-  sharded-batched``), the learner's threads as with ``batched``.
+* [256, 256] with 32 or 64 envs in one shard per core, each shard stepped as one batch (``--vec
+  sharded-batched``; 64: ``--n-envs 64``, 128 steps per env and rollout), the learner's threads as with
+  ``batched``.
 
 A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
 The physics floor is the rate at which the cores would produce those frames doing nothing but
@@ -88,7 +89,8 @@ SETTINGS = [Setting("1024,1024,512", 8, "dummy", 2), Setting("256,256", 8, "dumm
             Setting("256,256", 8, "sharded", 1), Setting("256,256", 16, "sharded", 1),
             Setting("256,256", 16, "batched", 1, update_threads=CORES),
             Setting("256,256", 32, "batched", 1, update_threads=CORES),
-            Setting("256,256", 32, "sharded-batched", 1, update_threads=CORES)]
+            Setting("256,256", 32, "sharded-batched", 1, update_threads=CORES),
+            Setting("256,256", 64, "sharded-batched", 1, update_threads=CORES)]
 VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv, "batched": BatchedMimicVecEnv,
                "sharded-batched": functools.partial(ShardedVecEnv, shard=BatchShard)}
 
