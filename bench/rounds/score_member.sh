@@ -18,10 +18,11 @@
 # EXPERTSET7_SQ FXSSET's, EXPERTSET6 and EXPERTSET6_SQ BXS2RSET's, EXPERTSET4 and EXPERTSET5_SQ TX2SET's): once
 # another set or preparation replaces it, they need new names here (score_shifted.sh keeps a file of the same name).
 # With DENOISER set empty (DENOISER= bash bench/rounds/score_member.sh ...), the raw rows' member instead: the raw
-# rows' choice models/mimic_general_raw_set (since round 49; its dash member DXR since round 51) is the base and
-# baseline, both sides scored with no denoiser in front (score_shifted.sh's raw scoring; its files RAWSET11 and
-# RAWSET11_RAW, made anew as round 51's were named after runs/sets/DXRSET; RAWSET10 and RAWSET10_RAW were the set's
-# with BXR and the denoiser-trained dash expert, rounds 50-52), and the held-out rows, if it leads both:
+# rows' choice models/mimic_general_raw_set (since round 49; its dash member DXR since round 51, its turn member TXR
+# since round 54) is the base and baseline, both sides scored with no denoiser in front (score_shifted.sh's raw
+# scoring; its files RAWSET12 and RAWSET12_RAW, made anew for the set with TXR; RAWSET11 and RAWSET11_RAW were the set
+# with TX, named after runs/sets/DXRSET in round 51; RAWSET10 and RAWSET10_RAW the set's with BXR and the
+# denoiser-trained dash expert, rounds 50-52), and the held-out rows, if it leads both:
 # bash bench/rounds/r30/heldout.sh NAMESET raw.
 set -eo pipefail
 [ $# = 7 ] || { echo "score_member.sh: usage: score_member.sh RUN_DIR HHMM NAME ROLE SEED CONFIRM_SEED OUT" >&2; exit 2; }
@@ -33,7 +34,7 @@ cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 BASE=models/mimic_general_expert_set
 SHIPPED_CLEAN=EXPERTSET9 SHIPPED_SHIFTED=EXPERTSET9_SQ SHIPPED_DENOISE_SLOW=
 if [ -n "${DENOISER+set}" ] && [ -z "$DENOISER" ]; then  # the raw rows: both sides with no denoiser in front
-  BASE=models/mimic_general_raw_set SHIPPED_CLEAN=RAWSET11 SHIPPED_SHIFTED=RAWSET11_RAW
+  BASE=models/mimic_general_raw_set SHIPPED_CLEAN=RAWSET12 SHIPPED_SHIFTED=RAWSET12_RAW
 fi
 export BASE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW CANDIDATE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW
 bash bench/rounds/r28/candidate.sh "$RUN" "$HHMM" "$NAME" &
