@@ -221,7 +221,8 @@ def build_parser(prog: str | None = None) -> CliParser:
     g.add_argument("--total-steps", type=positive_int, default=3_000_000, help="environment (control) steps")
     g.add_argument("--n-envs", type=positive_int, default=None,
                    help="environments stepped together (one policy batch; default: 32 with --vec batched or "
-                        "sharded-batched, the fastest on 2 cores (README), else 8)")
+                        "sharded-batched, what every shipped policy trained with, else 8; 64 in 2 sharded batches "
+                        "is the fastest on 2 cores, README)")
     g.add_argument("--vec", choices=VEC_KINDS, default=None,
                    help="batched: the envs stepped as one batch in this process, their physics on --workers "
                         "threads (agents/batched_vec_env.py; the fastest on 2 cores, see README; MimicIMU-v0 and "

@@ -5,14 +5,18 @@
 # with seeds SEED1 and SEED2 (bench/results/roundROUND_turns_imu1_NAME_SEED.json, logs in runs/rROUND/); CAND replaces
 # BASE if its ELR is higher with both seeds (bench/results/roundROUND_select_CAND_NAME.json, replaces_baseline).
 # With DENOISER set empty (DENOISER= bash bench/rounds/score_turns.sh ...), both sets track the turns as the suit gave
-# them, with the raw rows' preparation (no denoiser in front; since round 54).
+# them, with the raw rows' preparation (no denoiser in front; since round 54); DENOISER unset is the stances denoiser's
+# slow corrections, and any other value is refused.
 set -eo pipefail
 cd "$(dirname "$0")/../.."
 [ $# -eq 7 ] || { echo "usage: score_turns.sh ROUND BASE_NAME BASE CAND_NAME CAND SEED1 SEED2" >&2; exit 2; }
 R=$1; BASE_NAME=$2; BASE=$3; CAND_NAME=$4; CAND=$5; SEEDS=("$6" "$7")
 export MUJOCO_GL=egl OMP_NUM_THREADS=1
 DENOISE=(--denoise models/imu_denoiser_stances_quint_mirror --denoise-slow 0.5)
-if [ -n "${DENOISER+set}" ] && [ -z "$DENOISER" ]; then DENOISE=(); fi  # the raw rows
+if [ -n "${DENOISER+set}" ]; then  # the raw rows
+  [ -z "$DENOISER" ] || { echo "score_turns.sh: DENOISER is empty (the raw rows) or unset, got '$DENOISER'" >&2; exit 2; }
+  DENOISE=()
+fi
 mkdir -p "runs/r$R"
 turns() {  # turns NAME SET SEED
   .venv/bin/python agents/evaluate.py --policy "$2" --mirror-average "${DENOISE[@]}" \

@@ -6,6 +6,8 @@
 # (DENOISER= bench/rounds/score_turns.sh): TXRSET replaces the raw set if its ELR on them, IMU strength 1, 20
 # rollouts each, is higher on both seeds 2390000 and 2400000. If it replaces it, its held-out raw rows once
 # (bench/rounds/r30/heldout.sh TXRSET raw: seeds 1000-4000, the test split and the DeepMimic walkers).
+# As run in stop 94: since then models/mimic_general_raw_set holds TXR itself, so a second run would score TXR against
+# itself and overwrite the round's files; the files it wrote are committed.
 set -eo pipefail
 cd "$(dirname "$0")/../../.." && mkdir -p runs/r28 runs/r54
 bash bench/rounds/r28/candidate.sh runs/r54/ppo_txr 1540 TXR

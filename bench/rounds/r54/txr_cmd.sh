@@ -2,7 +2,8 @@
 # Round 54 (stop 94): TXR, the raw set's turning expert trained on raw IMU takes. The raw rows' set
 # (models/mimic_general_raw_set) sends every take whose pelvis heading turns faster than 0.3 rad/s to
 # mimic_general_turning (TX, rounds 37-38), trained behind the IMU denoiser's slow corrections only; the fast and
-# turning experts are the two members not yet trained on raw takes (rounds 49-52: backward, sideways, default, dash).
+# turning roles are the two not yet tried with a member trained on raw takes (rounds 49-52 tried the backward,
+# sideways, default and dash ones; the backward and dash ones joined the set).
 # TXR is TX trained on by PPO with TX's own command (bench/rounds/r37/tx_cmd.sh: DeepMimic's two training turns,
 # mirrored, 3/4 of the episodes IMU-corrupted, the privileged critic) but its IMU takes tracked as given: no --denoise
 # and no --denoise-slow, the legs still evened and parted, grounded and swing-lifted as the raw rows track them.
