@@ -225,7 +225,7 @@ def build_parser(prog: str | None = None) -> CliParser:
                         "is the fastest on 2 cores, README)")
     g.add_argument("--vec", choices=VEC_KINDS, default=None,
                    help="batched: the envs stepped as one batch in this process, their physics on --workers "
-                        "threads (agents/batched_vec_env.py; the fastest on 2 cores, see README; MimicIMU-v0 and "
+                        "threads (agents/batched_vec_env.py; the default, see README; MimicIMU-v0 and "
                         "its ablations); sharded-batched: the envs split over --workers shards, this process and "
                         "worker processes, each shard stepped as one batch (the batches' Python on every core too: "
                         "for many cores); sharded: the same shards with their envs stepped one at a time "
