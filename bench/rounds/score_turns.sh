@@ -14,7 +14,8 @@ R=$1; BASE_NAME=$2; BASE=$3; CAND_NAME=$4; CAND=$5; SEEDS=("$6" "$7")
 export MUJOCO_GL=egl OMP_NUM_THREADS=1
 DENOISE=(--denoise models/imu_denoiser_stances_quint_mirror --denoise-slow 0.5)
 if [ -n "${DENOISER+set}" ]; then  # the raw rows
-  [ -z "$DENOISER" ] || { echo "score_turns.sh: DENOISER is empty (the raw rows) or unset, got '$DENOISER'" >&2; exit 2; }
+  [ -z "$DENOISER" ] || { echo "score_turns.sh: DENOISER is empty (the raw rows) or unset, got '$DENOISER'" >&2
+                          exit 2; }
   DENOISE=()
 fi
 mkdir -p "runs/r$R"

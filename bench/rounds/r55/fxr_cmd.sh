@@ -1,14 +1,14 @@
 #!/bin/bash
 # Round 55 (written stop 94; a run, not yet a registered candidate): FXR, the raw set's fast expert trained on raw IMU
 # takes. The raw rows' set (models/mimic_general_raw_set) sends every take faster than 2.0 m/s (and not above 3.0 m/s,
-# the dash expert's) to mimic_general_fast_symmetric (FXS, round 43), trained behind the IMU denoiser's slow
-# corrections only; rounds 49-54 trained the backward, sideways, default, dash and turning members on raw takes (the
-# backward, dash and turning ones led and joined the set), so the fast role is the last not yet tried so. FXR is FXS trained on by PPO as its symmetric actor with round 43's
-# data and settings (bench/rounds/r43/fxs_cmd.sh: the training split's dashes and runs and DeepMimic's run, half its
-# episodes clean) but its IMU takes tracked as given: no --denoise and no --denoise-slow, the legs still evened and
-# parted, grounded and swing-lifted as the raw rows track them. --total-steps only bounds the run. Run by
-# bench/rounds/ppo_run.sh: a second call resumes the run; on a machine without runs/r55/ppo_fxr it carries on from
-# models/mimic_general_fast_symmetric/raw_run where one is committed.
+# the dash expert's) to mimic_general_fast_symmetric (FXS, round 43), trained behind the IMU denoiser's slow corrections
+# only; rounds 49-54 trained the backward, sideways, default, dash and turning members on raw takes (the backward, dash
+# and turning ones led and joined the set), so the fast role is the last not yet tried so. FXR is FXS trained on by PPO
+# as its symmetric actor with round 43's data and settings (bench/rounds/r43/fxs_cmd.sh: the training split's dashes and
+# runs and DeepMimic's run, half its episodes clean) but its IMU takes tracked as given: no --denoise and no
+# --denoise-slow, the legs still evened and parted, grounded and swing-lifted as the raw rows track them. --total-steps
+# only bounds the run. Run by bench/rounds/ppo_run.sh: a second call resumes the run; on a machine without
+# runs/r55/ppo_fxr it carries on from models/mimic_general_fast_symmetric/raw_run where one is committed.
 set -eo pipefail
 cd "$(dirname "$0")/../../.."
 FAST=$(.venv/bin/python -c "from reference_motion.motion_library import library_set
