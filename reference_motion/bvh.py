@@ -65,13 +65,22 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
                 i += 2 + n
             else:
                 raise ValueError(f"{where}: unexpected token {tok!r} in HIERARCHY")
-        n_frames = int(tokens[i + 2])
-        frame_time = float(tokens[i + 5])
-        values = np.array([float(v) for v in tokens[i + 6:]])
-    except (IndexError, ValueError) as err:
-        if isinstance(err, ValueError) and str(err).startswith(where):
+    except IndexError:
+        raise ValueError(f"{where}: malformed or truncated BVH (the file ends inside its HIERARCHY, "
+                         f"before MOTION)") from None
+    except ValueError as err:
+        if str(err).startswith(where):
             raise
-        raise ValueError(f"{where}: malformed or truncated BVH ({err})") from err
+        raise ValueError(f"{where}: malformed or truncated BVH (a HIERARCHY value is not a number: {err})") from err
+    header = tokens[i + 1:i + 6]
+    if len(header) < 5 or header[0] != "Frames:" or header[2:4] != ["Frame", "Time:"]:
+        raise ValueError(f"{where}: malformed or truncated BVH (expected 'Frames: N' and 'Frame Time: S' after "
+                         f"MOTION, found {' '.join(header)!r})")
+    try:
+        n_frames, frame_time = int(header[1]), float(header[4])
+        values = np.array([float(v) for v in tokens[i + 6:]])
+    except ValueError as err:
+        raise ValueError(f"{where}: malformed or truncated BVH (a MOTION value is not a number: {err})") from err
     width = sum(len(j.channels) for j in joints)
     if n_frames < 2 or values.size != n_frames * width:
         raise ValueError(f"{where}: expected {n_frames} frames × {width} channels = {n_frames * width} values, "

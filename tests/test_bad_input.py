@@ -108,3 +108,18 @@ Frame Time: 0.033333
 0 90 0 0 0 0 0 0 0
 0 90 0 0 0 0 0 0 0
 """
+
+
+@pytest.mark.parametrize("text, reason", [
+    (BVH_TWO_FRAMES[:BVH_TWO_FRAMES.index("End Site")], r"the file ends inside its HIERARCHY, before MOTION"),
+    (BVH_TWO_FRAMES.replace("Frame Time:", "Frametime:"), r"expected 'Frames: N' and 'Frame Time: S' after MOTION, "
+                                                          r"found 'Frames: 2 Frametime: 0\.033333 0'"),
+    (BVH_TWO_FRAMES.replace("0 20 0", "0 twenty 0"), r"a HIERARCHY value is not a number: .*'twenty'"),
+    (BVH_TWO_FRAMES.replace("0 90 0 0 0 0 0 0 0\n0 90", "0 90 0 0 0 0 0 0 0\n0 ninety"),
+     r"a MOTION value is not a number: .*'ninety'"),
+])
+def test_malformed_bvh_says_where(tmp_path, text, reason):
+    """Each way a BVH can be malformed is named, after the file, in one line (not a bare IndexError)."""
+    p = _write(tmp_path, text, "bad.bvh")
+    with pytest.raises(ValueError, match=r"bad\.bvh: malformed or truncated BVH \(" + reason):
+        bvh.load(p)
