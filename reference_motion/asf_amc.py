@@ -149,20 +149,21 @@ def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
     except UnicodeDecodeError:
         raise ValueError(f"{where}: not an AMC file (binary data)") from None
     frames: list[dict[str, list[float]]] = []
-    try:
-        for ln in text.splitlines():
-            ln = ln.strip()
-            if not ln or ln.startswith(("#", ":")):
-                continue
-            tok = ln.split()
-            if len(tok) == 1 and tok[0].isdigit():
-                frames.append({})
-            elif not frames:
-                raise ValueError(f"line {ln!r} before the first frame number")
-            else:
+    for number, ln in enumerate(text.splitlines(), start=1):
+        ln = ln.strip()
+        if not ln or ln.startswith(("#", ":")):
+            continue
+        tok = ln.split()
+        if len(tok) == 1 and tok[0].isdigit():
+            frames.append({})
+        elif not frames:
+            raise ValueError(f"{where}: malformed AMC (line {number}, {ln!r}, comes before the first frame number)")
+        else:
+            try:
                 frames[-1][tok[0]] = [float(v) for v in tok[1:]]
-    except ValueError as err:
-        raise ValueError(f"{where}: malformed AMC ({err})") from None
+            except ValueError as err:
+                raise ValueError(f"{where}: malformed AMC (line {number}, frame {len(frames)}, bone {tok[0]!r}: "
+                                 f"{err})") from None
     if len(frames) < 2:
         raise ValueError(f"{where}: {len(frames)} frame(s); a clip needs at least 2")
     expected = {name: len(b.dofs) for name, b in skeleton.bones.items() if b.dofs}

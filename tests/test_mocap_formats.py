@@ -257,6 +257,21 @@ def test_truncated_amc_and_missing_asf_are_named(tmp_path):
         asf_amc.load(lonely)
 
 
+def test_malformed_amc_names_its_line_frame_and_bone(tmp_path):
+    amc = _write_asf_amc(tmp_path)
+    lines = amc.read_text().splitlines()
+    n = lines.index("2") + 3  # frame 2's second bone line, 1-based
+    bone = lines[n - 1].split()[0]
+    lines[n - 1] = f"{bone} abc " + " ".join(lines[n - 1].split()[2:])
+    amc.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ValueError, match=rf"07_01\.amc: malformed AMC \(line {n}, frame 2, bone '{bone}': "
+                                         r"could not convert string to float: 'abc'\)"):
+        asf_amc.load(amc)
+    amc.write_text(":DEGREES\nroot 0 0 0 0 0 0\n1\n")
+    with pytest.raises(ValueError, match=r"malformed AMC \(line 2, 'root 0 0 0 0 0 0', comes before the first frame"):
+        asf_amc.load(amc)
+
+
 def test_units_and_up_axis_rules():
     assert unit_scale(1.55, "x") == 1.0 and unit_scale(155.0, "x") == 0.01
     assert unit_scale(61.0, "x") == 0.0254 and unit_scale(1550.0, "x") == 0.001
