@@ -19,8 +19,9 @@
 # another set or preparation replaces it, they need new names here (score_shifted.sh keeps a file of the same name).
 # With DENOISER set empty (DENOISER= bash bench/rounds/score_member.sh ...), the raw rows' member instead: the raw
 # rows' choice models/mimic_general_raw_set (since round 49; its dash member DXR since round 51, its turn member TXR
-# since round 54) is the base and baseline, both sides scored with no denoiser in front (score_shifted.sh's raw
-# scoring; its files RAWSET12 and RAWSET12_RAW, made anew for the set with TXR; RAWSET11 and RAWSET11_RAW were the set
+# since round 54, its fast member FXR since round 55) is the base and baseline, both sides scored with no denoiser
+# in front (score_shifted.sh's raw scoring; its files RAWSET13 and RAWSET13_RAW, made anew for the set with FXR;
+# RAWSET12 and RAWSET12_RAW were the set's with TXR and FXS, round 55; RAWSET11 and RAWSET11_RAW were the set
 # with TX, named after runs/sets/DXRSET in round 51; RAWSET10 and RAWSET10_RAW the set's with BXR and the
 # denoiser-trained dash expert, rounds 50-52), and the held-out rows, if it leads both:
 # bash bench/rounds/r30/heldout.sh NAMESET raw.
@@ -34,7 +35,7 @@ cd "$(dirname "$0")/../.." && mkdir -p runs/r28 runs/sets
 BASE=models/mimic_general_expert_set
 SHIPPED_CLEAN=EXPERTSET9 SHIPPED_SHIFTED=EXPERTSET9_SQ SHIPPED_DENOISE_SLOW=
 if [ -n "${DENOISER+set}" ] && [ -z "$DENOISER" ]; then  # the raw rows: both sides with no denoiser in front
-  BASE=models/mimic_general_raw_set SHIPPED_CLEAN=RAWSET12 SHIPPED_SHIFTED=RAWSET12_RAW
+  BASE=models/mimic_general_raw_set SHIPPED_CLEAN=RAWSET13 SHIPPED_SHIFTED=RAWSET13_RAW
 fi
 export BASE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW CANDIDATE_DENOISE_SLOW=$SHIPPED_DENOISE_SLOW
 bash bench/rounds/r28/candidate.sh "$RUN" "$HHMM" "$NAME" &
