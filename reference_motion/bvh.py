@@ -31,10 +31,17 @@ class _Joint:
     children: list[int] = field(default_factory=list)
 
 
+def _malformed(where: str, reason: str) -> ValueError:
+    """The error for a BVH file that cannot be parsed, ``reason`` saying where it goes wrong."""
+    return ValueError(f"{where}: malformed or truncated BVH ({reason})")
+
+
 def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
     tokens = text.split()
     if not tokens or tokens[0] != "HIERARCHY":
         raise ValueError(f"{where}: not a BVH file (expected 'HIERARCHY' first)")
+    if "MOTION" not in tokens:
+        raise _malformed(where, "the file ends inside its HIERARCHY, before MOTION")
     joints: list[_Joint] = []
     stack: list[int] = []
     i = 1
@@ -65,22 +72,20 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
                 i += 2 + n
             else:
                 raise ValueError(f"{where}: unexpected token {tok!r} in HIERARCHY")
-    except IndexError:
-        raise ValueError(f"{where}: malformed or truncated BVH (the file ends inside its HIERARCHY, "
-                         f"before MOTION)") from None
+    except IndexError:  # the tokens hold MOTION, so only the joint stack can run out
+        raise _malformed(where, f"{tokens[i]!r} outside any joint's braces in HIERARCHY") from None
     except ValueError as err:
         if str(err).startswith(where):
             raise
-        raise ValueError(f"{where}: malformed or truncated BVH (a HIERARCHY value is not a number: {err})") from err
+        raise _malformed(where, f"a HIERARCHY value is not a number: {err}") from err
     header = tokens[i + 1:i + 6]
     if len(header) < 5 or header[0] != "Frames:" or header[2:4] != ["Frame", "Time:"]:
-        raise ValueError(f"{where}: malformed or truncated BVH (expected 'Frames: N' and 'Frame Time: S' after "
-                         f"MOTION, found {' '.join(header)!r})")
+        raise _malformed(where, f"expected 'Frames: N' and 'Frame Time: S' after MOTION, found {' '.join(header)!r}")
     try:
         n_frames, frame_time = int(header[1]), float(header[4])
         values = np.array([float(v) for v in tokens[i + 6:]])
     except ValueError as err:
-        raise ValueError(f"{where}: malformed or truncated BVH (a MOTION value is not a number: {err})") from err
+        raise _malformed(where, f"a MOTION value is not a number: {err}") from err
     width = sum(len(j.channels) for j in joints)
     if n_frames < 2 or values.size != n_frames * width:
         raise ValueError(f"{where}: expected {n_frames} frames × {width} channels = {n_frames * width} values, "

@@ -112,6 +112,7 @@ Frame Time: 0.033333
 
 @pytest.mark.parametrize("text, reason", [
     (BVH_TWO_FRAMES[:BVH_TWO_FRAMES.index("End Site")], r"the file ends inside its HIERARCHY, before MOTION"),
+    (BVH_TWO_FRAMES.replace("ROOT Hips\n{", "ROOT Hips\n}"), r"'\}' outside any joint's braces in HIERARCHY"),
     (BVH_TWO_FRAMES.replace("Frame Time:", "Frametime:"), r"expected 'Frames: N' and 'Frame Time: S' after MOTION, "
                                                           r"found 'Frames: 2 Frametime: 0\.033333 0'"),
     (BVH_TWO_FRAMES.replace("0 20 0", "0 twenty 0"), r"a HIERARCHY value is not a number: .*'twenty'"),
