@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
+from reference_motion.motion import MotionError
 from reference_motion.rigs import MocapOptions, canonical_positions, match_rig
 from reference_motion.source import SourceClip, clip_from_joint_positions
 
@@ -73,14 +74,14 @@ def _euler(angles: np.ndarray, order: str, degrees: bool) -> np.ndarray:
 
 
 def parse_asf(path: Path) -> Skeleton:
-    """Read an ``.asf`` skeleton; errors name the file and what is wrong."""
+    """Read an ``.asf`` skeleton; :class:`MotionError` names the file and what is wrong."""
     where = str(path)
     try:
         lines = [ln.split("#", 1)[0].strip() for ln in path.read_text().splitlines()]
     except FileNotFoundError:
         raise FileNotFoundError(f"{where}: no such ASF file") from None
     except UnicodeDecodeError:
-        raise ValueError(f"{where}: not an ASF file (binary data)") from None
+        raise MotionError(f"{where}: not an ASF file (binary data)") from None
     length_unit, degrees = 1.0, True
     bones: dict[str, _Bone] = {}
     root_channels = ["TX", "TY", "TZ", "RX", "RY", "RZ"]
@@ -123,9 +124,9 @@ def parse_asf(path: Path) -> Skeleton:
             elif section == ":hierarchy" and tok[0] not in ("begin", "end"):
                 children[tok[0]] = tok[1:]
     except (IndexError, ValueError, AttributeError) as err:
-        raise ValueError(f"{where}: malformed ASF ({err})") from None
+        raise MotionError(f"{where}: malformed ASF ({err})") from None
     if not bones or not children:
-        raise ValueError(f"{where}: not an ASF file (no :bonedata or :hierarchy)")
+        raise MotionError(f"{where}: not an ASF file (no :bonedata or :hierarchy)")
     bones["root"] = _Bone("root", np.zeros(3), 0.0, np.zeros(3), root_axis)
     order, stack = [], ["root"]
     while stack:
@@ -133,21 +134,22 @@ def parse_asf(path: Path) -> Skeleton:
         order.append(name)
         for child in children.get(name, []):
             if child not in bones:
-                raise ValueError(f"{where}: :hierarchy names bone {child!r}, not in :bonedata")
+                raise MotionError(f"{where}: :hierarchy names bone {child!r}, not in :bonedata")
             bones[child].parent = name
             stack.append(child)
     return Skeleton(bones, order, INCH_M / length_unit, degrees, root_channels)
 
 
 def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
-    """Read an ``.amc`` file: bone name → ``(T, n_values)`` channel values (file units)."""
+    """Read an ``.amc`` file: bone name → ``(T, n_values)`` channel values (file units);
+    :class:`MotionError` names the line, frame and bone of what is malformed."""
     where = str(path)
     try:
         text = path.read_text()
     except FileNotFoundError:
         raise FileNotFoundError(f"{where}: no such AMC file") from None
     except UnicodeDecodeError:
-        raise ValueError(f"{where}: not an AMC file (binary data)") from None
+        raise MotionError(f"{where}: not an AMC file (binary data)") from None
     frames: list[dict[str, list[float]]] = []
     for number, ln in enumerate(text.splitlines(), start=1):
         ln = ln.strip()
@@ -157,15 +159,15 @@ def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
         if len(tok) == 1 and tok[0].isdigit():
             frames.append({})
         elif not frames:
-            raise ValueError(f"{where}: malformed AMC (line {number}, {ln!r}, comes before the first frame number)")
+            raise MotionError(f"{where}: malformed AMC (line {number}, {ln!r}, comes before the first frame number)")
         else:
             try:
                 frames[-1][tok[0]] = [float(v) for v in tok[1:]]
             except ValueError as err:
-                raise ValueError(f"{where}: malformed AMC (line {number}, frame {len(frames)}, bone {tok[0]!r}: "
+                raise MotionError(f"{where}: malformed AMC (line {number}, frame {len(frames)}, bone {tok[0]!r}: "
                                  f"{err})") from None
     if len(frames) < 2:
-        raise ValueError(f"{where}: {len(frames)} frame(s); a clip needs at least 2")
+        raise MotionError(f"{where}: {len(frames)} frame(s); a clip needs at least 2")
     expected = {name: len(b.dofs) for name, b in skeleton.bones.items() if b.dofs}
     expected["root"] = len(skeleton.root_channels)
     if frames and not frames[-1]:
@@ -173,11 +175,11 @@ def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
     for t, frame in enumerate(frames):
         for name, n in expected.items():
             if len(frame.get(name, ())) != n:
-                raise ValueError(f"{where}: frame {t + 1} has {len(frame.get(name, ()))} values for {name!r}, "
+                raise MotionError(f"{where}: frame {t + 1} has {len(frame.get(name, ()))} values for {name!r}, "
                                  f"expected {n} (truncated file, or another subject's ASF?)")
     out = {name: np.array([f[name] for f in frames]) for name in expected}
     if not all(np.all(np.isfinite(v)) for v in out.values()):
-        raise ValueError(f"{where}: motion data contains NaN/inf")
+        raise MotionError(f"{where}: motion data contains NaN/inf")
     return out
 
 

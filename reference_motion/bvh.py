@@ -16,6 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
+from reference_motion.motion import MotionError
 from reference_motion.rigs import MocapOptions, canonical_positions, match_rig
 from reference_motion.source import SourceClip, clip_from_joint_positions
 
@@ -31,15 +32,15 @@ class _Joint:
     children: list[int] = field(default_factory=list)
 
 
-def _malformed(where: str, reason: str) -> ValueError:
+def _malformed(where: str, reason: str) -> MotionError:
     """The error for a BVH file that cannot be parsed, ``reason`` saying where it goes wrong."""
-    return ValueError(f"{where}: malformed or truncated BVH ({reason})")
+    return MotionError(f"{where}: malformed or truncated BVH ({reason})")
 
 
 def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
     tokens = text.split()
     if not tokens or tokens[0] != "HIERARCHY":
-        raise ValueError(f"{where}: not a BVH file (expected 'HIERARCHY' first)")
+        raise MotionError(f"{where}: not a BVH file (expected 'HIERARCHY' first)")
     if "MOTION" not in tokens:
         raise _malformed(where, "the file ends inside its HIERARCHY, before MOTION")
     joints: list[_Joint] = []
@@ -71,7 +72,7 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
                 joints[stack[-1]].channels = tokens[i + 2:i + 2 + n]
                 i += 2 + n
             else:
-                raise ValueError(f"{where}: unexpected token {tok!r} in HIERARCHY")
+                raise MotionError(f"{where}: unexpected token {tok!r} in HIERARCHY")
     except IndexError:  # the tokens hold MOTION, so only the joint stack can run out
         raise _malformed(where, f"{tokens[i]!r} outside any joint's braces in HIERARCHY") from None
     except ValueError as err:
@@ -88,10 +89,10 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
         raise _malformed(where, f"a MOTION value is not a number: {err}") from err
     width = sum(len(j.channels) for j in joints)
     if n_frames < 2 or values.size != n_frames * width:
-        raise ValueError(f"{where}: expected {n_frames} frames × {width} channels = {n_frames * width} values, "
+        raise MotionError(f"{where}: expected {n_frames} frames × {width} channels = {n_frames * width} values, "
                          f"found {values.size} (truncated file?)")
     if not np.all(np.isfinite(values)):
-        raise ValueError(f"{where}: motion data contains NaN/inf")
+        raise MotionError(f"{where}: motion data contains NaN/inf")
     return joints, values.reshape(n_frames, width), frame_time
 
 
@@ -114,7 +115,7 @@ def joint_positions(joints: list[_Joint], frames: np.ndarray, where: str) -> np.
             elif ch in ("Xposition", "Yposition", "Zposition"):
                 local_pos[:, "XYZ".index(ch[0])] = v
             else:
-                raise ValueError(f"{where}: joint {joint.name} has unknown channel {ch!r}")
+                raise MotionError(f"{where}: joint {joint.name} has unknown channel {ch!r}")
         if joint.parent < 0:
             world_pos[:, k] = local_pos
             world_rot[:, k] = local_rot
@@ -133,8 +134,9 @@ def load(path: str | Path, options: MocapOptions = MocapOptions()) -> SourceClip
 
     Raises:
         FileNotFoundError: no such file.
-        ValueError: not a BVH file, truncated, NaN/inf, an unknown rig (the message lists the file's
-            joints and the canonical joints still needed), undetectable units or axes.
+        MotionError: not a BVH file, malformed or truncated, NaN/inf (a ``ValueError``).
+        ValueError: an unknown rig (the message lists the file's joints and the canonical joints
+            still needed), undetectable units or axes.
     """
     path = Path(path)
     where = str(path)
@@ -143,10 +145,10 @@ def load(path: str | Path, options: MocapOptions = MocapOptions()) -> SourceClip
     try:
         text = path.read_text()
     except UnicodeDecodeError:
-        raise ValueError(f"{where}: not a BVH file (binary data)") from None
+        raise MotionError(f"{where}: not a BVH file (binary data)") from None
     joints, frames, frame_time = _parse(text, where)
     if not frame_time > 0:
-        raise ValueError(f"{where}: 'Frame Time' must be > 0 s, got {frame_time}")
+        raise MotionError(f"{where}: 'Frame Time' must be > 0 s, got {frame_time}")
     names = [j.name for j in joints]
     positions = joint_positions(joints, frames, where)
     match = match_rig(names, positions, where, options.joint_map)

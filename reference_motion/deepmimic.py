@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
+from reference_motion.motion import MotionError
 from reference_motion.source import CANONICAL_JOINTS, SourceClip, uniform_timing, y_up_quats, y_up_vectors
 
 FRAME_WIDTH = 44
@@ -79,34 +80,35 @@ def clip_path(name: str) -> Path:
 
 def parse(text: str, where: str) -> tuple[np.ndarray, bool]:
     """Validate DeepMimic JSON; returns frames ``(T, 44)`` and the loop flag. ``where`` names the
-    file in error messages."""
+    file in :class:`MotionError`'s messages (empty, not JSON, wrong frame widths, non-numbers,
+    NaN/inf, bad ``Loop`` or durations)."""
     if not text.strip():
-        raise ValueError(f"{where}: file is empty")
+        raise MotionError(f"{where}: file is empty")
     try:
         doc = json.loads(text)
     except json.JSONDecodeError as err:
-        raise ValueError(f"{where}: not valid JSON (truncated or corrupt?): {err}") from err
+        raise MotionError(f"{where}: not valid JSON (truncated or corrupt?): {err}") from err
     if not isinstance(doc, dict) or "Frames" not in doc:
-        raise ValueError(f"{where}: expected a JSON object with a 'Frames' list")
+        raise MotionError(f"{where}: expected a JSON object with a 'Frames' list")
     frames = doc["Frames"]
     if not isinstance(frames, list) or len(frames) < 2:
-        raise ValueError(f"{where}: 'Frames' must be a list of at least 2 frames")
+        raise MotionError(f"{where}: 'Frames' must be a list of at least 2 frames")
     for i, f in enumerate(frames):
         if not isinstance(f, list) or len(f) != FRAME_WIDTH:
             n = len(f) if isinstance(f, list) else type(f).__name__
-            raise ValueError(f"{where}: frame {i} has {n} values, expected {FRAME_WIDTH}")
+            raise MotionError(f"{where}: frame {i} has {n} values, expected {FRAME_WIDTH}")
     try:
         arr = np.array(frames, dtype=float)
     except (TypeError, ValueError) as err:
-        raise ValueError(f"{where}: frames must contain only numbers ({err})") from err
+        raise MotionError(f"{where}: frames must contain only numbers ({err})") from err
     if not np.all(np.isfinite(arr)):
         i, k = np.argwhere(~np.isfinite(arr))[0]
-        raise ValueError(f"{where}: frame {i} value {k} is not finite ({arr[i, k]})")
+        raise MotionError(f"{where}: frame {i} value {k} is not finite ({arr[i, k]})")
     loop = doc.get("Loop", "none")
     if loop not in ("wrap", "none"):
-        raise ValueError(f"{where}: 'Loop' must be 'wrap' or 'none', got {loop!r}")
+        raise MotionError(f"{where}: 'Loop' must be 'wrap' or 'none', got {loop!r}")
     if np.any(arr[:-1, 0] <= 0):
-        raise ValueError(f"{where}: frame durations (value 0 of each frame) must be positive")
+        raise MotionError(f"{where}: frame durations (value 0 of each frame) must be positive")
     return arr, loop == "wrap"
 
 

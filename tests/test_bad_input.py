@@ -21,26 +21,26 @@ def _write(tmp_path, text, name="clip.txt"):
 def test_truncated_json(tmp_path):
     text = deepmimic.clip_path("walk").read_text()
     p = _write(tmp_path, text[: len(text) // 2])
-    with pytest.raises(ValueError, match=r"clip\.txt: not valid JSON \(truncated"):
+    with pytest.raises(MotionError, match=r"clip\.txt: not valid JSON \(truncated"):
         deepmimic.load(p)
 
 
 def test_frame_with_wrong_value_count(tmp_path):
     doc = _walk_frames()
     doc["Frames"][7] = doc["Frames"][7][:40]
-    with pytest.raises(ValueError, match="clip.txt: frame 7 has 40 values, expected 44"):
+    with pytest.raises(MotionError, match="clip.txt: frame 7 has 40 values, expected 44"):
         deepmimic.load(_write(tmp_path, json.dumps(doc)))
 
 
 def test_nan_in_frame(tmp_path):
     doc = _walk_frames()
     text = json.dumps(doc).replace(str(doc["Frames"][3][10]), "NaN", 1)
-    with pytest.raises(ValueError, match="clip.txt: frame 3 value 10 is not finite"):
+    with pytest.raises(MotionError, match="clip.txt: frame 3 value 10 is not finite"):
         deepmimic.load(_write(tmp_path, text))
 
 
 def test_empty_file(tmp_path):
-    with pytest.raises(ValueError, match="clip.txt: file is empty"):
+    with pytest.raises(MotionError, match="clip.txt: file is empty"):
         deepmimic.load(_write(tmp_path, ""))
 
 
@@ -58,7 +58,7 @@ def test_bvh_of_an_unknown_rig_lists_its_joints_and_the_missing_ones(tmp_path):
 
 def test_truncated_bvh(tmp_path):
     p = _write(tmp_path, BVH_TWO_FRAMES.rsplit("\n", 2)[0], "cut.bvh")
-    with pytest.raises(ValueError, match="cut.bvh"):
+    with pytest.raises(MotionError, match="cut.bvh"):
         bvh.load(p)
 
 
@@ -122,5 +122,5 @@ Frame Time: 0.033333
 def test_malformed_bvh_says_where(tmp_path, text, reason):
     """Each way a BVH can be malformed is named, after the file, in one line (not a bare IndexError)."""
     p = _write(tmp_path, text, "bad.bvh")
-    with pytest.raises(ValueError, match=r"bad\.bvh: malformed or truncated BVH \(" + reason):
+    with pytest.raises(MotionError, match=r"bad\.bvh: malformed or truncated BVH \(" + reason):
         bvh.load(p)

@@ -17,6 +17,7 @@ from reference_motion.bvh_export import write_bvh
 from reference_motion.humanoid.model import load_model
 from reference_motion.importer import import_library
 from reference_motion.library import expand_clips, load_motion, load_source_clip
+from reference_motion.motion import MotionError
 from reference_motion.motion_library import labels, read_manifest, split_of
 from reference_motion.retarget import bone_direction_error, model_joint_positions, retarget, stance_sole_pitch
 from reference_motion.rigs import RIGS, MocapOptions, canonical_positions, match_rig, unit_scale, up_axis
@@ -127,11 +128,11 @@ def test_truncated_motion_and_bad_channels_are_named(exported, tmp_path):
     text = exported.read_text()
     cut = tmp_path / "cut.bvh"
     cut.write_text(text[: len(text) * 2 // 3])
-    with pytest.raises(ValueError, match=r"cut\.bvh: expected 76 frames × \d+ channels .*truncated file\?"):
+    with pytest.raises(MotionError, match=r"cut\.bvh: expected 76 frames × \d+ channels .*truncated file\?"):
         bvh.load(cut)
     binary = tmp_path / "binary.bvh"
     binary.write_bytes(b"\xff\xfe\x00 not text")
-    with pytest.raises(ValueError, match=r"binary\.bvh: not a BVH file"):
+    with pytest.raises(MotionError, match=r"binary\.bvh: not a BVH file"):
         bvh.load(binary)
 
 
@@ -248,7 +249,7 @@ def test_asf_amc_loads_with_units_and_the_skeleton_found_beside_it(tmp_path):
 
 def test_truncated_amc_and_missing_asf_are_named(tmp_path):
     amc = _write_asf_amc(tmp_path, truncate=True)
-    with pytest.raises(ValueError, match=r"07_01\.amc: frame 4 has \d values for '\w+', expected \d"):
+    with pytest.raises(MotionError, match=r"07_01\.amc: frame 4 has \d values for '\w+', expected \d"):
         asf_amc.load(amc)
     lonely = tmp_path / "sub" / "09_01.amc"
     lonely.parent.mkdir()
@@ -264,11 +265,11 @@ def test_malformed_amc_names_its_line_frame_and_bone(tmp_path):
     bone = lines[n - 1].split()[0]
     lines[n - 1] = f"{bone} abc " + " ".join(lines[n - 1].split()[2:])
     amc.write_text("\n".join(lines) + "\n")
-    with pytest.raises(ValueError, match=rf"07_01\.amc: malformed AMC \(line {n}, frame 2, bone '{bone}': "
+    with pytest.raises(MotionError, match=rf"07_01\.amc: malformed AMC \(line {n}, frame 2, bone '{bone}': "
                                          r"could not convert string to float: 'abc'\)"):
         asf_amc.load(amc)
     amc.write_text(":DEGREES\nroot 0 0 0 0 0 0\n1\n")
-    with pytest.raises(ValueError, match=r"malformed AMC \(line 2, 'root 0 0 0 0 0 0', comes before the first frame"):
+    with pytest.raises(MotionError, match=r"malformed AMC \(line 2, 'root 0 0 0 0 0 0', comes before the first frame"):
         asf_amc.load(amc)
 
 
