@@ -18,7 +18,9 @@ reported; the machine is noisy):
   while collecting and one per core while updating (``train_ppo.UpdateThreads``);
 * [256, 256] with 32 or 64 envs in one shard per core, each shard stepped as one batch (``--vec
   sharded-batched``; 64: ``--n-envs 64``, 128 steps per env and rollout), the learner's threads as with
-  ``batched``.
+  ``batched``;
+* the 64-env row again with 3 PPO epochs per rollout instead of 6 (``--epochs 3``): half the update's
+  arithmetic; whether it learns as fast per frame is ``bench/time_to_sr90.py --epochs 3``'s to show.
 
 A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
 The physics floor is the rate at which the cores would produce those frames doing nothing but
@@ -58,7 +60,7 @@ CLIPS = ["deepmimic:walk"]
 class Setting:
     """One row: the hidden layers, the envs and how they are stepped, the learner's torch threads; with
     ``--vec sharded`` the worker processes (``None``: one per core, at most one per env), and the
-    learner's torch device."""
+    learner's torch device, and PPO's optimisation epochs per rollout."""
 
     net: str
     n_envs: int
@@ -67,11 +69,14 @@ class Setting:
     workers: int | None = None
     device: str = "cpu"
     update_threads: int | None = None
+    epochs: int = 6
 
     @property
     def label(self) -> str:
         workers = f" on {self.workers} processes" if self.workers else ""
-        return f"{self.net} / {self.n_envs} {self.vec}{workers} / {self.threads_label} thread(s) / {self.device}"
+        epochs = f" / {self.epochs} epochs" if self.epochs != 6 else ""
+        return (f"{self.net} / {self.n_envs} {self.vec}{workers} / {self.threads_label} thread(s) / "
+                f"{self.device}{epochs}")
 
     @property
     def threads_label(self) -> str:
@@ -90,7 +95,8 @@ SETTINGS = [Setting("1024,1024,512", 8, "dummy", 2), Setting("256,256", 8, "dumm
             Setting("256,256", 16, "batched", 1, update_threads=CORES),
             Setting("256,256", 32, "batched", 1, update_threads=CORES),
             Setting("256,256", 32, "sharded-batched", 1, update_threads=CORES),
-            Setting("256,256", 64, "sharded-batched", 1, update_threads=CORES)]
+            Setting("256,256", 64, "sharded-batched", 1, update_threads=CORES),
+            Setting("256,256", 64, "sharded-batched", 1, update_threads=CORES, epochs=3)]
 VEC_CLASSES = {"dummy": DummyVecEnv, "subproc": SubprocVecEnv, "sharded": ShardedVecEnv, "batched": BatchedMimicVecEnv,
                "sharded-batched": functools.partial(ShardedVecEnv, shard=BatchShard)}
 
@@ -104,9 +110,10 @@ def build(setting: Setting) -> PPO:
                                      vec_env_cls=VEC_CLASSES[setting.vec], vec_env_kwargs=vec_kwargs,
                                      env_kwargs={"clips": CLIPS, "artefacts": ArtefactMix(seed=0)}), norm_reward=False)
     net = [int(n) for n in setting.net.split(",")]
-    model = PPO("MlpPolicy", venv, n_steps=8192 // setting.n_envs, batch_size=512, n_epochs=6, learning_rate=5e-5,
-                device=setting.device, seed=0, policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
-                                                     "log_std_init": 0.5 * math.log(0.03)})
+    model = PPO("MlpPolicy", venv, n_steps=8192 // setting.n_envs, batch_size=512, n_epochs=setting.epochs,
+                learning_rate=5e-5, device=setting.device, seed=0,
+                policy_kwargs={"net_arch": {"pi": net, "vf": net}, "activation_fn": torch.nn.Tanh,
+                               "log_std_init": 0.5 * math.log(0.03)})
     model.learn(8192, callback=setting.callbacks())  # warm-up: one rollout and update
     return model
 
@@ -167,7 +174,7 @@ def main() -> None:
     for setting in SETTINGS:
         rounds = measured[setting.label]
         steps_per_s = statistics.median(r[0] for r in rounds)
-        rows.append({"net": setting.net, "n_envs": setting.n_envs, "vec": setting.vec,
+        rows.append({"net": setting.net, "n_envs": setting.n_envs, "vec": setting.vec, "epochs": setting.epochs,
                      "torch_threads": setting.threads_label,
                      "parameters": parameters([int(n) for n in setting.net.split(",")]),
                      "frames_per_s": round(2 * steps_per_s), "rounds_frames_per_s": [round(2 * r[0]) for r in rounds],
@@ -183,7 +190,8 @@ def main() -> None:
     if not emit_json(result, args.json):
         print(f"physics floor: {result['physics_floor_frames_per_s']} frames/s on {CORES} cores")
         for r in rows:
-            print(f"{r['net']:>14}  {r['n_envs']:>2} {r['vec']:>15}  {r['torch_threads']} thr  {r['parameters']:>9} "
+            print(f"{r['net']:>14}  {r['n_envs']:>2} {r['vec']:>15}  {r['torch_threads']} thr  {r['epochs']} ep  "
+                  f"{r['parameters']:>9} "
                   f"params  {r['frames_per_s']:>6} frames/s  ×{r['speedup_vs_first']}  "
                   f"{100 * r['share_of_floor']:.0f}% of floor  (collect {r['collect_us_per_step']} µs, update "
                   f"{r['update_us_per_step']} µs a step)")
