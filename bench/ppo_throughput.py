@@ -59,8 +59,8 @@ CLIPS = ["deepmimic:walk"]
 @dataclass(frozen=True)
 class Setting:
     """One row: the hidden layers, the envs and how they are stepped, the learner's torch threads; with
-    ``--vec sharded`` the worker processes (``None``: one per core, at most one per env), and the
-    learner's torch device, and PPO's optimisation epochs per rollout."""
+    ``--vec sharded`` the worker processes (``None``: one per core, at most one per env); the
+    learner's torch device; PPO's optimisation epochs per rollout."""
 
     net: str
     n_envs: int

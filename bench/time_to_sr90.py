@@ -1,13 +1,14 @@
-"""Wall time for ``agents/train_ppo.py`` (defaults, 2 cores) to reach SR90 ≥ 0.9 on walk.
+"""Wall time for ``agents/train_ppo.py`` (2 cores) to reach SR90 ≥ 0.9 on walk.
 
 Usage: ``python bench/time_to_sr90.py [--run-dir runs/time_to_sr90] [--lr 1e-4] [--epochs 6] [--seed 0]
 [--json [OUT]] [TRAIN_PPO_OPTION ...]``
 
 Trains from scratch on ``deepmimic:walk`` with the default configuration (learning rate and PPO epochs
 per rollout as given), evaluating 5 rollouts every 100,000 steps, and stops at the first evaluation
-with SR90 ≥ 0.9. Reports the steps, the wall time, and the training throughput in 60 Hz frames/s over the whole run
-(evaluations included). Any other option is passed on to ``agents/train_ppo.py`` (e.g. ``--vec
-sharded-batched --n-envs 64``) and recorded in the JSON.
+with SR90 ≥ 0.9. Reports the steps, the wall time, and the training throughput in 60 Hz frames/s over
+the whole run (evaluations included). Any other option is passed on to ``agents/train_ppo.py`` (e.g.
+``--vec sharded-batched --n-envs 64``; not ``--clips`` or ``--stop-at-sr90``, which this benchmark
+fixes) and recorded in the JSON.
 """
 
 from __future__ import annotations

@@ -165,7 +165,7 @@ def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
                 frames[-1][tok[0]] = [float(v) for v in tok[1:]]
             except ValueError as err:
                 raise MotionError(f"{where}: malformed AMC (line {number}, frame {len(frames)}, bone {tok[0]!r}: "
-                                 f"{err})") from None
+                                  f"{err})") from None
     if len(frames) < 2:
         raise MotionError(f"{where}: {len(frames)} frame(s); a clip needs at least 2")
     expected = {name: len(b.dofs) for name, b in skeleton.bones.items() if b.dofs}
@@ -176,7 +176,7 @@ def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
         for name, n in expected.items():
             if len(frame.get(name, ())) != n:
                 raise MotionError(f"{where}: frame {t + 1} has {len(frame.get(name, ()))} values for {name!r}, "
-                                 f"expected {n} (truncated file, or another subject's ASF?)")
+                                  f"expected {n} (truncated file, or another subject's ASF?)")
     out = {name: np.array([f[name] for f in frames]) for name in expected}
     if not all(np.all(np.isfinite(v)) for v in out.values()):
         raise MotionError(f"{where}: motion data contains NaN/inf")

@@ -75,9 +75,9 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
                 raise MotionError(f"{where}: unexpected token {tok!r} in HIERARCHY")
     except IndexError:  # the tokens hold MOTION, so only the joint stack can run out
         raise _malformed(where, f"{tokens[i]!r} outside any joint's braces in HIERARCHY") from None
+    except MotionError:  # an unexpected token, already named
+        raise
     except ValueError as err:
-        if str(err).startswith(where):
-            raise
         raise _malformed(where, f"a HIERARCHY value is not a number: {err}") from err
     header = tokens[i + 1:i + 6]
     if len(header) < 5 or header[0] != "Frames:" or header[2:4] != ["Frame", "Time:"]:
@@ -90,7 +90,7 @@ def _parse(text: str, where: str) -> tuple[list[_Joint], np.ndarray, float]:
     width = sum(len(j.channels) for j in joints)
     if n_frames < 2 or values.size != n_frames * width:
         raise MotionError(f"{where}: expected {n_frames} frames × {width} channels = {n_frames * width} values, "
-                         f"found {values.size} (truncated file?)")
+                          f"found {values.size} (truncated file?)")
     if not np.all(np.isfinite(values)):
         raise MotionError(f"{where}: motion data contains NaN/inf")
     return joints, values.reshape(n_frames, width), frame_time
@@ -134,7 +134,8 @@ def load(path: str | Path, options: MocapOptions = MocapOptions()) -> SourceClip
 
     Raises:
         FileNotFoundError: no such file.
-        MotionError: not a BVH file, malformed or truncated, NaN/inf (a ``ValueError``).
+        MotionError: not a BVH file, malformed or truncated, NaN/inf, an unknown channel, 'Frame Time'
+            not > 0 (a ``ValueError``).
         ValueError: an unknown rig (the message lists the file's joints and the canonical joints
             still needed), undetectable units or axes.
     """

@@ -139,12 +139,17 @@ def source_clip_from_frames(frames: np.ndarray, name: str, loop: bool, source: d
 
 
 def load(name_or_path: str | Path) -> SourceClip:
-    """Load a DeepMimic clip by name (``walk``, ``walker/turn_left0``) or from a file path."""
+    """Load a DeepMimic clip by name (``walk``, ``walker/turn_left0``) or from a file path;
+    :class:`MotionError` names a malformed file, ``KeyError`` lists the names for an unknown one."""
     path = Path(name_or_path)
     if path.suffix != ".txt" or not path.exists():
         path = clip_path(str(name_or_path))
         name = f"deepmimic:{name_or_path}"
     else:
         name = f"deepmimic:{path.stem}"
-    frames, loop = parse(path.read_text(), str(path))
+    try:
+        text = path.read_text()
+    except UnicodeDecodeError:
+        raise MotionError(f"{path}: not a DeepMimic clip (binary data)") from None
+    frames, loop = parse(text, str(path))
     return source_clip_from_frames(frames, name, loop, {"format": "deepmimic", "file": str(path)})

@@ -44,6 +44,13 @@ def test_empty_file(tmp_path):
         deepmimic.load(_write(tmp_path, ""))
 
 
+def test_binary_deepmimic_file(tmp_path):
+    p = tmp_path / "clip.txt"
+    p.write_bytes(b"\xff\xfe\x00 not text")
+    with pytest.raises(MotionError, match=r"clip\.txt: not a DeepMimic clip \(binary data\)"):
+        deepmimic.load(p)
+
+
 def test_unknown_clip_name_lists_the_valid_ones():
     with pytest.raises(KeyError, match="unknown DeepMimic clip 'wlak'; available: backflip"):
         load_motion("deepmimic:wlak")

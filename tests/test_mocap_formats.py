@@ -266,7 +266,7 @@ def test_malformed_amc_names_its_line_frame_and_bone(tmp_path):
     lines[n - 1] = f"{bone} abc " + " ".join(lines[n - 1].split()[2:])
     amc.write_text("\n".join(lines) + "\n")
     with pytest.raises(MotionError, match=rf"07_01\.amc: malformed AMC \(line {n}, frame 2, bone '{bone}': "
-                                         r"could not convert string to float: 'abc'\)"):
+                                          r"could not convert string to float: 'abc'\)"):
         asf_amc.load(amc)
     amc.write_text(":DEGREES\nroot 0 0 0 0 0 0\n1\n")
     with pytest.raises(MotionError, match=r"malformed AMC \(line 2, 'root 0 0 0 0 0 0', comes before the first frame"):
