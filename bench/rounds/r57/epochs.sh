@@ -19,3 +19,8 @@ for seed in 0 1; do
   .venv/bin/python bench/time_to_sr90.py --run-dir runs/r57/e3_sb64_lr2e-4 --seed $seed --max-steps 1000000 --epochs 3 \
     --lr 2e-4 --vec sharded-batched --n-envs 64 --json bench/results/time_to_sr90_e3_sb64_lr2e-4_seed$seed.json
 done
+# And the default's 6 epochs at that same rate, so that each setting is compared at 2e-4 too.
+for seed in 0 1; do
+  .venv/bin/python bench/time_to_sr90.py --run-dir runs/r57/e6_b32_lr2e-4 --seed $seed --max-steps 1000000 --lr 2e-4 \
+    --json bench/results/time_to_sr90_e6_b32_lr2e-4_seed$seed.json
+done
