@@ -20,7 +20,8 @@ reported; the machine is noisy):
   sharded-batched``; 64: ``--n-envs 64``, 128 steps per env and rollout), the learner's threads as with
   ``batched``;
 * the 64-env row again with 3 PPO epochs per rollout instead of 6 (``--epochs 3``): half the update's
-  arithmetic; whether it learns as fast per frame is ``bench/time_to_sr90.py --epochs 3``'s to show.
+  arithmetic. It needs more frames to learn; ``bench/time_to_sr90.py --epochs 3`` measures how many
+  (at twice the learning rate, walk reaches SR90 sooner in wall time: docs/results.md, stop 96).
 
 A control step is two 60 Hz frames; ``frames_per_s`` counts simulation frames (ADAPT's unit).
 The physics floor is the rate at which the cores would produce those frames doing nothing but
