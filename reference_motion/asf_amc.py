@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
-from reference_motion.motion import MotionError
+from reference_motion.motion import MotionError, read_text
 from reference_motion.rigs import MocapOptions, canonical_positions, match_rig
 from reference_motion.source import SourceClip, clip_from_joint_positions
 
@@ -76,12 +76,7 @@ def _euler(angles: np.ndarray, order: str, degrees: bool) -> np.ndarray:
 def parse_asf(path: Path) -> Skeleton:
     """Read an ``.asf`` skeleton; :class:`MotionError` names the file and what is wrong."""
     where = str(path)
-    try:
-        lines = [ln.split("#", 1)[0].strip() for ln in path.read_text().splitlines()]
-    except FileNotFoundError:
-        raise FileNotFoundError(f"{where}: no such ASF file") from None
-    except UnicodeDecodeError:
-        raise MotionError(f"{where}: not an ASF file (binary data)") from None
+    lines = [ln.split("#", 1)[0].strip() for ln in read_text(path, "ASF file").splitlines()]
     length_unit, degrees = 1.0, True
     bones: dict[str, _Bone] = {}
     root_channels = ["TX", "TY", "TZ", "RX", "RY", "RZ"]
@@ -144,12 +139,7 @@ def parse_amc(path: Path, skeleton: Skeleton) -> dict[str, np.ndarray]:
     """Read an ``.amc`` file: bone name → ``(T, n_values)`` channel values (file units);
     :class:`MotionError` names the line, frame and bone of what is malformed."""
     where = str(path)
-    try:
-        text = path.read_text()
-    except FileNotFoundError:
-        raise FileNotFoundError(f"{where}: no such AMC file") from None
-    except UnicodeDecodeError:
-        raise MotionError(f"{where}: not an AMC file (binary data)") from None
+    text = read_text(path, "AMC file")
     frames: list[dict[str, list[float]]] = []
     for number, ln in enumerate(text.splitlines(), start=1):
         ln = ln.strip()

@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
-from reference_motion.motion import MotionError
+from reference_motion.motion import MotionError, read_text
 from reference_motion.rigs import MocapOptions, canonical_positions, match_rig
 from reference_motion.source import SourceClip, clip_from_joint_positions
 
@@ -141,13 +141,7 @@ def load(path: str | Path, options: MocapOptions = MocapOptions()) -> SourceClip
     """
     path = Path(path)
     where = str(path)
-    if not path.exists():
-        raise FileNotFoundError(f"{where}: no such BVH file")
-    try:
-        text = path.read_text()
-    except UnicodeDecodeError:
-        raise MotionError(f"{where}: not a BVH file (binary data)") from None
-    joints, frames, frame_time = _parse(text, where)
+    joints, frames, frame_time = _parse(read_text(path, "BVH file"), where)
     if not frame_time > 0:
         raise MotionError(f"{where}: 'Frame Time' must be > 0 s, got {frame_time}")
     names = [j.name for j in joints]

@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from reference_motion import rotations as rot
-from reference_motion.motion import MotionError
+from reference_motion.motion import MotionError, read_text
 from reference_motion.source import CANONICAL_JOINTS, SourceClip, uniform_timing, y_up_quats, y_up_vectors
 
 FRAME_WIDTH = 44
@@ -147,9 +147,5 @@ def load(name_or_path: str | Path) -> SourceClip:
         name = f"deepmimic:{name_or_path}"
     else:
         name = f"deepmimic:{path.stem}"
-    try:
-        text = path.read_text()
-    except UnicodeDecodeError:
-        raise MotionError(f"{path}: not a DeepMimic clip (binary data)") from None
-    frames, loop = parse(text, str(path))
+    frames, loop = parse(read_text(path, "DeepMimic clip"), str(path))
     return source_clip_from_frames(frames, name, loop, {"format": "deepmimic", "file": str(path)})

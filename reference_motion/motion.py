@@ -40,6 +40,19 @@ def read_npz(path: str | Path, what: str) -> dict[str, np.ndarray]:
         raise MotionError(f"{path}: not a readable .npz {what} file: damaged ({err})") from err
 
 
+def read_text(path: Path, kind: str) -> str:
+    """The text of the motion file ``path``, a ``kind`` (e.g. ``"BVH file"``): ``FileNotFoundError``
+    "no such BVH file" when it is missing, :class:`MotionError` "not a BVH file (binary data)" when it
+    is not text."""
+    try:
+        return path.read_text()
+    except FileNotFoundError:
+        raise FileNotFoundError(f"{path}: no such {kind}") from None
+    except UnicodeDecodeError:
+        article = "an" if kind[0] in "AEIOU" else "a"
+        raise MotionError(f"{path}: not {article} {kind} (binary data)") from None
+
+
 @dataclass(frozen=True)
 class Motion:
     """One clip for one humanoid model, at a uniform frame rate.
