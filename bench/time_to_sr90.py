@@ -38,11 +38,11 @@ def main() -> None:
            *train_options])
     evals = [json.loads(line) for line in (args.run_dir / "evaluations.jsonl").read_text().splitlines()]
     hit = next((e for e in evals if e["SR90"] >= 0.9), None)
+    last = hit or evals[-1]  # the evaluation that reached SR90, or the run's last
     result = {"lr": float(args.lr), "epochs": int(args.epochs), "train_options": train_options, "seed": int(args.seed),
               "reached": hit is not None,
-              "steps": (hit or evals[-1])["steps"],
-              "wall_s": round((hit or evals[-1])["wall_s"], 1),
-              "frames_per_s": round(2 * (hit or evals[-1])["steps"] / (hit or evals[-1])["wall_s"]),
+              "steps": last["steps"], "wall_s": round(last["wall_s"], 1),
+              "frames_per_s": round(2 * last["steps"] / last["wall_s"]),
               "evaluations": [{k: e[k] for k in ("steps", "wall_s", "ELR_mean", "SR90")} for e in evals]}
     if not emit_json(result, args.json):
         print(f"SR90 >= 0.9 after {result['steps']} steps, {result['wall_s']:.0f} s ({result['frames_per_s']} "
